@@ -1,0 +1,357 @@
+"""Levels: the map a robot moves on, and its text format.
+
+A ``Level`` is immutable and knows nothing of rewards' defaults or probabilities (those are
+``Rules``). Cells are ``(x, y)`` with ``x`` the column and ``y`` the row, ``(0, 0)`` top left.
+An edge is the pair of adjacent cells it separates, stored in sorted order.
+
+Text format (see DESIGN.md): a W x H level is 2H+1 lines of 2W+1 characters. Cells sit at odd
+line and column indices, edge slots between them, corners at even/even indices::
+
+    +-+-+-+
+    |S    |
+    + + + +
+    |     |
+    + + + +
+    |    E|
+    +-+-+-+
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from collections.abc import Mapping
+from dataclasses import dataclass, field, replace
+
+Cell = tuple[int, int]
+Edge = tuple[Cell, Cell]
+
+# Characters of the text format, by slot kind.
+FLOOR_CHARS = " ."
+CORNER_CHARS = "+#-| "
+WALL_V = "|#"  # a wall in a vertical slot (between horizontal neighbours)
+WALL_H = "-#"  # a wall in a horizontal slot (between vertical neighbours)
+GLASS = "*"
+MAX_TEXT_STARTS = 10
+
+
+class LevelError(ValueError):
+    """A ``ValueError`` that may point at the cell (or edge slot) at fault."""
+
+    def __init__(self, message: str, cell: Cell | None = None, slot: tuple[int, int] | None = None):
+        super().__init__(message)
+        self.cell = cell
+        self.slot = slot  # (line index, column index) in a level text, 0-based
+
+
+def _as_cell(value: object, what: str) -> Cell:
+    try:
+        x, y = value  # type: ignore[misc]
+        if int(x) == x and int(y) == y and not isinstance(x, bool) and not isinstance(y, bool):
+            return (int(x), int(y))
+    except (TypeError, ValueError):
+        pass
+    raise LevelError(f"{what}: {value!r} is not a cell; a cell is a pair of integers (x, y)")
+
+
+def _as_edge(value: object, what: str) -> Edge:
+    try:
+        a, b = value  # type: ignore[misc]
+    except (TypeError, ValueError):
+        raise LevelError(f"{what}: {value!r} is not an edge; an edge is a pair of adjacent cells") from None
+    a, b = _as_cell(a, what), _as_cell(b, what)
+    if abs(a[0] - b[0]) + abs(a[1] - b[1]) != 1:
+        raise LevelError(f"{what}: {value!r} does not join two adjacent cells", cell=a)
+    return (a, b) if a < b else (b, a)
+
+
+@dataclass(frozen=True, repr=False)
+class Level:
+    """An immutable grid: walls and glass walls on edges; blocked, puddle, start and exit cells.
+
+    Build one from text with :meth:`from_ascii`, or directly::
+
+        Level(width=3, height=1, starts=[(0, 0)], exits=[(2, 0)], walls=[((0, 0), (1, 0))])
+
+    ``rewards`` maps cells to custom rewards that replace the rules' reward for entering (or
+    staying in) those cells; see :meth:`with_rewards`. They are not part of the text format.
+    """
+
+    width: int
+    height: int
+    walls: frozenset[Edge] = frozenset()
+    glass: frozenset[Edge] = frozenset()
+    blocked: frozenset[Cell] = frozenset()
+    small_puddles: frozenset[Cell] = frozenset()
+    large_puddles: frozenset[Cell] = frozenset()
+    starts: tuple[Cell, ...] = ()
+    exits: frozenset[Cell] = frozenset()
+    rewards: tuple[tuple[Cell, float], ...] = ()
+    name: str = field(default="", compare=False)
+
+    def __post_init__(self) -> None:
+        for dim in ("width", "height"):
+            v = getattr(self, dim)
+            if isinstance(v, bool) or not isinstance(v, int) or v < 1:
+                raise LevelError(f"{dim}: must be an integer >= 1, got {v!r}")
+        norm = object.__setattr__
+        for name in ("walls", "glass"):
+            norm(self, name, frozenset(_as_edge(e, name) for e in getattr(self, name)))
+        for name in ("blocked", "small_puddles", "large_puddles", "exits"):
+            norm(self, name, frozenset(_as_cell(c, name) for c in getattr(self, name)))
+        norm(self, "starts", tuple(_as_cell(c, "starts") for c in self.starts))
+        rewards = self.rewards.items() if isinstance(self.rewards, Mapping) else self.rewards
+        norm(self, "rewards", tuple(sorted((_as_cell(c, "rewards"), _as_reward(r)) for c, r in rewards)))
+        self._validate()
+
+    # ----------------------------------------------------------------------------- checks
+    def _validate(self) -> None:
+        for name in ("walls", "glass"):
+            for a, b in sorted(getattr(self, name)):
+                self._check_inside(a, name)
+                self._check_inside(b, name)
+        both = self.walls & self.glass
+        if both:
+            e = min(both)
+            raise LevelError(f"walls, glass: edge {e} is both a wall and a glass wall", cell=e[0])
+        kinds = ("blocked", "small_puddles", "large_puddles", "exits", "starts")
+        seen: dict[Cell, str] = {}
+        for kind in kinds:
+            for c in sorted(getattr(self, kind)) if kind != "starts" else self.starts:
+                self._check_inside(c, kind)
+                if c in seen:
+                    other = "the same start" if seen[c] == kind else seen[c]
+                    raise LevelError(f"{kind}: cell {c} is already in {other}; a cell holds one thing", cell=c)
+                seen[c] = kind
+        for c, _ in self.rewards:
+            self._check_inside(c, "rewards")
+        if not self.exits:
+            raise LevelError("exits: a level needs at least one exit")
+        reach = self.cells_reaching_exit()
+        for i, c in enumerate(self.starts):
+            if c not in reach:
+                raise LevelError(f"starts: start {i} at {c} cannot reach any exit", cell=c)
+
+    def _check_inside(self, c: Cell, what: str) -> None:
+        if not (0 <= c[0] < self.width and 0 <= c[1] < self.height):
+            raise LevelError(
+                f"{what}: cell {c} is outside the {self.width}x{self.height} grid "
+                f"(x in 0..{self.width - 1}, y in 0..{self.height - 1})"
+            )
+
+    # ----------------------------------------------------------------------------- queries
+    @property
+    def n_cells(self) -> int:
+        return self.width * self.height
+
+    def neighbours(self, c: Cell) -> list[tuple[Cell, bool]]:
+        """Cells reachable in one move from ``c``, each with whether a glass wall lies between."""
+        out = []
+        x, y = c
+        for n in ((x, y - 1), (x + 1, y), (x, y + 1), (x - 1, y)):
+            if not (0 <= n[0] < self.width and 0 <= n[1] < self.height) or n in self.blocked:
+                continue
+            e = (c, n) if c < n else (n, c)
+            if e not in self.walls:
+                out.append((n, e in self.glass))
+        return out
+
+    def cells_reaching_exit(self) -> frozenset[Cell]:
+        """Open cells from which some exit can be reached (glass walls count as passable)."""
+        seen = set(self.exits)
+        todo = deque(self.exits)
+        while todo:
+            c = todo.popleft()
+            for n, _ in self.neighbours(c):  # edges are symmetric
+                if n not in seen:
+                    seen.add(n)
+                    todo.append(n)
+        return frozenset(seen)
+
+    def free_cells(self) -> list[Cell]:
+        """Cells a robot may be placed on: open floor (no puddle, exit) that can reach an exit."""
+        taken = self.blocked | self.exits | self.small_puddles | self.large_puddles
+        reach = self.cells_reaching_exit()
+        return [(x, y) for y in range(self.height) for x in range(self.width) if (x, y) not in taken and (x, y) in reach]
+
+    def reward_map(self) -> dict[Cell, float]:
+        return dict(self.rewards)
+
+    def with_rewards(self, rewards: Mapping[Cell, float]) -> Level:
+        """A copy with custom rewards for the given cells (added to any already set)."""
+        merged = self.reward_map()
+        merged.update({_as_cell(c, "rewards"): _as_reward(r) for c, r in rewards.items()})
+        return replace(self, rewards=tuple(merged.items()))
+
+    def with_area_reward(self, corner_a: Cell, corner_b: Cell, reward: float) -> Level:
+        """A copy in which every cell of the rectangle between two corners pays ``reward``."""
+        (x0, y0), (x1, y1) = _as_cell(corner_a, "corner_a"), _as_cell(corner_b, "corner_b")
+        xs = range(min(x0, x1), max(x0, x1) + 1)
+        ys = range(min(y0, y1), max(y0, y1) + 1)
+        return self.with_rewards({(x, y): reward for y in ys for x in xs})
+
+    def __repr__(self) -> str:
+        label = f"{self.name!r}, " if self.name else ""
+        return f"Level({label}{self.width}x{self.height}, starts={len(self.starts)}, exits={len(self.exits)})"
+
+    def __str__(self) -> str:
+        return self.to_ascii()
+
+    # ----------------------------------------------------------------------------- text
+    def to_ascii(self) -> str:
+        """The level in the text format of DESIGN.md (custom rewards are not part of it)."""
+        if len(self.starts) > MAX_TEXT_STARTS:
+            raise ValueError(
+                f"to_ascii: the text format holds at most {MAX_TEXT_STARTS} starts, this level has {len(self.starts)}"
+            )
+        w, h = self.width, self.height
+        grid = [["+"] * (2 * w + 1) for _ in range(2 * h + 1)]
+        start_char = {c: ("S" if len(self.starts) == 1 else str(i)) for i, c in enumerate(self.starts)}
+        for y in range(h):
+            for x in range(w):
+                c = (x, y)
+                if c in self.blocked:
+                    ch = "#"
+                elif c in self.exits:
+                    ch = "E"
+                elif c in self.small_puddles:
+                    ch = "p"
+                elif c in self.large_puddles:
+                    ch = "P"
+                else:
+                    ch = start_char.get(c, " ")
+                grid[2 * y + 1][2 * x + 1] = ch
+                # the edge slot east of and south of this cell
+                grid[2 * y + 1][2 * x + 2] = self._edge_char((x, y), (x + 1, y), "|")
+                grid[2 * y + 2][2 * x + 1] = self._edge_char((x, y), (x, y + 1), "-")
+            grid[2 * y + 1][0] = "|"
+        for x in range(w):
+            grid[0][2 * x + 1] = "-"
+        return "\n".join("".join(row) for row in grid)
+
+    def _edge_char(self, a: Cell, b: Cell, wall: str) -> str:
+        if b[0] >= self.width or b[1] >= self.height or (a, b) in self.walls:
+            return wall
+        return GLASS if (a, b) in self.glass else " "
+
+    @classmethod
+    def from_ascii(cls, text: str, name: str = "") -> Level:
+        """Parse the text format. Errors are ``ValueError`` naming the line and column (1-based)."""
+        if not isinstance(text, str):
+            raise TypeError(f"text: expected a level text (str), got {type(text).__name__}")
+        raw = text.replace("\r\n", "\n").split("\n")
+        nonblank = [i for i, line in enumerate(raw) if line.strip()]
+        if not nonblank:
+            raise ValueError("text: the level text is empty")
+        first = nonblank[0]
+        lines = [line.rstrip() for line in raw[first : nonblank[-1] + 1]]
+        # Levels written in indented triple-quoted strings: drop the common indent.
+        indent = min(len(line) - len(line.lstrip(" ")) for line in lines if line)
+        lines = [line[indent:] for line in lines]
+        try:
+            return _parse(lines, name)
+        except LevelError as err:
+            if err.slot is None and err.cell is not None:
+                err.slot = (2 * err.cell[1] + 1, 2 * err.cell[0] + 1)
+            if err.slot is None:
+                raise ValueError(f"{err}") from None
+            line, col = err.slot
+            raise ValueError(f"line {line + first + 1}, column {col + indent + 1}: {err}") from None
+
+
+def _as_reward(r: object) -> float:
+    if isinstance(r, bool) or not isinstance(r, (int, float)) or r != r or r in (float("inf"), float("-inf")):
+        raise LevelError(f"rewards: a reward must be a finite number, got {r!r}")
+    return float(r)
+
+
+def _parse(lines: list[str], name: str) -> Level:
+    n_lines = len(lines)
+    if n_lines < 3 or n_lines % 2 == 0:
+        raise LevelError(
+            f"a level has 2*height+1 lines (an odd number, at least 3); this text has {n_lines}",
+            slot=(n_lines - 1, 0),
+        )
+    n_cols = max(len(line) for line in lines)
+    if n_cols < 3 or n_cols % 2 == 0:
+        i = max(range(n_lines), key=lambda k: len(lines[k]))
+        raise LevelError(
+            f"ragged line: {n_cols} characters long, but level lines are 2*width+1 (an odd number, at least 3) characters long",
+            slot=(i, n_cols - 1),
+        )
+    width, height = n_cols // 2, n_lines // 2
+    walls, glass, blocked, small, large, exits = set(), set(), set(), set(), set(), set()
+    starts: dict[int, Cell] = {}
+    for i, line in enumerate(lines):
+        padded = line.ljust(n_cols)
+        for j, ch in enumerate(padded):
+            short = f" (line is {len(line)} characters long, the level {n_cols})" if j >= len(line) else ""
+            if i % 2 == 0 and j % 2 == 0:
+                if ch not in CORNER_CHARS:
+                    raise LevelError(f"bad character {ch!r} in a corner slot; allowed: '+', '#', '-', '|', ' '", slot=(i, j))
+            elif i % 2 == 1 and j % 2 == 1:
+                cell = ((j - 1) // 2, (i - 1) // 2)
+                if ch in FLOOR_CHARS:
+                    continue
+                if ch == "#":
+                    blocked.add(cell)
+                elif ch == "E":
+                    exits.add(cell)
+                elif ch == "p":
+                    small.add(cell)
+                elif ch == "P":
+                    large.add(cell)
+                elif ch == "S" or ch.isdigit() and ch.isascii():
+                    k = 0 if ch == "S" else int(ch)
+                    if k in starts:
+                        raise LevelError(f"start {k} is given twice ('S' counts as '0')", slot=(i, j))
+                    starts[k] = cell
+                else:
+                    raise LevelError(
+                        f"bad character {ch!r} in a cell slot; allowed: ' ', '.', 'S', '0'-'9', 'E', 'p', 'P', '#'",
+                        slot=(i, j),
+                    )
+            else:
+                vertical = i % 2 == 1  # a slot between horizontal neighbours
+                wall_chars = WALL_V if vertical else WALL_H
+                border = j in (0, n_cols - 1) if vertical else i in (0, n_lines - 1)
+                if border:
+                    if ch not in wall_chars:
+                        raise LevelError(
+                            f"open border: the outer border must be a wall ({' or '.join(map(repr, wall_chars))}), "
+                            f"found {ch!r}{short}",
+                            slot=(i, j),
+                        )
+                    continue
+                if vertical:
+                    edge = (((j - 2) // 2, (i - 1) // 2), (j // 2, (i - 1) // 2))
+                else:
+                    edge = (((j - 1) // 2, (i - 2) // 2), ((j - 1) // 2, i // 2))
+                if ch in wall_chars:
+                    walls.add(edge)
+                elif ch == GLASS:
+                    glass.add(edge)
+                elif ch != " ":
+                    kind = "vertical" if vertical else "horizontal"
+                    raise LevelError(
+                        f"bad character {ch!r} in a {kind} edge slot; allowed: "
+                        f"{', '.join(map(repr, wall_chars))} (wall), '*' (glass wall), ' ' (open)",
+                        slot=(i, j),
+                    )
+    for k in sorted(starts):
+        if k > 0 and k - 1 not in starts:
+            c = starts[k]
+            raise LevelError(f"start {k} is given but start {k - 1} is missing (starts are numbered from 0)", cell=c)
+    if not exits:
+        raise LevelError(f"missing exit: no cell of lines 1-{n_lines} is an exit 'E'")
+    return Level(
+        width=width,
+        height=height,
+        walls=frozenset(walls),
+        glass=frozenset(glass),
+        blocked=frozenset(blocked),
+        small_puddles=frozenset(small),
+        large_puddles=frozenset(large),
+        starts=tuple(starts[k] for k in sorted(starts)),
+        exits=frozenset(exits),
+        name=name,
+    )

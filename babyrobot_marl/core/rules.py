@@ -1,0 +1,67 @@
+"""Rules: the rewards and probabilities of a step, separate from the map they apply to."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields, replace
+from typing import Any
+
+COLLISION_MODES = ("block", "bounce", "pass")
+
+_PROBABILITIES = ("small_puddle_move_prob", "large_puddle_move_prob", "glass_pass_prob")
+
+
+@dataclass(frozen=True)
+class Rules:
+    """Rewards per cell kind and the probabilities of skids and glass walls.
+
+    =========================  =======  ===================================================
+    field                      default  meaning
+    =========================  =======  ===================================================
+    ``floor_reward``           -1.0     entering (or staying in) a floor cell
+    ``small_puddle_reward``    -2.0     entering (or staying in) a small puddle ``p``
+    ``large_puddle_reward``    -4.0     entering (or staying in) a large puddle ``P``
+    ``exit_reward``            0.0      the step that reaches an exit
+    ``small_puddle_move_prob`` 0.6      a move out of a small puddle goes where intended
+    ``large_puddle_move_prob`` 0.4      a move out of a large puddle goes where intended
+    ``glass_pass_prob``        0.5      a move through a glass wall ``*`` gets through
+    ``collisions``             "block"  race collision mode: "block", "bounce" or "pass"
+    ``win_bonus``              10.0     race: added to the reward of the first finisher(s)
+    =========================  =======  ===================================================
+
+    A skid (probability ``1 - move_prob``) takes the robot to one of the *other* open
+    neighbours of its puddle (open edge, no glass, not blocked), uniformly; with none it stays.
+    """
+
+    floor_reward: float = -1.0
+    small_puddle_reward: float = -2.0
+    large_puddle_reward: float = -4.0
+    exit_reward: float = 0.0
+    small_puddle_move_prob: float = 0.6
+    large_puddle_move_prob: float = 0.4
+    glass_pass_prob: float = 0.5
+    collisions: str = "block"
+    win_bonus: float = 10.0
+
+    def __post_init__(self) -> None:
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if f.name == "collisions":
+                if value not in COLLISION_MODES:
+                    raise ValueError(f"collisions: must be one of {', '.join(map(repr, COLLISION_MODES))}, got {value!r}")
+                continue
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+                raise ValueError(f"{f.name}: must be a finite number, got {value!r}")
+            if f.name in _PROBABILITIES and not 0.0 <= value <= 1.0:
+                raise ValueError(f"{f.name}: is a probability and must lie in [0, 1], got {value!r}")
+            object.__setattr__(self, f.name, float(value))
+
+    def replace(self, **overrides: Any) -> Rules:
+        """A copy with some fields changed; unknown names are an error listing the known ones."""
+        unknown = sorted(set(overrides) - RULE_NAMES)
+        if unknown:
+            raise TypeError(f"unknown rule {unknown[0]!r}; rules are: {', '.join(sorted(RULE_NAMES))}")
+        return replace(self, **overrides)
+
+
+RULE_NAMES = frozenset(f.name for f in fields(Rules))

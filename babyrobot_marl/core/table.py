@@ -1,0 +1,140 @@
+"""Compile a ``Level`` and ``Rules`` once into flat look-up tables.
+
+Cells are numbered ``c = y * width + x``. The simulator (``engine``) and the planning model
+(``model``) both read these tables and nothing else, so they cannot disagree.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+from typing import NamedTuple
+
+import numpy as np
+
+from .actions import DELTAS, N_ACTIONS
+from .level import Cell, Level
+from .rules import Rules
+
+MAX_SKIDS = N_ACTIONS - 2  # the open directions other than the intended one: at most 3
+
+
+class TableLists(NamedTuple):
+    """The tables as nested Python lists: one robot's step reads these faster than arrays."""
+
+    target: list[list[int]]
+    glass: list[list[bool]]
+    move_prob: list[float]
+    skid: list[list[tuple[int, ...]]]
+    reward: list[float]
+    is_exit: list[bool]
+    glass_pass_prob: float
+
+
+@dataclass(frozen=True, eq=False)
+class Table:
+    """A level compiled under some rules. Arrays are indexed by cell id and action.
+
+    ``target[c, a]``  the cell that action ``a`` leads to from ``c`` when nothing goes wrong
+                      (``c`` itself for STAY and for a move into a wall, a blocked cell or the border)
+    ``glass[c, a]``   that move crosses a glass wall
+    ``move_prob[c]``  probability that a move out of ``c`` is not a skid (1.0 off puddles)
+    ``skid[c, a, k]`` the ``n_skid[c, a]`` cells a skid may lead to, padded with ``c``
+    ``reward[c]``     reward for ending a step in ``c`` (the exit reward on exits)
+    ``is_exit[c]``, ``blocked[c]``
+    """
+
+    level: Level
+    rules: Rules
+    target: np.ndarray
+    glass: np.ndarray
+    move_prob: np.ndarray
+    skid: np.ndarray
+    n_skid: np.ndarray
+    reward: np.ndarray
+    is_exit: np.ndarray
+    blocked: np.ndarray
+
+    @property
+    def width(self) -> int:
+        return self.level.width
+
+    @property
+    def height(self) -> int:
+        return self.level.height
+
+    @property
+    def n_cells(self) -> int:
+        return self.level.n_cells
+
+    @cached_property
+    def lists(self) -> TableLists:
+        skid = [[tuple(self.skid[c, a, : self.n_skid[c, a]].tolist()) for a in range(N_ACTIONS)] for c in range(self.n_cells)]
+        return TableLists(
+            self.target.tolist(),
+            self.glass.tolist(),
+            self.move_prob.tolist(),
+            skid,
+            self.reward.tolist(),
+            self.is_exit.tolist(),
+            self.rules.glass_pass_prob,
+        )
+
+    def cell_id(self, cell: Cell) -> int:
+        return cell[1] * self.level.width + cell[0]
+
+    def cell_xy(self, c: int) -> Cell:
+        return (c % self.level.width, c // self.level.width)
+
+
+def compile_level(level: Level, rules: Rules | None = None) -> Table:
+    """Build the look-up tables of ``level`` under ``rules`` (default ``Rules()``)."""
+    rules = Rules() if rules is None else rules
+    w, n = level.width, level.n_cells
+    target = np.tile(np.arange(n, dtype=np.int64)[:, None], (1, N_ACTIONS))
+    glass = np.zeros((n, N_ACTIONS), dtype=bool)
+    skid = np.tile(np.arange(n, dtype=np.int64)[:, None, None], (1, N_ACTIONS, MAX_SKIDS))
+    n_skid = np.zeros((n, N_ACTIONS), dtype=np.int64)
+    move_prob = np.ones(n)
+    reward = np.full(n, rules.floor_reward)
+    is_exit = np.zeros(n, dtype=bool)
+    blocked = np.zeros(n, dtype=bool)
+
+    def cid(cell: Cell) -> int:
+        return cell[1] * w + cell[0]
+
+    for cell in level.blocked:
+        blocked[cid(cell)] = True
+    for cell in level.small_puddles:
+        move_prob[cid(cell)] = rules.small_puddle_move_prob
+        reward[cid(cell)] = rules.small_puddle_reward
+    for cell in level.large_puddles:
+        move_prob[cid(cell)] = rules.large_puddle_move_prob
+        reward[cid(cell)] = rules.large_puddle_reward
+    for cell in level.exits:
+        is_exit[cid(cell)] = True
+        reward[cid(cell)] = rules.exit_reward
+    for cell, r in level.rewards:
+        reward[cid(cell)] = r
+
+    for y in range(level.height):
+        for x in range(w):
+            c = cid((x, y))
+            if blocked[c]:
+                continue
+            neighbours = dict(level.neighbours((x, y)))  # open cell -> behind glass?
+            open_dirs = []
+            for a in range(1, N_ACTIONS):
+                nxt = (x + DELTAS[a][0], y + DELTAS[a][1])
+                if nxt in neighbours:
+                    target[c, a] = cid(nxt)
+                    glass[c, a] = neighbours[nxt]
+                    if not neighbours[nxt]:
+                        open_dirs.append(a)
+            for a in range(1, N_ACTIONS):
+                others = [cid((x + DELTAS[d][0], y + DELTAS[d][1])) for d in open_dirs if d != a]
+                n_skid[c, a] = len(others)
+                skid[c, a, : len(others)] = others
+    for arr in (target, glass, move_prob, skid, n_skid, reward, is_exit, blocked):
+        arr.setflags(write=False)
+    return Table(level, rules, target, glass, move_prob, skid, n_skid, reward, is_exit, blocked)

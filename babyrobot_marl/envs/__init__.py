@@ -1,0 +1,5 @@
+"""Env adapters over the shared core: Gymnasium (single robot) and PettingZoo (race)."""
+
+from .single import BabyRobotEnv
+
+__all__ = ["BabyRobotEnv"]

@@ -1,0 +1,209 @@
+"""BabyRobot-v0: one robot finds the exit. A thin Gymnasium shell over the shared grid core."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from functools import cached_property
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+from ..core.actions import N_ACTIONS, Action
+from ..core.engine import OUTCOMES, STAYED, move
+from ..core.level import Cell, Level
+from ..core.model import Transition, frozenlake_P
+from ..core.rng import SLOTS, new_key
+from ..core.rules import Rules
+from ..core.table import compile_level
+from ..render.ansi import frame
+from .common import check_action, check_positive_int, check_render_mode, resolve_level, resolve_rules
+
+
+def default_max_steps(level: Level) -> int:
+    """Four steps per cell, and at least 100: room for a random walk on small levels."""
+    return max(100, 4 * level.n_cells)
+
+
+class BabyRobotEnv(gym.Env):
+    """Baby Robot looks for the exit of a grid of walls, glass walls, puddles and blocked cells.
+
+    ## Action space
+
+    ``Discrete(5)``, the ``babyrobot_marl.Action`` enum:
+
+    | value | name  | effect                 |
+    |-------|-------|------------------------|
+    | 0     | STAY  | stay in place          |
+    | 1     | NORTH | move up (``y - 1``)    |
+    | 2     | EAST  | move right (``x + 1``) |
+    | 3     | SOUTH | move down (``y + 1``)  |
+    | 4     | WEST  | move left (``x - 1``)  |
+
+    ## Observation space
+
+    ``MultiDiscrete([width, height])``: the robot's cell ``np.array([x, y], dtype=np.int64)``,
+    ``x`` the column from the left, ``y`` the row from the top.
+
+    ## Rewards
+
+    For the cell the step ends in (``Rules``): floor -1, small puddle -2, large puddle -4, an
+    exit 0, or a custom reward set on the level. A move into a wall, a blocked cell or the
+    border, or a failed pass through a glass wall, leaves the robot in place and pays its cell.
+
+    ## Dynamics
+
+    A move out of a puddle skids with probability 0.4 (small) / 0.6 (large) to one of the other
+    open neighbours, uniformly (stays with none). Glass walls let a move through with
+    probability 0.5. All randomness comes from ``self.np_random``: same seed, same episode.
+
+    ## Episode end
+
+    Terminated when the robot reaches an exit. Truncated after ``max_steps`` steps
+    (default ``max(100, 4 * width * height)``); ``truncated`` is False on a terminating step.
+
+    ## Info
+
+    ``{"cell": (x, y), "outcome": "moved" | "stayed" | "bumped" | "skidded" | "glass",
+    "intended": bool}``: ``intended`` is True when the robot ended where its action aimed
+    (moved, or STAY).
+
+    ## Arguments
+
+    ``level``: a built-in name (``babyrobot_marl.levels.names()``, or ``"maze-WxH[-sSEED]"``),
+    a level text or a ``Level``. ``rules``: a ``Rules`` or dict; any ``Rules`` field may also
+    be given as a keyword (``glass_pass_prob=0.9``). ``max_steps``. ``start``: ``None`` (the
+    level's start, or a random free cell if it has none) or ``"random"`` (a random free cell
+    each episode). ``reset(options={"start": (x, y)})`` starts one episode at a given cell.
+    ``render_mode``: ``"ansi"`` (text frame) or ``"human"`` (prints the text frame each step).
+
+    ## Registered configurations
+
+    ``babyrobot_marl/BabyRobot-v0`` (``level="default"``); pass ``level=`` to ``gymnasium.make``
+    for any other level, e.g. ``gymnasium.make("babyrobot_marl/BabyRobot-v0", level="maze-8x8")``.
+    """
+
+    metadata = {"render_modes": ["ansi", "human"], "render_fps": 4}
+
+    def __init__(
+        self,
+        level: str | Level = "default",
+        rules: Rules | Mapping[str, Any] | None = None,
+        max_steps: int | None = None,
+        start: str | None = None,
+        render_mode: str | None = None,
+        **rule_overrides: Any,
+    ):
+        self.level = resolve_level(level)
+        self.rules = resolve_rules(rules, rule_overrides, known="arguments are level, rules, max_steps, start, render_mode")
+        self.table = compile_level(self.level, self.rules)
+        self.max_steps = default_max_steps(self.level) if max_steps is None else check_positive_int(max_steps, "max_steps")
+        if start not in (None, "random"):
+            raise ValueError(f"start: must be None (the level's start) or 'random', got {start!r}")
+        self._free = [self.table.cell_id(c) for c in self.level.free_cells()]
+        self.random_start = start == "random" or not self.level.starts
+        if self.random_start and not self._free:
+            raise ValueError(f"level: {self.level!r} has no free cell to start a robot on")
+        self.render_mode = check_render_mode(render_mode, self.metadata["render_modes"])
+
+        w, h = self.level.width, self.level.height
+        self.action_space = spaces.Discrete(N_ACTIONS)
+        self.observation_space = spaces.MultiDiscrete([w, h])
+        self._lists = self.table.lists
+        self._obs = [np.array(self.table.cell_xy(c), dtype=np.int64) for c in range(self.table.n_cells)]
+        self._xy = [self.table.cell_xy(c) for c in range(self.table.n_cells)]
+        self._cell = -1  # no episode yet
+        self._t = 0
+        self._key = 0
+        self._done = True
+        self._return = 0.0
+        self._last: str = ""
+
+    # ------------------------------------------------------------------------ Gymnasium API
+    def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
+        start = None if options is None else options.get("start")
+        if start is not None:
+            start = self._check_start(start)
+        super().reset(seed=seed)
+        self._key = new_key(self.np_random)
+        if start is not None:
+            self._cell = start
+        elif self.random_start:
+            self._cell = self._free[int(self.np_random.integers(len(self._free)))]
+        else:
+            self._cell = self.table.cell_id(self.level.starts[0])
+        self._t = 0
+        self._done = False
+        self._return = 0.0
+        self._last = ""
+        if self.render_mode == "human":
+            self._render_human()
+        return self._obs[self._cell].copy(), {"cell": self._xy[self._cell]}
+
+    def step(self, action):
+        a = check_action(action)
+        if self._done:
+            if self._cell < 0:
+                raise RuntimeError("step: call reset() before the first step()")
+            raise RuntimeError("step: the episode has ended (terminated or truncated); call reset() first")
+        cell, outcome = move(self._lists, self._cell, a, self._key, self._t * SLOTS)
+        self._cell = cell
+        self._t += 1
+        reward = self._lists.reward[cell]
+        terminated = self._lists.is_exit[cell]
+        truncated = not terminated and self._t >= self.max_steps
+        self._done = terminated or truncated
+        self._return += reward
+        self._last = f"{Action(a).name} -> {OUTCOMES[outcome]}"
+        if self.render_mode == "human":
+            self._render_human()
+        info = {"cell": self._xy[cell], "outcome": OUTCOMES[outcome], "intended": outcome <= STAYED}
+        return self._obs[cell].copy(), reward, terminated, truncated, info
+
+    def render(self) -> str | None:
+        if self.render_mode is None:
+            gym.logger.warn("render() called with render_mode=None; pass render_mode='ansi' or 'human'")
+            return None
+        if self.render_mode == "ansi":
+            return self._frame()
+        self._render_human()
+        return None
+
+    # ------------------------------------------------------------------------ helpers
+    @property
+    def robot_cell(self) -> Cell | None:
+        """The robot's ``(x, y)``, or None before the first reset."""
+        return self._xy[self._cell] if self._cell >= 0 else None
+
+    @property
+    def elapsed_steps(self) -> int:
+        return self._t
+
+    @cached_property
+    def P(self) -> dict[int, dict[int, list[Transition]]]:
+        """FrozenLake-style model: ``P[s][a] == [(prob, next_s, reward, terminated), ...]``.
+
+        States are cell ids ``s = y * width + x``; built from the same tables as ``step``.
+        """
+        return frozenlake_P(self.table)
+
+    def _frame(self, colour: bool = False) -> str:
+        robots = [self.robot_cell] if self._cell >= 0 else []
+        status = f"step {self._t}/{self.max_steps}  return {self._return:g}" + (f"  {self._last}" if self._last else "")
+        return frame(self.level, robots, status, colour=colour)
+
+    def _render_human(self) -> None:
+        print(self._frame(), flush=True)
+
+    def _check_start(self, start: object) -> int:
+        try:
+            x, y = (int(v) for v in start)  # type: ignore[union-attr]
+        except (TypeError, ValueError):
+            raise ValueError(f"options['start']: expected a cell (x, y), got {start!r}") from None
+        if not (0 <= x < self.level.width and 0 <= y < self.level.height):
+            raise ValueError(f"options['start']: cell {(x, y)} is outside the {self.level.width}x{self.level.height} grid")
+        c = self.table.cell_id((x, y))
+        if self.table.blocked[c] or self.table.is_exit[c]:
+            raise ValueError(f"options['start']: cell {(x, y)} is blocked or an exit; start on an open cell")
+        return c

@@ -1,0 +1,39 @@
+"""Text frames: the level text with robots drawn on it (pure Python, no terminal needed)."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+from ..core.level import Cell, Level
+
+ROBOT_LETTERS = "ABCDEFGHIJKLMNOPQRSTUVWXYZ"
+# Foreground colours for robots in a terminal (ANSI SGR codes), cycled.
+ROBOT_COLOURS = (31, 34, 32, 35, 33, 36, 91, 94, 92, 95)
+
+
+def robot_glyph(i: int, n_robots: int) -> str:
+    """``R`` for a lone robot, else ``A``, ``B``, ... (then ``a``... and ``@`` past 52)."""
+    if n_robots == 1:
+        return "R"
+    letters = ROBOT_LETTERS + ROBOT_LETTERS.lower()
+    return letters[i] if i < len(letters) else "@"
+
+
+def frame(level: Level, robots: Sequence[Cell | None], status: str = "", colour: bool = False) -> str:
+    """The level as text with robot ``i`` drawn at ``robots[i]`` (``None``: off the board).
+
+    Several robots in one cell (collision mode "pass") show the lowest-numbered one.
+    ``colour=True`` adds ANSI colours for a terminal.
+    """
+    lines = [list(line) for line in level.to_ascii().split("\n")]
+    n = len(robots)
+    for i in reversed(range(n)):
+        cell = robots[i]
+        if cell is None:
+            continue
+        glyph = robot_glyph(i, n)
+        if colour:
+            glyph = f"\x1b[1;{ROBOT_COLOURS[i % len(ROBOT_COLOURS)]}m{glyph}\x1b[0m"
+        lines[2 * cell[1] + 1][2 * cell[0] + 1] = glyph
+    text = "\n".join("".join(line) for line in lines)
+    return f"{text}\n{status}" if status else text
