@@ -9,16 +9,29 @@ import gymnasium
 
 from . import levels
 from .core import Action, Level, Rules, compile_level
+from .envs.race_gym import BabyRobotRaceEnv
 from .envs.single import BabyRobotEnv
 
 __version__ = "0.1.0"
 
 
 def _register() -> None:
-    if "babyrobot_marl/BabyRobot-v0" not in gymnasium.registry:
-        gymnasium.register(id="babyrobot_marl/BabyRobot-v0", entry_point="babyrobot_marl.envs.single:BabyRobotEnv")
+    gym_ids = {
+        "babyrobot_marl/BabyRobot-v0": "babyrobot_marl.envs.single:BabyRobotEnv",
+        "babyrobot_marl/BabyRobotRace-v0": "babyrobot_marl.envs.race_gym:BabyRobotRaceEnv",
+    }
+    for env_id, entry_point in gym_ids.items():
+        if env_id not in gymnasium.registry:
+            gymnasium.register(id=env_id, entry_point=entry_point)
+    try:  # PettingZoo >= 1.26 has a registry; older versions have none
+        import pettingzoo
+    except ImportError:
+        return
+    if hasattr(pettingzoo, "register") and "babyrobot_marl/Race-v0" not in pettingzoo.parallel_registry:
+        pettingzoo.register("parallel", "babyrobot_marl/Race-v0", entry_point="babyrobot_marl.race_v0:parallel_env")
+        pettingzoo.register("aec", "babyrobot_marl/Race-v0", entry_point="babyrobot_marl.race_v0:env")
 
 
 _register()
 
-__all__ = ["Action", "BabyRobotEnv", "Level", "Rules", "__version__", "compile_level", "levels"]
+__all__ = ["Action", "BabyRobotEnv", "BabyRobotRaceEnv", "Level", "Rules", "__version__", "compile_level", "levels"]

@@ -342,7 +342,7 @@ def _parse(lines: list[str], name: str) -> Level:
             c = starts[k]
             raise LevelError(f"start {k} is given but start {k - 1} is missing (starts are numbered from 0)", cell=c)
     if not exits:
-        raise LevelError(f"missing exit: no cell of lines 1-{n_lines} is an exit 'E'")
+        raise LevelError(f"missing exit: no cell of the {width}x{height} level that begins here is an exit 'E'", slot=(0, 0))
     return Level(
         width=width,
         height=height,

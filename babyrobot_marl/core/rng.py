@@ -41,10 +41,11 @@ def uniform_array(keys: np.ndarray, counts: np.ndarray) -> np.ndarray:
     """``uniform`` over arrays (broadcast), bit for bit the same numbers."""
     keys = np.asarray(keys, dtype=np.uint64)
     counts = np.asarray(counts, dtype=np.uint64)
-    z = keys + (counts + np.uint64(1)) * np.uint64(_GAMMA)
-    z = (z ^ (z >> np.uint64(30))) * np.uint64(_C1)
-    z = (z ^ (z >> np.uint64(27))) * np.uint64(_C2)
-    z = (z ^ (z >> np.uint64(31))) >> np.uint64(11)
+    with np.errstate(over="ignore"):  # wrapping mod 2**64 is intended; 0-d inputs would warn
+        z = keys + (counts + np.uint64(1)) * np.uint64(_GAMMA)
+        z = (z ^ (z >> np.uint64(30))) * np.uint64(_C1)
+        z = (z ^ (z >> np.uint64(27))) * np.uint64(_C2)
+        z = (z ^ (z >> np.uint64(31))) >> np.uint64(11)
     return z.astype(np.float64) * _TO_UNIT
 
 

@@ -12,7 +12,7 @@ from gymnasium import spaces
 
 from ..core.actions import N_ACTIONS, Action
 from ..core.engine import OUTCOMES, STAYED, move
-from ..core.level import Cell, Level
+from ..core.level import Cell, Level, _as_cell
 from ..core.model import Transition, frozenlake_P
 from ..core.rng import SLOTS, new_key
 from ..core.rules import Rules
@@ -198,9 +198,9 @@ class BabyRobotEnv(gym.Env):
 
     def _check_start(self, start: object) -> int:
         try:
-            x, y = (int(v) for v in start)  # type: ignore[union-attr]
-        except (TypeError, ValueError):
-            raise ValueError(f"options['start']: expected a cell (x, y), got {start!r}") from None
+            x, y = _as_cell(start, "options['start']")  # integers only: (1.5, 0) is not a cell
+        except ValueError:
+            raise ValueError(f"options['start']: expected a cell (x, y) of integers, got {start!r}") from None
         if not (0 <= x < self.level.width and 0 <= y < self.level.height):
             raise ValueError(f"options['start']: cell {(x, y)} is outside the {self.level.width}x{self.level.height} grid")
         c = self.table.cell_id((x, y))

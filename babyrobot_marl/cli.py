@@ -1,0 +1,348 @@
+"""The ``babyrobot-marl`` command: list and show levels, watch an episode in the terminal.
+
+::
+
+    babyrobot-marl levels                      # the built-in levels: size, starts, exits, features
+    babyrobot-marl levels maze-8x8             # one level's text (also: --show NAME, or a file path)
+    babyrobot-marl play --level walls --policy shortest --seed 0
+    python -m babyrobot_marl play --level default --policy random --no-delay
+
+Each subcommand is a ``_add_<name>_parser`` function that registers its arguments and a
+``_cmd_<name>(args, out)`` handler; the shared pieces (``--level``, ``--seed``, the display
+options and ``_animate``) are small functions so that further subcommands reuse them.
+
+Bad input (an unknown level or policy, a negative seed, a bad delay, a broken level file)
+ends with exit status 2 and one line on stderr, ``babyrobot-marl: error: ...``, never a
+traceback.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import sys
+import time
+from collections.abc import Callable, Iterable, Iterator
+from dataclasses import dataclass
+from pathlib import Path
+from typing import NoReturn, TextIO
+
+from . import __version__, levels, policies
+from .core.actions import Action
+from .core.level import Level
+from .envs.single import BabyRobotEnv
+from .render.ansi import frame
+
+PROG = "babyrobot-marl"
+DEFAULT_DELAY = 0.15  # seconds between frames on a terminal: fast, yet each move is visible
+EXIT_USAGE = 2  # bad input, as argparse uses
+EXIT_INTERRUPTED = 130  # Ctrl-C, as a shell reports it
+
+# ANSI control sequences, written only to a terminal.
+CLEAR_SCREEN = "\x1b[2J"
+CURSOR_HOME = "\x1b[H"
+CLEAR_TO_EOL = "\x1b[K"
+CLEAR_BELOW = "\x1b[J"
+HIDE_CURSOR = "\x1b[?25l"
+SHOW_CURSOR = "\x1b[?25h"
+
+
+class _Parser(argparse.ArgumentParser):
+    """An ``ArgumentParser`` whose errors are one line: no usage block, no traceback."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(EXIT_USAGE, f"{self.prog}: error: {message} (see '{self.prog} --help')\n")
+
+
+# ------------------------------------------------------------------------ argument types
+def _non_negative_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be an integer >= 0, got {text!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be an integer >= 0, got {text!r}")
+    return value
+
+
+def _positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be an integer >= 1, got {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be an integer >= 1, got {text!r}")
+    return value
+
+
+def _seconds(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not math.isfinite(value) or value < 0:  # nan, inf and negative delays make no animation
+        raise argparse.ArgumentTypeError(f"must be a number of seconds >= 0, got {text!r}")
+    return value
+
+
+# ------------------------------------------------------------------------ shared arguments
+def _add_level_arg(p: argparse.ArgumentParser, default: str = "default") -> None:
+    p.add_argument(
+        "--level",
+        default=default,
+        metavar="NAME|FILE",
+        help=f"a built-in level (see '{PROG} levels'), maze-WxH[-sSEED], or the path of a level text file (default: {default})",
+    )
+
+
+def _add_seed_arg(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--seed",
+        type=_non_negative_int,
+        default=None,
+        metavar="N",
+        help="seed of the episode and of random policies (default: a fresh one, printed at the end so it can be replayed)",
+    )
+
+
+def _add_display_args(p: argparse.ArgumentParser) -> None:
+    delay = p.add_mutually_exclusive_group()
+    delay.add_argument(
+        "--delay",
+        type=_seconds,
+        default=None,
+        metavar="SECONDS",
+        help=f"pause between frames (default: {DEFAULT_DELAY} on a terminal, 0 when the output is a file or pipe)",
+    )
+    delay.add_argument("--no-delay", dest="delay", action="store_const", const=0.0, help="no pause between frames")
+    p.add_argument("--no-color", action="store_true", help="no ANSI colours (also: set the NO_COLOR environment variable)")
+
+
+# ------------------------------------------------------------------------ shared helpers
+def load_level(spec: str) -> Level:
+    """A level from a built-in name, ``maze-WxH[-sSEED]``, or the path of a level text file."""
+    path = Path(spec)
+    if path.is_file():
+        try:
+            text = path.read_text(encoding="utf-8")
+        except (OSError, UnicodeDecodeError) as err:
+            raise ValueError(f"level: cannot read the level file {spec!r}: {err}") from None
+        try:
+            return Level.from_ascii(text, name=path.stem)
+        except ValueError as err:
+            raise ValueError(f"level file {spec}: {err}") from None
+    if path.suffix or os.sep in spec or "/" in spec:  # meant as a file: say so rather than "unknown level"
+        raise ValueError(f"level: no such level file {spec!r}")
+    try:
+        return levels.get(spec)
+    except ValueError as err:
+        if not str(err).startswith("level: unknown level"):
+            raise ValueError(f"level {spec!r}: {err}") from None  # e.g. a maze size out of range
+        raise ValueError(
+            f"level: unknown level {spec!r} and no file of that name; known levels: {', '.join(levels.names())} "
+            "(and maze-WxH or maze-WxH-sSEED for any size and seed)"
+        ) from None
+
+
+@dataclass(frozen=True)
+class Display:
+    """How frames reach the terminal: colour, clearing between frames, pause between frames."""
+
+    colour: bool
+    clear: bool
+    delay: float
+
+
+def _display(args: argparse.Namespace, out: TextIO) -> Display:
+    tty = _isatty(out)
+    colour = tty and not args.no_color and not os.environ.get("NO_COLOR")
+    delay = args.delay if args.delay is not None else (DEFAULT_DELAY if tty else 0.0)
+    return Display(colour=colour, clear=tty, delay=delay)
+
+
+def _isatty(out: TextIO) -> bool:
+    try:
+        return out.isatty()
+    except (AttributeError, ValueError):  # a closed or unusual stream: treat as a file
+        return False
+
+
+def _animate(frames: Iterable[str], display: Display, out: TextIO, sleep: Callable[[float], None] = time.sleep) -> int:
+    """Show text frames one after another; returns how many were shown.
+
+    On a terminal (``display.clear``) each frame is redrawn in place: cursor home, the frame
+    with every line cleared to its end, the rest of the screen cleared (no flicker from a full
+    clear). Elsewhere frames follow each other, separated by a blank line, so a log reads top
+    to bottom.
+    """
+    n = 0
+    if display.clear:
+        out.write(HIDE_CURSOR + CLEAR_SCREEN)
+    try:
+        for text in frames:
+            if n and display.delay > 0:
+                sleep(display.delay)
+            if display.clear:
+                out.write(CURSOR_HOME + text.replace("\n", CLEAR_TO_EOL + "\n") + CLEAR_TO_EOL + "\n" + CLEAR_BELOW)
+            else:
+                out.write(("\n" if n else "") + text + "\n")
+            out.flush()
+            n += 1
+    finally:
+        if display.clear:
+            out.write(SHOW_CURSOR)
+            out.flush()
+    return n
+
+
+# ------------------------------------------------------------------------ levels
+def _add_levels_parser(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "levels",
+        help="list the built-in levels, or show one",
+        description="List the built-in levels, or print one level's text.",
+    )
+    p.add_argument(
+        "name", nargs="?", metavar="NAME", help="print this level's text (a built-in name, maze-WxH[-sSEED] or a file)"
+    )
+    p.add_argument("--show", metavar="NAME", help="the same as giving NAME")
+    p.set_defaults(func=_cmd_levels)
+
+
+def _features(level: Level) -> str:
+    kinds = [
+        ("walls", level.walls),
+        ("glass", level.glass),
+        ("puddles", level.small_puddles | level.large_puddles),
+        ("blocked", level.blocked),
+    ]
+    return ", ".join(name for name, items in kinds if items) or "-"
+
+
+def _cmd_levels(args: argparse.Namespace, out: TextIO) -> int:
+    if args.name and args.show and args.name != args.show:
+        raise ValueError(f"levels: give one level to show, got {args.name!r} and --show {args.show!r}")
+    name = args.name or args.show
+    if name:
+        out.write(load_level(name).to_ascii() + "\n")
+        return 0
+    rows = [("name", "size", "starts", "exits", "features")]
+    for n in levels.names():
+        lv = levels.get(n)
+        rows.append((n, f"{lv.width}x{lv.height}", str(len(lv.starts)), str(len(lv.exits)), _features(lv)))
+    widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]) - 1)]
+    for r in rows:
+        out.write("  ".join(c.ljust(w) for c, w in zip(r[:-1], widths, strict=True)) + "  " + r[-1] + "\n")
+    out.write(f"\nalso maze-WxH and maze-WxH-sSEED for any size and seed; show one with '{PROG} levels NAME'\n")
+    return 0
+
+
+# ------------------------------------------------------------------------ play
+@dataclass
+class EpisodeSummary:
+    """Filled in while an episode's frames are drawn."""
+
+    seed: int
+    steps: int = 0
+    ret: float = 0.0
+    reached_exit: bool = False
+
+
+def _add_play_parser(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "play",
+        help="watch one robot play one episode in the terminal",
+        description="Animate one episode of BabyRobot-v0 with a scripted policy, then print steps, return and outcome.",
+    )
+    _add_level_arg(p)
+    p.add_argument(
+        "--policy",
+        default="shortest",
+        choices=policies.POLICY_NAMES,
+        help="random: uniform actions; shortest: the shortest path to the exit (default: shortest)",
+    )
+    _add_seed_arg(p)
+    p.add_argument(
+        "--max-steps",
+        type=_positive_int,
+        default=None,
+        metavar="N",
+        help="truncate after N steps (default: 4 per cell, at least 100)",
+    )
+    _add_display_args(p)
+    p.set_defaults(func=_cmd_play)
+
+
+def _fresh_seed() -> int:
+    return int.from_bytes(os.urandom(4), "little") >> 1  # < 2**31: short enough to retype
+
+
+def _episode_frames(env: BabyRobotEnv, policy: Callable, summary: EpisodeSummary, colour: bool) -> Iterator[str]:
+    """Run one episode, yielding a frame after the reset and after every step."""
+    obs, _ = env.reset(seed=summary.seed)
+    yield frame(env.level, [env.robot_cell], f"step 0/{env.max_steps}  return 0", colour=colour)
+    while True:
+        action = policy(obs)
+        obs, reward, terminated, truncated, info = env.step(action)
+        summary.steps += 1
+        summary.ret += reward
+        summary.reached_exit = terminated
+        status = f"step {summary.steps}/{env.max_steps}  return {summary.ret:g}  {Action(action).name} -> {info['outcome']}"
+        yield frame(env.level, [env.robot_cell], status, colour=colour)
+        if terminated or truncated:
+            return
+
+
+def _cmd_play(args: argparse.Namespace, out: TextIO) -> int:
+    level = load_level(args.level)
+    env = BabyRobotEnv(level=level, max_steps=args.max_steps)
+    seed = _fresh_seed() if args.seed is None else args.seed
+    policy = policies.make(args.policy, env.table, seed)
+    display = _display(args, out)
+    summary = EpisodeSummary(seed=seed)
+    _animate(_episode_frames(env, policy, summary, display.colour), display, out)
+    outcome = "reached the exit" if summary.reached_exit else f"did not reach the exit (truncated after {env.max_steps} steps)"
+    out.write(
+        f"\nlevel {level.name or args.level}, policy {args.policy}, seed {seed}: "
+        f"{summary.steps} steps, return {summary.ret!r}, {outcome}\n"
+    )
+    return 0
+
+
+# ------------------------------------------------------------------------ entry point
+def build_parser() -> argparse.ArgumentParser:
+    """The parser of ``babyrobot-marl`` with all subcommands."""
+    parser = _Parser(prog=PROG, description="Baby Robot grid worlds: levels, and episodes watched in the terminal.")
+    parser.add_argument("--version", action="version", version=f"{PROG} {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    _add_levels_parser(sub)
+    _add_play_parser(sub)  # each further subcommand: one _add_<name>_parser(sub) line here
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run the command line; returns the exit status (0 ok, 2 bad input, 130 interrupted)."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    out = sys.stdout
+    if args.command is None:
+        parser.print_help(out)
+        return 0
+    try:
+        return args.func(args, out)
+    except (ValueError, TypeError) as err:
+        print(f"{PROG}: error: {_one_line(err)}", file=sys.stderr)
+        return EXIT_USAGE
+    except KeyboardInterrupt:
+        print(file=sys.stderr)
+        return EXIT_INTERRUPTED
+    except BrokenPipeError:
+        # The reader went away (e.g. '| head'): stop quietly; point stdout at devnull so that
+        # Python's flush at exit does not raise again.
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 1
+
+
+def _one_line(err: BaseException) -> str:
+    return " ".join(str(err).split()) or type(err).__name__

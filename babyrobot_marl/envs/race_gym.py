@@ -1,0 +1,95 @@
+"""BabyRobotRace-v0: one learning robot races scripted opponents, as a Gymnasium env."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+
+from ..core.level import Level
+from ..core.rules import Rules
+from ..policies import POLICY_NAMES, make
+from .race import RaceEnv
+
+
+class BabyRobotRaceEnv(gym.Env):
+    """Robot 0 learns; robots 1.. are scripted (``"shortest"`` or ``"random"``) on the same level.
+
+    Actions, observations, rewards and collision rules are robot 0's view of
+    ``babyrobot_marl.race_v0`` (see its docstring): ``Discrete(5)`` actions, a
+    ``MultiDiscrete`` observation beginning with its own ``[x, y]`` followed by
+    ``[x, y, finished]`` of each opponent. The episode terminates when robot 0 reaches an exit
+    (its reward includes ``win_bonus`` if it is first) and is truncated after ``max_cycles``
+    steps. Opponents that finish are parked off the board. ``info`` holds robot 0's race info
+    plus ``"ranks"`` of all robots (0: not finished).
+
+    Registered as ``babyrobot_marl/BabyRobotRace-v0``: ``gymnasium.make(
+    "babyrobot_marl/BabyRobotRace-v0", level="race-4", opponents=["shortest", "random", "random"])``.
+    """
+
+    metadata = {"render_modes": ["ansi", "human"], "render_fps": 4}
+
+    def __init__(
+        self,
+        level: str | Level = "race-2",
+        opponents: Sequence[str] = ("shortest",),
+        collisions: str | None = None,
+        max_cycles: int | None = None,
+        start: str = "level",
+        rules: Rules | Mapping[str, Any] | None = None,
+        render_mode: str | None = None,
+        **rule_overrides: Any,
+    ):
+        if isinstance(opponents, str) or not all(p in POLICY_NAMES for p in opponents):
+            raise ValueError(f"opponents: expected a list of policy names from {POLICY_NAMES}, got {opponents!r}")
+        self.race = RaceEnv(
+            level=level,
+            n_robots=1 + len(opponents),
+            collisions=collisions,
+            max_cycles=max_cycles,
+            start=start,
+            finished="freeze",
+            rules=rules,
+            render_mode=render_mode,
+            **rule_overrides,
+        )
+        self.opponent_names = tuple(opponents)
+        self.render_mode = render_mode
+        self.observation_space = self.race.observation_space("robot_0")
+        self.action_space = self.race.action_space("robot_0")
+        self._opponents: list[Any] = []
+        self._obs: dict[str, np.ndarray] = {}
+
+    @property
+    def level(self) -> Level:
+        return self.race.level
+
+    def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
+        super().reset(seed=seed)
+        # the opponents' random moves and the race's own draws all come from self.np_random
+        self._opponents = [make(name, self.race.table, seed=self.np_random) for name in self.opponent_names]
+        self._obs, infos = self.race.reset(seed=int(self.np_random.integers(2**63)), options=options)
+        return self._obs["robot_0"].copy(), self._with_ranks(infos["robot_0"])
+
+    def step(self, action):
+        if not self.race.agents:
+            raise RuntimeError("step: the episode has ended or not started; call reset() first")
+        actions = {"robot_0": action}
+        for k, policy in enumerate(self._opponents, start=1):
+            agent = f"robot_{k}"
+            actions[agent] = policy(self._obs[agent])
+        obs, rewards, terms, truncs, infos = self.race.step(actions)
+        self._obs = obs
+        # parked robots are only marked terminated when the whole race ends
+        terminated, truncated = bool(infos["robot_0"]["finished"]), bool(truncs["robot_0"])
+        if terminated and self.race.agents:
+            self.race.agents = []  # the learner's episode is over; the opponents' race with it
+        return obs["robot_0"].copy(), float(rewards["robot_0"]), terminated, truncated, self._with_ranks(infos["robot_0"])
+
+    def render(self) -> str | None:
+        return self.race.render()
+
+    def _with_ranks(self, info: dict[str, Any]) -> dict[str, Any]:
+        return {**info, "ranks": self.race.ranks}

@@ -1,0 +1,132 @@
+"""# Baby Robot race
+
+Several Baby Robots race to the exit of one level, moving at the same time, under collision
+rules. Built on the same compiled level and rules as the single-robot env.
+
+| Import             | `from babyrobot_marl import race_v0`                 |
+|--------------------|------------------------------------------------------|
+| Actions            | Discrete                                             |
+| Parallel API       | Yes                                                  |
+| Manual control     | No                                                   |
+| Agents             | `agents = ["robot_0", ..., "robot_{n-1}"]`           |
+| Agents             | `n_robots` (default 2)                               |
+| Action shape       | (1,)                                                 |
+| Action values      | Discrete(5)                                          |
+| Observation shape  | (2 + 3 * (n_robots - 1),)                            |
+| Observation values | MultiDiscrete([W, H] + [W, H, 2] * (n_robots - 1))   |
+| State shape        | (3 * n_robots,)                                      |
+| State values       | Box(0, [W-1, H-1, 1] * n_robots), int64              |
+
+## Actions
+
+| value | name  | effect                 |
+|-------|-------|------------------------|
+| 0     | STAY  | stay in place          |
+| 1     | NORTH | move up (`y - 1`)      |
+| 2     | EAST  | move right (`x + 1`)   |
+| 3     | SOUTH | move down (`y + 1`)    |
+| 4     | WEST  | move left (`x - 1`)    |
+
+## Observations
+
+Robot `i` observes an int64 vector: its own `[x, y]`, then for each other robot, in the order
+`i+1, i+2, ..., i-1` (modulo `n_robots`: the next robot first), `[x, y, finished]`.
+A finished robot's `[x, y]` is the exit it took; it is off the board (it blocks nobody).
+
+`state()` is `[x, y, finished]` of every robot in robot order: a global view for critics.
+
+## Rewards
+
+Each racing robot gets the reward of the cell its step ends in (`Rules`: floor -1, small
+puddle -2, large puddle -4, exit 0, or the level's custom rewards), plus `win_bonus`
+(default +10) for finishing first; robots that finish in the same first step all get it.
+Parked finished robots (`finished="freeze"`) get 0.
+
+## Dynamics
+
+Every racing robot's own move is drawn first (skids on puddles, glass walls), from the env's
+seeded generator. Then collisions (`collisions=`):
+
+* `"block"` (default): several robots heading for one cell: one, drawn uniformly, gets it,
+  the others stay. Two robots may not swap cells. A robot may follow into a cell its
+  occupant leaves in the same step, not into one whose occupant stays. Resolved until
+  nothing changes.
+* `"bounce"`: as block, but all robots heading for one cell stay.
+* `"pass"`: robots do not interact and may share cells.
+
+A robot that reaches an exit is finished (terminated) and leaves the board.
+
+## Episode end
+
+The race ends when every robot has finished, or after `max_cycles` steps (the robots still
+racing are truncated). With `finished="remove"` (default, the PettingZoo convention) a robot
+leaves `agents` in the step it finishes; `step({})` with no agents left returns empty dicts.
+With `finished="freeze"` finished robots stay in `agents`, parked off the board, with reward 0
+and `terminated=False` (`infos[agent]["finished"]` is True), until the race ends, when they are
+all terminated: every agent is present at every step, which SuperSuit's
+`pettingzoo_env_to_vec_env_v1` needs. A parked robot is an absorbing state of reward 0, so
+returns are the same as with "remove".
+
+## Actions dict
+
+Every racing agent needs an action: a missing one is a `ValueError` (give 0 for STAY), and
+so is an unknown agent, an action for a removed (finished) agent, or an action outside
+0..4 or not an integer. With `finished="freeze"` a parked agent's action is checked and
+ignored. A rejected step changes nothing.
+
+## Info
+
+`infos[agent]`: `cell` `(x, y)`, `outcome` (`moved`, `stayed`, `bumped`, `skidded`, `glass`;
+`finished` once parked; `start` after reset), `blocked` (another robot stopped it this
+step), `finished`, and `rank` once finished (1 = first; robots finishing together share it).
+
+## Arguments
+
+```python
+race_v0.parallel_env(level="race-2", n_robots=2, collisions="block", max_cycles=None,
+                     start="level", finished="remove", rules=None, render_mode=None,
+                     **rule_overrides)
+```
+
+* `level`: a built-in name (`babyrobot_marl.levels.names()`), a level text or a `Level`.
+* `n_robots`: how many robots race (`robot_0` ... `robot_{n-1}`).
+* `collisions`: `"block"`, `"bounce"` or `"pass"` (overrides `rules.collisions`).
+* `max_cycles`: steps before the race is truncated (default `max(100, 4 * W * H)`).
+* `start`: `"level"` (the level's numbered starts; an error if it has fewer than
+  `n_robots`), `"fill"` (the level's starts, then random free cells), `"random"` (random
+  free cells each reset), drawn from the env's seeded generator.
+* `finished`: `"remove"` or `"freeze"` (above).
+* `rules` / keyword overrides: any `Rules` field, e.g. `win_bonus=0`, `glass_pass_prob=1`.
+* `render_mode`: `"ansi"` (text frame) or `"human"` (prints it each step).
+
+## Version history
+
+* v0: first release.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from pettingzoo.utils import parallel_to_aec, wrappers
+
+from .envs.race import RaceEnv
+
+__all__ = ["RaceEnv", "env", "parallel_env", "raw_env"]
+
+
+def parallel_env(**kwargs: Any) -> RaceEnv:
+    """The race as a PettingZoo ``ParallelEnv`` (see the module docstring for arguments)."""
+    return RaceEnv(**kwargs)
+
+
+def raw_env(**kwargs: Any):
+    """The race in the AEC form, unwrapped."""
+    return parallel_to_aec(parallel_env(**kwargs))
+
+
+def env(**kwargs: Any):
+    """The race in the AEC form with PettingZoo's usual wrappers."""
+    aec = raw_env(**kwargs)
+    aec = wrappers.AssertOutOfBoundsWrapper(aec)
+    return wrappers.OrderEnforcingWrapper(aec)

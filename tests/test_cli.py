@@ -1,0 +1,251 @@
+"""The ``babyrobot-marl`` command line: levels, play, and one-line errors for bad input."""
+
+from __future__ import annotations
+
+import os
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from babyrobot_marl import cli, levels
+
+REPO = Path(__file__).resolve().parents[1]
+SUMMARY = re.compile(r"seed (\d+): (\d+) steps, return (\S+), (.*)$", re.M)
+
+# The default 3x3 level has no inner walls: start (0, 0), exit (2, 2). The shortest path is
+# 4 moves (2 east, 2 south); each of the first 3 enters a floor cell (-1), the 4th the exit (0).
+DEFAULT_SHORTEST_STEPS = 4
+DEFAULT_SHORTEST_RETURN = -3.0
+
+
+def run(argv: list[str]) -> int:
+    """``cli.main``'s exit status, whether it returns it or argparse raises SystemExit."""
+    try:
+        return cli.main(argv)
+    except SystemExit as exit_:
+        return exit_.code if isinstance(exit_.code, int) else 1
+
+
+def summary(out: str) -> tuple[int, int, float, str]:
+    m = SUMMARY.search(out)
+    assert m, f"no summary line in:\n{out}"
+    return int(m[1]), int(m[2]), float(m[3]), m[4]
+
+
+# ------------------------------------------------------------------------ levels
+def test_levels_lists_every_builtin_level_with_its_size_and_number_of_starts(capsys):
+    assert run(["levels"]) == 0
+    out = capsys.readouterr().out
+    rows = {line.split()[0]: line.split() for line in out.splitlines() if line.strip()}
+    for name in levels.names():
+        lv = levels.get(name)
+        assert rows[name][1:3] == [f"{lv.width}x{lv.height}", str(len(lv.starts))], rows[name]
+    assert rows["race-4"][1:3] == ["7x7", "4"]
+
+
+@pytest.mark.parametrize("argv", [["levels", "walls"], ["levels", "--show", "walls"]])
+def test_levels_with_a_name_prints_that_levels_text(capsys, argv):
+    assert run(argv) == 0
+    assert capsys.readouterr().out == levels.text("walls") + "\n"
+
+
+def test_levels_shows_a_level_file_in_canonical_form(capsys, tmp_path):
+    path = tmp_path / "tiny.txt"
+    path.write_text("    +-+-+-+\n    |S . E|\n    +-+-+-+\n")  # indented, '.' floor: both accepted
+    assert run(["levels", str(path)]) == 0
+    assert capsys.readouterr().out == "+-+-+-+\n|S   E|\n+-+-+-+\n"
+
+
+# ------------------------------------------------------------------------ play
+def test_play_shortest_on_the_default_level_reaches_the_exit_in_4_steps(capsys):
+    assert run(["play", "--level", "default", "--policy", "shortest", "--seed", "0", "--no-delay"]) == 0
+    out = capsys.readouterr().out
+    seed, steps, ret, outcome = summary(out)
+    assert (seed, steps, ret, outcome) == (0, DEFAULT_SHORTEST_STEPS, DEFAULT_SHORTEST_RETURN, "reached the exit")
+    # one frame after the reset and one after each step; the last shows the robot on the exit
+    frames = out.split("\n\n")
+    assert len(frames) == DEFAULT_SHORTEST_STEPS + 2  # + the summary
+    assert frames[0].splitlines()[1] == "|R    |"
+    assert frames[-2].splitlines()[5] == "|    R|"
+
+
+def test_play_random_is_repeatable_with_the_same_seed_and_differs_with_another(capsys):
+    argv = ["play", "--level", "puddles", "--policy", "random", "--no-delay", "--max-steps", "30", "--seed"]
+    outs = []
+    for seed in ("3", "3", "4"):
+        assert run([*argv, seed]) == 0
+        outs.append(capsys.readouterr().out)
+    assert outs[0] == outs[1]
+    assert outs[0].split("\n\nlevel")[0] != outs[2].split("\n\nlevel")[0]
+
+
+def test_play_without_a_seed_prints_the_seed_that_replays_the_episode(capsys):
+    argv = ["play", "--level", "glass", "--policy", "random", "--no-delay", "--max-steps", "40"]
+    assert run(argv) == 0
+    first = capsys.readouterr().out
+    seed = summary(first)[0]
+    assert run([*argv, "--seed", str(seed)]) == 0
+    assert capsys.readouterr().out == first
+
+
+def test_play_truncates_after_max_steps_and_says_the_exit_was_not_reached(capsys):
+    assert run(["play", "--level", "maze-16x16", "--policy", "random", "--seed", "0", "--no-delay", "--max-steps", "5"]) == 0
+    _, steps, ret, outcome = summary(capsys.readouterr().out)
+    assert steps == 5
+    assert ret == -5.0  # a maze has only floor cells: -1 per step
+    assert outcome.startswith("did not reach the exit")
+
+
+def test_play_accepts_a_path_to_a_level_file(capsys, tmp_path):
+    path = tmp_path / "corridor.txt"
+    path.write_text("+-+-+-+\n|S    |\n+-+-+ +\n|E    |\n+-+-+-+\n")  # a U: 5 moves round the wall
+    assert run(["play", "--level", str(path), "--policy", "shortest", "--seed", "0", "--no-delay"]) == 0
+    _, steps, ret, outcome = summary(capsys.readouterr().out)
+    assert (steps, ret, outcome) == (5, -4.0, "reached the exit")
+
+
+def test_play_into_a_file_or_pipe_writes_no_escape_codes(capsys):
+    assert run(["play", "--level", "race-4", "--policy", "random", "--seed", "1", "--max-steps", "10", "--delay", "0"]) == 0
+    assert "\x1b" not in capsys.readouterr().out
+
+
+def test_play_on_a_terminal_redraws_in_place_with_a_coloured_robot(capsys, monkeypatch):
+    monkeypatch.setattr(sys.stdout, "isatty", lambda: True)
+    monkeypatch.delenv("NO_COLOR", raising=False)
+    assert run(["play", "--level", "default", "--policy", "shortest", "--seed", "0", "--no-delay"]) == 0
+    out = capsys.readouterr().out
+    assert out.count(cli.CURSOR_HOME) == DEFAULT_SHORTEST_STEPS + 1
+    assert "\x1b[1;31mR\x1b[0m" in out  # robot 0's colour in render.ansi
+    assert out.endswith(f"{DEFAULT_SHORTEST_STEPS} steps, return {DEFAULT_SHORTEST_RETURN}, reached the exit\n")
+    assert cli.SHOW_CURSOR in out  # the cursor hidden for the animation comes back
+
+
+@pytest.mark.parametrize("how", ["flag", "env"])
+def test_play_on_a_terminal_has_no_colour_with_no_color(capsys, monkeypatch, how):
+    monkeypatch.setattr(sys.stdout, "isatty", lambda: True)
+    argv = ["play", "--seed", "0", "--no-delay"]
+    if how == "flag":
+        argv.append("--no-color")
+    else:
+        monkeypatch.setenv("NO_COLOR", "1")
+    assert run(argv) == 0
+    out = capsys.readouterr().out
+    assert "\x1b[1;" not in out
+    assert out.count(cli.CURSOR_HOME) == DEFAULT_SHORTEST_STEPS + 1  # still redrawn in place
+
+
+def test_animate_pauses_between_frames_but_not_before_the_first():
+    pauses: list[float] = []
+    shown = cli._animate(["a", "b", "c"], cli.Display(colour=False, clear=False, delay=0.25), _Sink(), pauses.append)
+    assert shown == 3
+    assert pauses == [0.25, 0.25]
+
+
+def test_animate_off_a_terminal_separates_frames_with_a_blank_line():
+    out = _Sink()
+    cli._animate(["a\nb", "c"], cli.Display(colour=False, clear=False, delay=0.0), out)
+    assert out.text == "a\nb\n\nc\n"
+
+
+@pytest.mark.parametrize(("tty", "delay", "expected"), [(True, None, cli.DEFAULT_DELAY), (False, None, 0.0), (False, 0.5, 0.5)])
+def test_default_delay_applies_on_a_terminal_only_and_an_explicit_delay_always(tty, delay, expected):
+    args = cli.build_parser().parse_args(["play"] + ([] if delay is None else ["--delay", str(delay)]))
+    assert cli._display(args, _Sink(tty=tty)).delay == expected
+
+
+# ------------------------------------------------------------------------ the command itself
+def test_no_command_prints_the_help_listing_the_subcommands(capsys):
+    assert run([]) == 0
+    out = capsys.readouterr().out
+    assert "levels" in out and "play" in out
+
+
+def test_version_prints_the_package_version(capsys):
+    import babyrobot_marl
+
+    assert run(["--version"]) == 0
+    assert capsys.readouterr().out.strip() == f"babyrobot-marl {babyrobot_marl.__version__}"
+
+
+BAD_INPUT = {
+    "unknown level": (["play", "--level", "nope"], "unknown level 'nope'"),
+    "unknown policy": (["play", "--policy", "greedy"], "invalid choice: 'greedy'"),
+    "negative seed": (["play", "--seed", "-1"], "--seed: must be an integer >= 0"),
+    "seed not an integer": (["play", "--seed", "1.5"], "--seed: must be an integer >= 0"),
+    "negative delay": (["play", "--delay", "-0.1"], "--delay: must be a number of seconds >= 0"),
+    "delay not a number": (["play", "--delay", "fast"], "--delay: must be a number of seconds >= 0"),
+    "infinite delay": (["play", "--delay", "inf"], "--delay: must be a number of seconds >= 0"),
+    "delay and no-delay": (["play", "--delay", "1", "--no-delay"], "not allowed with"),
+    "zero max steps": (["play", "--max-steps", "0"], "--max-steps: must be an integer >= 1"),
+    "missing level file": (["play", "--level", "no/such/level.txt"], "no such level file"),
+    "maze too large": (["play", "--level", "maze-300x3"], "a maze side is an integer in 1..256"),
+    "unknown level to show": (["levels", "nope"], "unknown level 'nope'"),
+    "two levels to show": (["levels", "walls", "--show", "glass"], "give one level to show"),
+    "unknown command": (["fly"], "invalid choice: 'fly'"),
+}
+
+
+@pytest.mark.parametrize(("argv", "message"), BAD_INPUT.values(), ids=BAD_INPUT.keys())
+def test_bad_input_exits_non_zero_with_one_error_line(capsys, argv, message):
+    assert run(argv) != 0
+    captured = capsys.readouterr()
+    assert_one_error_line(captured.err, message)
+    assert captured.out == ""
+
+
+def test_a_broken_level_file_is_reported_with_its_line_and_column(capsys, tmp_path):
+    path = tmp_path / "broken.txt"
+    path.write_text("+-+-+\n|S?E|\n+-+-+\n")  # '?' in the vertical edge slot of line 2, column 3
+    assert run(["play", "--level", str(path)]) == 2
+    assert_one_error_line(capsys.readouterr().err, f"level file {path}: line 2, column 3: bad character '?'")
+
+
+def assert_one_error_line(err: str, message: str) -> None:
+    assert "Traceback" not in err
+    assert err.count("\n") == 1 and err.endswith("\n"), f"expected one line on stderr, got:\n{err}"
+    assert err.startswith("babyrobot-marl") and ": error: " in err, err
+    assert message in err, err
+
+
+# ------------------------------------------------------------------------ as a program
+def run_module(*args: str) -> subprocess.CompletedProcess:
+    env = {**os.environ, "PYTHONPATH": str(REPO) + os.pathsep + os.environ.get("PYTHONPATH", "")}
+    return subprocess.run(
+        [sys.executable, "-m", "babyrobot_marl", *args], capture_output=True, text=True, timeout=120, cwd=REPO, env=env
+    )
+
+
+def test_python_m_play_shortest_on_the_default_level_prints_4_steps_and_return_minus_3():
+    proc = run_module("play", "--level", "default", "--policy", "shortest", "--seed", "0", "--no-delay")
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stderr == ""
+    _, steps, ret, outcome = summary(proc.stdout)
+    assert (steps, ret, outcome) == (DEFAULT_SHORTEST_STEPS, DEFAULT_SHORTEST_RETURN, "reached the exit")
+    assert "\x1b" not in proc.stdout  # a pipe is not a terminal
+
+
+def test_python_m_with_bad_input_prints_one_line_and_no_traceback():
+    proc = run_module("play", "--level", "nope", "--seed", "0")
+    assert proc.returncode == 2
+    assert_one_error_line(proc.stderr, "unknown level 'nope'")
+
+
+class _Sink:
+    """A text stream that records what is written and says whether it is a terminal."""
+
+    def __init__(self, tty: bool = False):
+        self.text = ""
+        self.tty = tty
+
+    def write(self, s: str) -> int:
+        self.text += s
+        return len(s)
+
+    def flush(self) -> None:
+        pass
+
+    def isatty(self) -> bool:
+        return self.tty
