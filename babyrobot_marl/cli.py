@@ -5,6 +5,7 @@
     babyrobot-marl levels                      # the built-in levels: size, starts, exits, features
     babyrobot-marl levels maze-8x8             # one level's text (also: --show NAME, or a file path)
     babyrobot-marl play --level walls --policy shortest --seed 0
+    babyrobot-marl race --level race-4 --robots 4 --policies shortest,shortest,random,random
     python -m babyrobot_marl play --level default --policy random --no-delay
 
 Each subcommand is a ``_add_<name>_parser`` function that registers its arguments and a
@@ -31,8 +32,10 @@ from typing import NoReturn, TextIO
 from . import __version__, levels, policies
 from .core.actions import Action
 from .core.level import Level
+from .core.rules import COLLISION_MODES
+from .envs.race import START_MODES, RaceEnv
 from .envs.single import BabyRobotEnv
-from .render.ansi import frame
+from .render.ansi import frame, robot_glyph
 
 PROG = "babyrobot-marl"
 DEFAULT_DELAY = 0.15  # seconds between frames on a terminal: fast, yet each move is visible
@@ -310,6 +313,105 @@ def _cmd_play(args: argparse.Namespace, out: TextIO) -> int:
     return 0
 
 
+# ------------------------------------------------------------------------ race
+@dataclass
+class RobotResult:
+    """One robot's line of the results table."""
+
+    name: str
+    policy: str
+    rank: int = 0  # 0: did not finish
+    steps: int = 0
+    ret: float = 0.0
+    collisions: int = 0
+
+
+def _policy_list(text: str) -> list[str]:
+    names = [p.strip() for p in text.split(",")]
+    bad = [p for p in names if p not in policies.POLICY_NAMES]
+    if bad:
+        raise argparse.ArgumentTypeError(
+            f"unknown policy {bad[0]!r}; give a comma-separated list of {', '.join(policies.POLICY_NAMES)}"
+        )
+    return names
+
+
+def _add_race_parser(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "race",
+        help="watch several robots race to the exit in the terminal",
+        description="Animate one race of race_v0 with scripted robots, then print the results table.",
+    )
+    _add_level_arg(p, default="race-4")
+    p.add_argument("--robots", type=_positive_int, default=4, metavar="N", help="how many robots race (default: 4)")
+    p.add_argument(
+        "--policies",
+        type=_policy_list,
+        default=["shortest"],
+        metavar="P1,P2,...",
+        help="one policy per robot (random or shortest), or one for all (default: shortest)",
+    )
+    p.add_argument("--collisions", choices=COLLISION_MODES, default="block", help="collision rule (default: block)")
+    p.add_argument(
+        "--start",
+        choices=START_MODES,
+        default="fill",
+        help="level: the level's numbered starts; fill: those, then random free cells; random: all random (default: fill)",
+    )
+    _add_seed_arg(p)
+    p.add_argument("--max-cycles", type=_positive_int, default=None, metavar="N", help="truncate the race after N steps")
+    _add_display_args(p)
+    p.set_defaults(func=_cmd_race)
+
+
+def _race_frames(env: RaceEnv, robot_policies: list, results: list[RobotResult], seed: int, colour: bool) -> Iterator[str]:
+    """Run one race, yielding a frame after the reset and after every step."""
+    obs, _ = env.reset(seed=seed)
+    yield env.render_text(colour=colour)
+    while env.agents:
+        actions = {a: robot_policies[env.possible_agents.index(a)](obs[a]) for a in env.agents}
+        obs, rewards, terms, truncs, infos = env.step(actions)
+        for a, info in infos.items():
+            r = results[env.possible_agents.index(a)]
+            r.steps = env.elapsed_steps
+            if "rank" in info:
+                r.rank = info["rank"]
+        yield env.render_text(colour=colour)
+    for r, ret, bumps in zip(results, env.returns, env.collisions_count):
+        r.ret, r.collisions = ret, bumps
+
+
+def _results_table(results: list[RobotResult]) -> str:
+    rows = [("rank", "robot", "policy", "steps", "return", "collisions")]
+    order = sorted(results, key=lambda r: (r.rank == 0, r.rank, r.name))
+    for r in order:
+        rank = str(r.rank) if r.rank else "-"
+        steps = str(r.steps) if r.rank else f"{r.steps} (not finished)"
+        rows.append((rank, r.name, r.policy, steps, f"{r.ret:g}", str(r.collisions)))
+    widths = [max(len(row[i]) for row in rows) for i in range(len(rows[0]))]
+    return "\n".join("  ".join(c.ljust(w) for c, w in zip(row, widths)).rstrip() for row in rows)
+
+
+def _cmd_race(args: argparse.Namespace, out: TextIO) -> int:
+    level = load_level(args.level)
+    names = args.policies * args.robots if len(args.policies) == 1 else args.policies
+    if len(names) != args.robots:
+        raise ValueError(f"policies: give one policy for all robots or one per robot ({args.robots}), got {len(names)}")
+    env = RaceEnv(
+        level=level, n_robots=args.robots, collisions=args.collisions, start=args.start, max_cycles=args.max_cycles
+    )
+    seed = _fresh_seed() if args.seed is None else args.seed
+    robot_policies = [policies.make(name, env.table, seed=seed + 7919 * (i + 1)) for i, name in enumerate(names)]
+    results = [RobotResult(robot_glyph(i, args.robots) + f" {agent}", names[i]) for i, agent in enumerate(env.possible_agents)]
+    display = _display(args, out)
+    _animate(_race_frames(env, robot_policies, results, seed, display.colour), display, out)
+    out.write(
+        f"\nrace on {level.name or args.level}, {args.robots} robots, collisions {args.collisions}, seed {seed}, "
+        f"{env.elapsed_steps} steps\n\n{_results_table(results)}\n"
+    )
+    return 0
+
+
 # ------------------------------------------------------------------------ entry point
 def build_parser() -> argparse.ArgumentParser:
     """The parser of ``babyrobot-marl`` with all subcommands."""
@@ -317,7 +419,8 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"{PROG} {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     _add_levels_parser(sub)
-    _add_play_parser(sub)  # each further subcommand: one _add_<name>_parser(sub) line here
+    _add_play_parser(sub)
+    _add_race_parser(sub)  # each further subcommand: one _add_<name>_parser(sub) line here
     return parser
 
 

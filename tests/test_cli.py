@@ -185,6 +185,11 @@ BAD_INPUT = {
     "unknown level to show": (["levels", "nope"], "unknown level 'nope'"),
     "two levels to show": (["levels", "walls", "--show", "glass"], "give one level to show"),
     "unknown command": (["fly"], "invalid choice: 'fly'"),
+    "race unknown policy": (["race", "--policies", "shortest,greedy"], "unknown policy 'greedy'"),
+    "race policies count": (["race", "--robots", "3", "--policies", "shortest,random"], "one policy for all robots or one per"),
+    "race zero robots": (["race", "--robots", "0"], "--robots: must be an integer >= 1"),
+    "race too few starts": (["race", "--level", "race-2", "--robots", "3", "--start", "level"], "start='fill'"),
+    "race unknown collisions": (["race", "--collisions", "crash"], "invalid choice: 'crash'"),
 }
 
 
@@ -208,6 +213,52 @@ def assert_one_error_line(err: str, message: str) -> None:
     assert err.count("\n") == 1 and err.endswith("\n"), f"expected one line on stderr, got:\n{err}"
     assert err.startswith("babyrobot-marl") and ": error: " in err, err
     assert message in err, err
+
+
+# ------------------------------------------------------------------------ race
+RESULT_ROW = re.compile(r"^(\d+|-)\s+([A-Z]) (robot_\d)\s+(\w+)\s+(\d+)(?: \(not finished\))?\s+(\S+)\s+(\d+)$", re.M)
+
+
+def race_results(out: str) -> dict[str, tuple[str, int, float, int]]:
+    """robot -> (rank, steps, return, collisions) from the results table."""
+    rows = {m[3]: (m[1], int(m[5]), float(m[6]), int(m[7])) for m in RESULT_ROW.finditer(out)}
+    assert rows, f"no results table in:\n{out}"
+    return rows
+
+
+def test_race_on_the_corridor_a_contest_at_the_exit_decides_the_winner(capsys):
+    # race-corridor: robot_0 at (0, 0) and robot_2 at (6, 2) are both 4 moves from the exit
+    # (3, 1) with nobody in their way, so both head into the exit on step 4: under "block" one
+    # of them, drawn by the seed, gets it (rank 1, 3 floor cells -1 each + exit 0 + win bonus 10
+    # = 7); the other is blocked and finishes later (on step 5 it may meet the winner's follower
+    # at the exit, and lose again). Over seeds, each of the two wins sometimes.
+    winners = set()
+    for seed in range(12):
+        assert run(["race", "--level", "race-corridor", "--robots", "4", "--policies", "shortest", "--seed", str(seed)]) == 0
+        rows = race_results(capsys.readouterr().out)
+        first = [r for r, row in rows.items() if row[0] == "1"]
+        assert len(first) == 1 and first[0] in ("robot_0", "robot_2"), rows
+        loser = "robot_2" if first[0] == "robot_0" else "robot_0"
+        assert rows[first[0]][1:3] == (4, 7.0)
+        assert rows[loser][0] in ("2", "3") and rows[loser][1] >= 5 and rows[loser][3] >= 1
+        assert all(row[0] != "-" for row in rows.values())  # shortest robots all finish
+        winners.add(first[0])
+    assert winners == {"robot_0", "robot_2"}
+
+
+def test_race_is_repeatable_with_a_seed(capsys):
+    argv = ["race", "--level", "race-4", "--robots", "4", "--policies", "shortest,random,random,random", "--seed", "5"]
+    assert run(argv) == 0
+    first = capsys.readouterr().out
+    assert run(argv) == 0
+    assert capsys.readouterr().out == first
+
+
+def test_race_with_collisions_pass_never_blocks_anyone(capsys):
+    assert run(["race", "--level", "race-corridor", "--robots", "4", "--collisions", "pass", "--seed", "0"]) == 0
+    rows = race_results(capsys.readouterr().out)
+    assert all(row[3] == 0 for row in rows.values()), rows
+    assert {r for r, row in rows.items() if row[0] == "1"} == {"robot_0", "robot_2"}  # both 4 steps away: a tie
 
 
 # ------------------------------------------------------------------------ as a program

@@ -43,7 +43,7 @@ class LevelError(ValueError):
         self.slot = slot  # (line index, column index) in a level text, 0-based
 
 
-def _as_cell(value: object, what: str) -> Cell:
+def as_cell(value: object, what: str) -> Cell:
     try:
         x, y = value  # type: ignore[misc]
         if int(x) == x and int(y) == y and not isinstance(x, bool) and not isinstance(y, bool):
@@ -58,7 +58,7 @@ def _as_edge(value: object, what: str) -> Edge:
         a, b = value  # type: ignore[misc]
     except (TypeError, ValueError):
         raise LevelError(f"{what}: {value!r} is not an edge; an edge is a pair of adjacent cells") from None
-    a, b = _as_cell(a, what), _as_cell(b, what)
+    a, b = as_cell(a, what), as_cell(b, what)
     if abs(a[0] - b[0]) + abs(a[1] - b[1]) != 1:
         raise LevelError(f"{what}: {value!r} does not join two adjacent cells", cell=a)
     return (a, b) if a < b else (b, a)
@@ -97,10 +97,10 @@ class Level:
         for name in ("walls", "glass"):
             norm(self, name, frozenset(_as_edge(e, name) for e in getattr(self, name)))
         for name in ("blocked", "small_puddles", "large_puddles", "exits"):
-            norm(self, name, frozenset(_as_cell(c, name) for c in getattr(self, name)))
-        norm(self, "starts", tuple(_as_cell(c, "starts") for c in self.starts))
+            norm(self, name, frozenset(as_cell(c, name) for c in getattr(self, name)))
+        norm(self, "starts", tuple(as_cell(c, "starts") for c in self.starts))
         rewards = self.rewards.items() if isinstance(self.rewards, Mapping) else self.rewards
-        norm(self, "rewards", tuple(sorted((_as_cell(c, "rewards"), _as_reward(r)) for c, r in rewards)))
+        norm(self, "rewards", tuple(sorted((as_cell(c, "rewards"), _as_reward(r)) for c, r in rewards)))
         self._validate()
 
     # ----------------------------------------------------------------------------- checks
@@ -179,12 +179,12 @@ class Level:
     def with_rewards(self, rewards: Mapping[Cell, float]) -> Level:
         """A copy with custom rewards for the given cells (added to any already set)."""
         merged = self.reward_map()
-        merged.update({_as_cell(c, "rewards"): _as_reward(r) for c, r in rewards.items()})
+        merged.update({as_cell(c, "rewards"): _as_reward(r) for c, r in rewards.items()})
         return replace(self, rewards=tuple(merged.items()))
 
     def with_area_reward(self, corner_a: Cell, corner_b: Cell, reward: float) -> Level:
         """A copy in which every cell of the rectangle between two corners pays ``reward``."""
-        (x0, y0), (x1, y1) = _as_cell(corner_a, "corner_a"), _as_cell(corner_b, "corner_b")
+        (x0, y0), (x1, y1) = as_cell(corner_a, "corner_a"), as_cell(corner_b, "corner_b")
         xs = range(min(x0, x1), max(x0, x1) + 1)
         ys = range(min(y0, y1), max(y0, y1) + 1)
         return self.with_rewards({(x, y): reward for y in ys for x in xs})

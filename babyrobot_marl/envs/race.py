@@ -12,7 +12,7 @@ from pettingzoo import ParallelEnv
 
 from ..core.actions import N_ACTIONS
 from ..core.engine import OUTCOMES
-from ..core.level import Cell, Level
+from ..core.level import Cell, Level, as_cell
 from ..core.race import race_step
 from ..core.rng import new_key
 from ..core.rules import COLLISION_MODES, Rules
@@ -233,6 +233,10 @@ class RaceEnv(ParallelEnv):
         return [self._xy[c] for c in self._cells]
 
     @property
+    def elapsed_steps(self) -> int:
+        return self._t
+
+    @property
     def ranks(self) -> list[int]:
         """Each robot's finishing rank (1 = first; robots finishing in one step share it), 0 if not finished."""
         return list(self._rank)
@@ -252,7 +256,7 @@ class RaceEnv(ParallelEnv):
             raise ValueError(f"cells: expected {self.n_robots} cells, got {len(cells)}")
         ids = []
         for cell in cells:
-            x, y = cell
+            x, y = as_cell(cell, "cells")
             if not (0 <= x < self.level.width and 0 <= y < self.level.height):
                 raise ValueError(f"cells: {cell} is outside the {self.level.width}x{self.level.height} grid")
             c = self.table.cell_id((x, y))

@@ -12,7 +12,7 @@ from gymnasium import spaces
 
 from ..core.actions import N_ACTIONS, Action
 from ..core.engine import OUTCOMES, STAYED, move
-from ..core.level import Cell, Level, _as_cell
+from ..core.level import Cell, Level, as_cell
 from ..core.model import Transition, frozenlake_P
 from ..core.rng import SLOTS, new_key
 from ..core.rules import Rules
@@ -198,7 +198,7 @@ class BabyRobotEnv(gym.Env):
 
     def _check_start(self, start: object) -> int:
         try:
-            x, y = _as_cell(start, "options['start']")  # integers only: (1.5, 0) is not a cell
+            x, y = as_cell(start, "options['start']")  # integers only: (1.5, 0) is not a cell
         except ValueError:
             raise ValueError(f"options['start']: expected a cell (x, y) of integers, got {start!r}") from None
         if not (0 <= x < self.level.width and 0 <= y < self.level.height):
