@@ -7,7 +7,9 @@ Both envs run the same loop in the same process, interleaved round by round: 4 a
 uniformly random actions drawn before timing, a reset whenever no agent is left. The peer is
 ``multigrid`` (pip package ``multigrid``, ``MultiGrid-Empty``) on an 8x8 grid with 4 agents,
 through its own PettingZoo wrapper. Figures are medians over rounds; the ratio is per
-agent-step (higher is better for babyrobot_marl). Needs the ``bench`` extra for the peer.
+agent-step (higher is better for babyrobot_marl). The first rows run the peer's grid: an
+empty 8x8 level with the exit in a corner and random starts; the others, built-in levels
+with walls, puddles and glass. Needs the ``bench`` extra for the peer.
 """
 
 from __future__ import annotations
@@ -21,6 +23,9 @@ from collections.abc import Callable
 import numpy as np
 
 from babyrobot_marl import race_v0
+
+# The peer's grid: 8x8 open floor, the exit in the bottom-right corner, random starts.
+EMPTY_8X8 = "\n".join(["+" + "-+" * 8] + ["|" + " " * 15 + "|", "+" + " +" * 8] * 7 + ["|" + " " * 14 + "E|", "+" + "-+" * 8])
 
 
 def agent_step_time(env, actions: list[list[int]]) -> float:
@@ -54,6 +59,8 @@ def main(argv: list[str] | None = None) -> None:
     steps, rounds = (2_000, 1) if args.quick else (args.steps, args.rounds)
     n = 4
     envs: dict[str, Callable[[], object]] = {
+        "babyrobot empty 8x8 block": lambda: race_v0.parallel_env(level=EMPTY_8X8, n_robots=n, start="random"),
+        "babyrobot empty 8x8 pass": lambda: race_v0.parallel_env(level=EMPTY_8X8, n_robots=n, start="random", collisions="pass"),
         "babyrobot race-4 block": lambda: race_v0.parallel_env(level="race-4", n_robots=n),
         "babyrobot race-4 pass": lambda: race_v0.parallel_env(level="race-4", n_robots=n, collisions="pass"),
         "babyrobot maze-8x8 block": lambda: race_v0.parallel_env(level="maze-8x8", n_robots=n, start="random"),

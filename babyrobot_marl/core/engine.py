@@ -29,8 +29,9 @@ OUTCOMES = ("moved", "stayed", "bumped", "skidded", "glass")
 
 def move(t: TableLists, cell: int, action: int, key: int, count: int) -> tuple[int, int]:
     """One robot's next cell and outcome code; ``count`` is the address of its slot 0."""
-    if action == 0:
-        return cell, STAYED
+    sure = t.sure[cell][action]
+    if sure is not None:  # no puddle, no glass on the way: the table knows the answer
+        return sure
     p = t.move_prob[cell]
     if p < 1.0 and uniform(key, count + SLOT_SKID) >= p:
         alts = t.skid[cell][action]

@@ -20,6 +20,7 @@ Finished robots (``racing[i]`` False) are off the board: they neither move nor b
 from __future__ import annotations
 
 import operator
+from itertools import compress
 
 from .engine import move
 from .rng import SLOT_PRIORITY, SLOTS, uniform
@@ -39,8 +40,7 @@ def resolve_collisions(
     # The common case, returned as is: no two racing robots head for one cell, and only the
     # robots that stay head for a cell occupied now.
     if False in racing:
-        now = [c for c, r in zip(cells, racing) if r]
-        heading = [d for d, r in zip(desired, racing) if r]
+        now, heading = list(compress(cells, racing)), list(compress(desired, racing))
     else:
         now, heading = cells, desired
     heads = set(heading)

@@ -22,6 +22,7 @@ MAX_SKIDS = N_ACTIONS - 2  # the open directions other than the intended one: at
 class TableLists(NamedTuple):
     """The tables as nested Python lists: one robot's step reads these faster than arrays."""
 
+    sure: list[list[tuple[int, int] | None]]  # (next cell, outcome) where no draw is needed
     target: list[list[int]]
     glass: list[list[bool]]
     move_prob: list[float]
@@ -71,6 +72,7 @@ class Table:
     def lists(self) -> TableLists:
         skid = [[tuple(self.skid[c, a, : self.n_skid[c, a]].tolist()) for a in range(N_ACTIONS)] for c in range(self.n_cells)]
         return TableLists(
+            _sure_outcomes(self),
             self.target.tolist(),
             self.glass.tolist(),
             self.move_prob.tolist(),
@@ -138,3 +140,20 @@ def compile_level(level: Level, rules: Rules | None = None) -> Table:
     for arr in (target, glass, move_prob, skid, n_skid, reward, is_exit, blocked):
         arr.setflags(write=False)
     return Table(level, rules, target, glass, move_prob, skid, n_skid, reward, is_exit, blocked)
+
+
+def _sure_outcomes(t: Table) -> list[list[tuple[int, int] | None]]:
+    """``(next cell, outcome)`` of every cell and action whose step draws no random number."""
+    from .engine import BUMPED, MOVED, STAYED  # the outcome codes live with the step
+
+    out: list[list[tuple[int, int] | None]] = []
+    for c in range(t.n_cells):
+        row: list[tuple[int, int] | None] = [(c, STAYED)]
+        for a in range(1, N_ACTIONS):
+            dest = int(t.target[c, a])
+            if t.move_prob[c] < 1.0 or t.glass[c, a]:
+                row.append(None)  # a skid or a glass wall: drawn at step time
+            else:
+                row.append((dest, BUMPED if dest == c else MOVED))
+        out.append(row)
+    return out

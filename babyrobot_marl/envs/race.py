@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import operator
 from collections.abc import Mapping
+from itertools import compress
 from typing import Any
 
 import numpy as np
@@ -83,6 +84,7 @@ class RaceEnv(ParallelEnv):
         )
         self._lists = self.table.lists
         self._xy = [self.table.cell_xy(c) for c in range(self.table.n_cells)]
+        self._reward_at = self._lists.reward.__getitem__
         self._xyf = {racing: [(*xy, 0 if racing else 1) for xy in self._xy] for racing in (True, False)}
         self._cells: list[int] = []
         self._racing: list[bool] = []
@@ -116,6 +118,7 @@ class RaceEnv(ParallelEnv):
         self._t = 0
         self._n_finished = 0
         self.agents = list(self.possible_agents)
+        self._agent_ids = range(n)  # robot index of each entry of self.agents
         if self.render_mode == "human":
             self.render()
         obs = self._observations()
@@ -134,11 +137,11 @@ class RaceEnv(ParallelEnv):
         )
         self._cells = cells
         self._t = step + 1
-        reward, returns = self._lists.reward, self._returns
-        if False in racing:
-            rewards = [reward[c] if r else 0.0 for c, r in zip(cells, racing)]
-        else:
-            rewards = list(map(reward.__getitem__, cells))
+        returns = self._returns
+        rewards = list(map(self._reward_at, cells))
+        if self._n_finished:
+            for i in compress(range(n), map(operator.not_, racing)):
+                rewards[i] = 0.0
         if True in blocked:
             self._bumps = [b + k for b, k in zip(self._bumps, blocked)]
         finished_now = True in finishing
@@ -160,8 +163,8 @@ class RaceEnv(ParallelEnv):
 
         reported = self.agents
         index, xy, ranks = self._index, self._xy, self._rank
+        ids = self._agent_ids
         all_reported = len(reported) == n
-        ids = range(n) if all_reported else [index[a] for a in reported]
         # parked robots (freeze) are terminated only when the race ends: PettingZoo expects a
         # terminated agent to leave `agents` in the same step
         if over or finished_now:
@@ -175,24 +178,30 @@ class RaceEnv(ParallelEnv):
             rews = dict(zip(reported, rewards))
             observations = dict(zip(reported, obs))
         else:
-            rews = {a: rewards[i] for a, i in zip(reported, ids)}
-            observations = {a: obs[i] for a, i in zip(reported, ids)}
-        infos = {}
-        for a, i in zip(reported, ids):
-            if ranks[i]:
-                infos[a] = {
+            rews = dict(zip(reported, map(rewards.__getitem__, ids)))
+            observations = dict(zip(reported, map(obs.__getitem__, ids)))
+        if all_reported and not self._n_finished:  # the common case: everyone racing
+            infos = {
+                a: {"cell": xy[c], "outcome": OUTCOMES[o], "blocked": b, "finished": False}
+                for a, c, o, b in zip(reported, cells, outcome, blocked)
+            }
+        else:
+            infos = {}
+            for a, i in zip(reported, ids):
+                info = {
                     "cell": xy[cells[i]],
                     "outcome": OUTCOMES[outcome[i]] if racing[i] else "finished",
                     "blocked": blocked[i],
-                    "finished": True,
-                    "rank": ranks[i],
+                    "finished": not racing_now[i],
                 }
-            else:
-                infos[a] = {"cell": xy[cells[i]], "outcome": OUTCOMES[outcome[i]], "blocked": blocked[i], "finished": False}
+                if ranks[i]:
+                    info["rank"] = ranks[i]
+                infos[a] = info
         if over:
             self.agents = []
         elif finished_now and self.finished_mode == "remove":
             self.agents = [a for a in reported if racing_now[index[a]]]
+            self._agent_ids = [index[a] for a in self.agents]
         if self.render_mode == "human":
             self.render()
         return observations, rews, terms, truncs, infos
@@ -274,15 +283,15 @@ class RaceEnv(ParallelEnv):
             raise ValueError(f"agent: unknown agent {agent!r}; agents are {', '.join(self.possible_agents)}") from None
 
     def _check_actions(self, actions: Mapping[str, Any]) -> list[int]:
-        if not isinstance(actions, Mapping):
+        if type(actions) is not dict and not isinstance(actions, Mapping):  # the ABC check is slow
             raise ValueError(f"actions: expected a dict agent -> action, got {type(actions).__name__}")
         acts = [0] * self.n_robots
         index, racing = self._index, self._racing
         given = 0
         for agent, action in actions.items():
-            i = index.get(agent) if isinstance(agent, str) else None
+            i = index.get(agent) if type(agent) is str else None
             if i is None:
-                self._agent_index(agent)  # raises, naming the known agents
+                i = self._agent_index(agent)  # a str subclass; else raises, naming the known agents
             if not racing[i]:
                 if self.finished_mode == "freeze":
                     check_action(action, f"actions[{agent!r}]")
@@ -293,7 +302,7 @@ class RaceEnv(ParallelEnv):
                 acts[i] = action
             else:
                 acts[i] = check_action(action, f"actions[{agent!r}]")
-        if given < sum(racing):
+        if given < self.n_robots - self._n_finished:
             missing = [a for a in self.agents if racing[index[a]] and a not in actions]
             raise ValueError(
                 f"actions: no action for {', '.join(map(repr, missing))}; every racing robot needs one "
