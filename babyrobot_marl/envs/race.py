@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import operator
 from collections.abc import Mapping
+from functools import cached_property
 from itertools import compress
 from typing import Any
 
@@ -19,19 +20,20 @@ from ..core.rng import new_key
 from ..core.rules import COLLISION_MODES, Rules
 from ..core.table import compile_level
 from ..render.ansi import frame, robot_glyph
+from ..render.rgb import RgbRenderer, Theme, check_cell_size, resolve_theme
 from .common import check_action, check_positive_int, check_render_mode, resolve_level, resolve_rules
 from .single import default_max_steps
 
 START_MODES = ("level", "fill", "random")
 FINISHED_MODES = ("remove", "freeze")
-_ARGS = "arguments are level, n_robots, collisions, max_cycles, start, finished, rules, render_mode"
+_ARGS = "arguments are level, n_robots, collisions, max_cycles, start, finished, rules, render_mode, cell_size, theme"
 
 
 class RaceEnv(ParallelEnv):
     """Several Baby Robots race to the exit. See ``babyrobot_marl.race_v0`` for the full table."""
 
     metadata = {
-        "render_modes": ["ansi", "human"],
+        "render_modes": ["ansi", "rgb_array", "human"],
         "name": "babyrobot_race_v0",
         "is_parallelizable": True,
         "render_fps": 4,
@@ -47,6 +49,8 @@ class RaceEnv(ParallelEnv):
         finished: str = "remove",
         rules: Rules | Mapping[str, Any] | None = None,
         render_mode: str | None = None,
+        cell_size: int = 32,
+        theme: str | Theme = "light",
         **rule_overrides: Any,
     ):
         self.level = resolve_level(level)
@@ -66,6 +70,7 @@ class RaceEnv(ParallelEnv):
         self.start, self.finished_mode = start, finished
         self._fixed_starts, self._free = self._placement(n)
         self.render_mode = check_render_mode(render_mode, self.metadata["render_modes"])
+        self.cell_size, self.theme = check_cell_size(cell_size), resolve_theme(theme)
 
         w, h = self.level.width, self.level.height
         self.possible_agents = [f"robot_{i}" for i in range(n)]
@@ -219,11 +224,18 @@ class RaceEnv(ParallelEnv):
 
             gymnasium.logger.warn("render() called with render_mode=None; pass render_mode='ansi' or 'human'")
             return None
+        if self.render_mode == "rgb_array":
+            return self.rgb_renderer.frame([self._xy[c] if r else None for c, r in zip(self._cells, self._racing)])
         text = self.render_text()
         if self.render_mode == "ansi":
             return text
         print(text, flush=True)
         return None
+
+    @cached_property
+    def rgb_renderer(self) -> RgbRenderer:
+        """Draws this level (made on first use: large levels make large images)."""
+        return RgbRenderer(self.level, self.cell_size, self.theme)
 
     def close(self) -> None:
         pass

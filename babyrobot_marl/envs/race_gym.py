@@ -11,6 +11,7 @@ import numpy as np
 from ..core.level import Level
 from ..core.rules import Rules
 from ..policies import POLICY_NAMES, make
+from ..render.rgb import Theme
 from .race import RaceEnv
 
 
@@ -29,7 +30,7 @@ class BabyRobotRaceEnv(gym.Env):
     "babyrobot_marl/BabyRobotRace-v0", level="race-4", opponents=["shortest", "random", "random"])``.
     """
 
-    metadata = {"render_modes": ["ansi", "human"], "render_fps": 4}
+    metadata = {"render_modes": ["ansi", "rgb_array", "human"], "render_fps": 4}
 
     def __init__(
         self,
@@ -40,6 +41,8 @@ class BabyRobotRaceEnv(gym.Env):
         start: str = "level",
         rules: Rules | Mapping[str, Any] | None = None,
         render_mode: str | None = None,
+        cell_size: int = 32,
+        theme: str | Theme = "light",
         **rule_overrides: Any,
     ):
         if isinstance(opponents, str) or not all(p in POLICY_NAMES for p in opponents):
@@ -53,6 +56,8 @@ class BabyRobotRaceEnv(gym.Env):
             finished="freeze",
             rules=rules,
             render_mode=render_mode,
+            cell_size=cell_size,
+            theme=theme,
             **rule_overrides,
         )
         self.opponent_names = tuple(opponents)

@@ -18,6 +18,7 @@ from ..core.rng import SLOTS, new_key
 from ..core.rules import Rules
 from ..core.table import compile_level
 from ..render.ansi import frame
+from ..render.rgb import RgbRenderer, Theme, check_cell_size, resolve_theme
 from .common import check_action, check_positive_int, check_render_mode, resolve_level, resolve_rules
 
 
@@ -76,7 +77,9 @@ class BabyRobotEnv(gym.Env):
     be given as a keyword (``glass_pass_prob=0.9``). ``max_steps``. ``start``: ``None`` (the
     level's start, or a random free cell if it has none) or ``"random"`` (a random free cell
     each episode). ``reset(options={"start": (x, y)})`` starts one episode at a given cell.
-    ``render_mode``: ``"ansi"`` (text frame) or ``"human"`` (prints the text frame each step).
+    ``render_mode``: ``"ansi"`` (text frame), ``"rgb_array"`` (``uint8[H * cell_size, W * cell_size, 3]``,
+    pure numpy) or ``"human"`` (prints the text frame each step). ``cell_size`` (pixels, default 32)
+    and ``theme`` (``"light"``, ``"dark"``, ``"mono"`` or a ``render.Theme``) style ``rgb_array``.
 
     ## Registered configurations
 
@@ -84,7 +87,7 @@ class BabyRobotEnv(gym.Env):
     for any other level, e.g. ``gymnasium.make("babyrobot_marl/BabyRobot-v0", level="maze-8x8")``.
     """
 
-    metadata = {"render_modes": ["ansi", "human"], "render_fps": 4}
+    metadata = {"render_modes": ["ansi", "rgb_array", "human"], "render_fps": 4}
 
     def __init__(
         self,
@@ -93,10 +96,14 @@ class BabyRobotEnv(gym.Env):
         max_steps: int | None = None,
         start: str | None = None,
         render_mode: str | None = None,
+        cell_size: int = 32,
+        theme: str | Theme = "light",
         **rule_overrides: Any,
     ):
         self.level = resolve_level(level)
-        self.rules = resolve_rules(rules, rule_overrides, known="arguments are level, rules, max_steps, start, render_mode")
+        self.rules = resolve_rules(
+            rules, rule_overrides, known="arguments are level, rules, max_steps, start, render_mode, cell_size, theme"
+        )
         self.table = compile_level(self.level, self.rules)
         self.max_steps = default_max_steps(self.level) if max_steps is None else check_positive_int(max_steps, "max_steps")
         if start not in (None, "random"):
@@ -106,6 +113,7 @@ class BabyRobotEnv(gym.Env):
         if self.random_start and not self._free:
             raise ValueError(f"level: {self.level!r} has no free cell to start a robot on")
         self.render_mode = check_render_mode(render_mode, self.metadata["render_modes"])
+        self.cell_size, self.theme = check_cell_size(cell_size), resolve_theme(theme)
 
         w, h = self.level.width, self.level.height
         self.action_space = spaces.Discrete(N_ACTIONS)
@@ -167,6 +175,8 @@ class BabyRobotEnv(gym.Env):
             return None
         if self.render_mode == "ansi":
             return self._frame()
+        if self.render_mode == "rgb_array":
+            return self.rgb_renderer.frame([self.robot_cell] if self._cell >= 0 else [])
         self._render_human()
         return None
 
@@ -179,6 +189,11 @@ class BabyRobotEnv(gym.Env):
     @property
     def elapsed_steps(self) -> int:
         return self._t
+
+    @cached_property
+    def rgb_renderer(self) -> RgbRenderer:
+        """Draws this level (made on first use: large levels make large images)."""
+        return RgbRenderer(self.level, self.cell_size, self.theme)
 
     @cached_property
     def P(self) -> dict[int, dict[int, list[Transition]]]:

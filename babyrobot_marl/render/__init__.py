@@ -1,5 +1,6 @@
-"""Rendering: text frames now; rgb_array and the live notebook canvas build on the same state."""
+"""Rendering: text frames (``ansi``) and numpy images (``rgb_array``) of the same state."""
 
 from .ansi import frame, robot_glyph
+from .rgb import THEMES, RgbRenderer, Theme
 
-__all__ = ["frame", "robot_glyph"]
+__all__ = ["THEMES", "RgbRenderer", "Theme", "frame", "robot_glyph"]

@@ -1,0 +1,87 @@
+"""Time per rgb_array frame: Baby Robot beside Minigrid, both 8x8 cells drawn at 256x256 pixels.
+
+    python benchmarks/bench_render.py            # a few seconds
+    python benchmarks/bench_render.py --quick    # CI: well under a second
+
+Both render through their env's ``render()`` after a random step, in the same process,
+interleaved round by round; medians over rounds. Minigrid (pip package ``minigrid``, the
+``bench`` extra) draws MiniGrid-Empty-8x8-v0 with its default 32-pixel tiles: 256x256.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib.util
+import statistics
+import time
+
+import numpy as np
+
+from babyrobot_marl import BabyRobotEnv, race_v0
+
+
+def frame_time(env, step, frames: int, rng: np.random.Generator) -> float:
+    """Seconds per (step + render) minus seconds per step: the render alone."""
+    env.reset(seed=0)
+    actions = rng.integers(0, 3, frames).tolist()
+    t0 = time.perf_counter()
+    for a in actions:
+        step(env, a)
+        env.render()
+    t1 = time.perf_counter()
+    for a in actions:
+        step(env, a)
+    t2 = time.perf_counter()
+    return max(((t1 - t0) - (t2 - t1)) / frames, 0.0)
+
+
+def gym_step(env, a: int) -> None:
+    _, _, terminated, truncated, _ = env.step(a)
+    if terminated or truncated:
+        env.reset()
+
+
+def race_step(env, a: int) -> None:
+    if not env.agents:
+        env.reset()
+    env.step({agent: a for agent in env.agents})
+
+
+def main(argv: list[str] | None = None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--quick", action="store_true")
+    parser.add_argument("--frames", type=int, default=2000)
+    parser.add_argument("--rounds", type=int, default=5)
+    args = parser.parse_args(argv)
+    frames, rounds = (200, 1) if args.quick else (args.frames, args.rounds)
+    envs = {
+        "babyrobot mixed-8x8, 1 robot": (BabyRobotEnv(level="mixed-8x8", render_mode="rgb_array", cell_size=32), gym_step),
+        "babyrobot race-4 (7x7), 4 robots": (
+            race_v0.parallel_env(level="race-4", n_robots=4, render_mode="rgb_array", cell_size=32),
+            race_step,
+        ),
+    }
+    peer = "minigrid Empty-8x8 (peer)"
+    if importlib.util.find_spec("minigrid") is not None:
+        import gymnasium
+        import minigrid  # noqa: F401  (registers MiniGrid envs)
+
+        envs[peer] = (gymnasium.make("MiniGrid-Empty-8x8-v0", render_mode="rgb_array").unwrapped, gym_step)
+    rng = np.random.default_rng(0)
+    times: dict[str, list[float]] = {name: [] for name in envs}
+    for _ in range(rounds):
+        for name, (env, step) in envs.items():
+            times[name].append(frame_time(env, step, frames, rng))
+    peer_t = statistics.median(times[peer]) if peer in times else None
+    print(f"{'rgb_array frame (256x256 for 8x8)':36s} {'ms/frame':>9s} {'shape':>15s} {'vs minigrid':>12s}")
+    for name, ts in times.items():
+        t = statistics.median(ts)
+        shape = envs[name][0].render().shape
+        ratio = f"{peer_t / t:11.1f}x" if peer_t and t > 0 else "          -"
+        print(f"{name:36s} {t * 1e3:9.4f} {str(shape):>15s} {ratio}")
+    if peer_t is None:
+        print("minigrid is not installed (pip install -e '.[bench]'): no peer figure")
+
+
+if __name__ == "__main__":
+    main()
