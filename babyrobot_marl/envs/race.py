@@ -190,6 +190,11 @@ class RaceEnv(ParallelEnv):
                 a: {"cell": xy[c], "outcome": OUTCOMES[o], "blocked": b, "finished": False}
                 for a, c, o, b in zip(reported, cells, outcome, blocked)
             }
+        elif not finished_now and self.finished_mode == "remove":  # only racing robots reported
+            infos = {
+                a: {"cell": xy[cells[i]], "outcome": OUTCOMES[outcome[i]], "blocked": blocked[i], "finished": False}
+                for a, i in zip(reported, ids)
+            }
         else:
             infos = {}
             for a, i in zip(reported, ids):
