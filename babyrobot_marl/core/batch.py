@@ -1,0 +1,183 @@
+"""Many races at once: ``n_envs`` copies of one level with ``n_robots`` each, stepped in numpy.
+
+All state lives in arrays of shape ``(n_envs,)`` or ``(n_envs, n_robots)``; a step is the same
+table look-ups as ``engine.move`` and the same collision rules as ``race.resolve_collisions``,
+over whole arrays, with no Python loop over envs or robots. Random numbers come from the
+same counter-based stream (``rng.uniform_array``) at the same addresses, so env ``i`` of a
+batch plays exactly the episode of a single env given the same seed and actions. Each env
+keeps its own ``numpy.random.Generator`` only for what a reset draws (the episode key, random
+starts), in the same order as the single envs do.
+
+``BatchRace`` is the core: ``reset`` and ``step`` without auto-reset, ``reset_done`` to restart
+finished envs. The Gymnasium and Stable-Baselines3 vector envs are thin shells over it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from .engine import move_array
+from .rng import SLOT_PRIORITY, SLOTS, uniform_array
+from .table import Table
+
+START_MODES = ("level", "fill", "random", "single")  # "single": BabyRobotEnv's one random start
+
+
+def resolve_collisions_array(
+    mode: str, cells: np.ndarray, desired: np.ndarray, racing: np.ndarray, keys: np.ndarray, steps: np.ndarray
+) -> np.ndarray:
+    """``race.resolve_collisions`` over ``(n_envs, n_robots)`` arrays; ``keys``, ``steps``: ``(n_envs,)``.
+
+    Each round applies every rule to the same snapshot: a mover stays if the robot in its
+    destination stays or heads for the mover's cell (a swap), or if it loses a contest for its
+    destination (block: to a contender of higher priority; bounce: to any contender). Rounds
+    repeat until nothing changes; only envs with a possible conflict take part.
+    """
+    if mode == "pass":
+        return desired
+    n_envs, n = cells.shape
+    others = ~np.eye(n, dtype=bool)
+    # Envs where some robot heads for another robot's destination or current cell. A superset
+    # of the envs with a conflict (parked robots and robots that follow count too): cheap.
+    near = desired[:, :, None] == np.concatenate([desired, cells], axis=1)[:, None, :]
+    todo = np.flatnonzero((near & np.concatenate([others, others], axis=1)).any(axis=(1, 2)))
+    if todo.size == 0:
+        return desired
+    final = desired.copy()
+    c, f, live = cells[todo], desired[todo], racing[todo]
+    counts = (steps[todo, None].astype(np.uint64) * np.uint64(n) + np.arange(n, dtype=np.uint64)) * np.uint64(SLOTS)
+    prio = uniform_array(keys[todo, None], counts + np.uint64(SLOT_PRIORITY))
+    for _ in range(n + 1):
+        moving = live & (f != c)
+        # j sits on i's destination: i stays if j stays there or heads for i's cell
+        sits_on = (f[:, :, None] == c[:, None, :]) & live[:, None, :] & others
+        j_stays = (f == c)[:, None, :]
+        j_to_mine = f[:, None, :] == c[:, :, None]
+        stop = (moving[:, :, None] & sits_on & (j_stays | j_to_mine)).any(axis=2)
+        same = (f[:, :, None] == f[:, None, :]) & moving[:, :, None] & moving[:, None, :] & others
+        if mode == "bounce":
+            stop |= same.any(axis=2)
+        else:
+            stop |= (same & (prio[:, None, :] > prio[:, :, None])).any(axis=2)
+        if not stop.any():
+            break
+        f = np.where(stop, c, f)
+    final[todo] = f
+    return final
+
+
+class BatchRace:
+    """``n_envs`` races of ``n_robots`` on one compiled level, as arrays.
+
+    ``start``: ``"level"`` / ``"fill"`` / ``"random"`` as in ``race_v0``, or ``"single"`` for
+    ``BabyRobotEnv``'s random start (one robot, one draw). ``win_bonus`` is the race's bonus
+    (0 for single-robot envs). Robots that finish are parked (the ``finished="freeze"`` view).
+    """
+
+    def __init__(
+        self,
+        table: Table,
+        n_envs: int,
+        n_robots: int,
+        max_steps: int,
+        fixed_starts: Sequence[int] = (),
+        free: Sequence[int] = (),
+        start: str = "level",
+        win_bonus: float = 0.0,
+    ):
+        if start not in START_MODES:
+            raise ValueError(f"start: must be one of {START_MODES}, got {start!r}")
+        self.table = table
+        self.n_envs, self.n_robots, self.max_steps = n_envs, n_robots, max_steps
+        self.fixed = np.asarray(fixed_starts, dtype=np.int64)
+        self.free = np.asarray(free, dtype=np.int64)
+        self.start = start
+        self.win_bonus = float(win_bonus)
+        self.mode = table.rules.collisions
+        e, n = n_envs, n_robots
+        self.cells = np.zeros((e, n), dtype=np.int64)
+        self.racing = np.zeros((e, n), dtype=bool)
+        self.rank = np.zeros((e, n), dtype=np.int32)
+        self.n_finished = np.zeros(e, dtype=np.int32)
+        self.t = np.zeros(e, dtype=np.int64)
+        self.keys = np.zeros(e, dtype=np.uint64)
+        self.generators = [np.random.default_rng() for _ in range(e)]
+        self._robot_counts = np.arange(n, dtype=np.uint64) * np.uint64(SLOTS)
+        w = table.width
+        # observation of robot i: its [x, y], then [x, y, finished] of robots i+1, ..., i-1
+        self.gather = np.array(
+            [[3 * i, 3 * i + 1] + [3 * ((i + k) % n) + f for k in range(1, n) for f in range(3)] for i in range(n)],
+            dtype=np.intp,
+        )
+        ids = np.arange(table.n_cells)
+        self._xyf = np.stack([ids % w, ids // w, np.zeros_like(ids)], axis=1).astype(np.int64)
+
+    @property
+    def nbytes(self) -> int:
+        """Bytes of per-env state (not counting the shared table or the generators)."""
+        return sum(a.nbytes for a in (self.cells, self.racing, self.rank, self.n_finished, self.t, self.keys))
+
+    # ------------------------------------------------------------------ resets
+    def seed(self, seeds: Sequence[int | None]) -> None:
+        """Give each env a fresh generator, as ``reset(seed=...)`` gives a single env."""
+        for i, s in enumerate(seeds):
+            self.generators[i] = np.random.default_rng(s)
+
+    def reset_envs(self, envs: Sequence[int] | np.ndarray) -> None:
+        """Start new episodes in the given envs, each drawing from its own generator."""
+        for i in np.asarray(envs, dtype=np.int64).tolist():
+            g = self.generators[i]
+            self.keys[i] = g.integers(0, 1 << 64, dtype=np.uint64)
+            self.cells[i] = self._starts(g)
+        envs = np.asarray(envs, dtype=np.int64)
+        self.racing[envs] = True
+        self.rank[envs] = 0
+        self.n_finished[envs] = 0
+        self.t[envs] = 0
+
+    def _starts(self, g: np.random.Generator) -> np.ndarray:
+        if self.start == "single":
+            return self.free[[int(g.integers(len(self.free)))]]
+        need = self.n_robots - len(self.fixed)
+        if need == 0:
+            return self.fixed
+        picks = g.choice(len(self.free), size=need, replace=False)
+        return np.concatenate([self.fixed, self.free[picks]])
+
+    # ------------------------------------------------------------------ the step
+    def step(self, actions: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Advance every env one step (actions: ``(n_envs, n_robots)`` ints in 0..4).
+
+        Returns ``(rewards, finishing, blocked, outcome, over)``: rewards ``(E, R)`` float64
+        (0 for parked robots), robots finishing this step, robots stopped by another robot,
+        ``engine`` outcome codes (-1 for parked robots), and envs whose race is over
+        (everyone finished, or ``max_steps`` reached). Over envs stay as they are until
+        ``reset_envs``.
+        """
+        t, cells, racing = self.table, self.cells, self.racing
+        counts = (self.t[:, None].astype(np.uint64) * np.uint64(self.n_robots)) * np.uint64(SLOTS) + self._robot_counts
+        desired, outcome = move_array(t, cells, actions, self.keys[:, None], counts)
+        desired = np.where(racing, desired, cells)
+        outcome = np.where(racing, outcome, -1)
+        final = resolve_collisions_array(self.mode, cells, desired, racing, self.keys, self.t)
+        blocked = final != desired
+        rewards = np.where(racing, t.reward[final], 0.0)
+        finishing = racing & t.is_exit[final]
+        if finishing.any():
+            first = finishing.any(axis=1) & (self.n_finished == 0)
+            rewards += np.where(finishing & first[:, None], self.win_bonus, 0.0)
+            self.rank = np.where(finishing, (self.n_finished + 1)[:, None], self.rank)
+            self.n_finished += finishing.sum(axis=1, dtype=np.int32)
+            self.racing = racing = racing & ~finishing
+        self.cells = final
+        self.t += 1
+        over = (self.t >= self.max_steps) | ~racing.any(axis=1)
+        return rewards, finishing, blocked, outcome, over
+
+    def observations(self) -> np.ndarray:
+        """``(n_envs, n_robots, 2 + 3 * (n_robots - 1))`` int64, as ``race_v0`` (``[x, y]`` for one robot)."""
+        flat = self._xyf[self.cells]  # (E, R, 3): [x, y, 0]
+        flat[:, :, 2] = ~self.racing
+        return flat.reshape(self.n_envs, -1)[:, self.gather]
