@@ -39,28 +39,34 @@ def resolve_collisions_array(
         return desired
     n_envs, n = cells.shape
     others = ~np.eye(n, dtype=bool)
-    # Envs where some robot heads for another robot's destination or current cell. A superset
-    # of the envs with a conflict (parked robots and robots that follow count too): cheap.
-    near = desired[:, :, None] == np.concatenate([desired, cells], axis=1)[:, None, :]
-    todo = np.flatnonzero((near & np.concatenate([others, others], axis=1)).any(axis=(1, 2)))
+    # Envs where some robot heads for another robot's destination or current cell: a superset
+    # of the envs with a conflict (parked robots and robots that follow count too). Compared
+    # robot pair by robot pair over all envs at once: long rows, fast.
+    d_rows, c_rows = desired.T.copy(), cells.T.copy()
+    near = np.zeros(n_envs, dtype=bool)
+    for i in range(n):
+        for j in range(n):
+            if j != i:
+                near |= d_rows[i] == c_rows[j]
+                if j > i:
+                    near |= d_rows[i] == d_rows[j]
+    todo = np.flatnonzero(near)
     if todo.size == 0:
         return desired
     final = desired.copy()
     c, f, live = cells[todo], desired[todo], racing[todo]
     counts = (steps[todo, None].astype(np.uint64) * np.uint64(n) + np.arange(n, dtype=np.uint64)) * np.uint64(SLOTS)
     prio = uniform_array(keys[todo, None], counts + np.uint64(SLOT_PRIORITY))
+    beaten_by = (prio[:, None, :] > prio[:, :, None]) & others  # (e, i, j): j would win a contest with i
+    c_j, c_i, live_j = c[:, None, :], c[:, :, None], live[:, None, :] & others
     for _ in range(n + 1):
         moving = live & (f != c)
-        # j sits on i's destination: i stays if j stays there or heads for i's cell
-        sits_on = (f[:, :, None] == c[:, None, :]) & live[:, None, :] & others
-        j_stays = (f == c)[:, None, :]
-        j_to_mine = f[:, None, :] == c[:, :, None]
-        stop = (moving[:, :, None] & sits_on & (j_stays | j_to_mine)).any(axis=2)
-        same = (f[:, :, None] == f[:, None, :]) & moving[:, :, None] & moving[:, None, :] & others
-        if mode == "bounce":
-            stop |= same.any(axis=2)
-        else:
-            stop |= (same & (prio[:, None, :] > prio[:, :, None])).any(axis=2)
+        f_i, f_j = f[:, :, None], f[:, None, :]
+        # j sits on i's destination and stays there, or heads for i's cell (a swap): i stays
+        held = ((f_i == c_j) & live_j & ((f == c)[:, None, :] | (f_j == c_i))).any(axis=2)
+        same = (f_i == f_j) & (moving[:, :, None] & moving[:, None, :]) & others
+        lost = same.any(axis=2) if mode == "bounce" else (same & beaten_by).any(axis=2)
+        stop = moving & (held | lost)
         if not stop.any():
             break
         f = np.where(stop, c, f)
