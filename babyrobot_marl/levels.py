@@ -166,17 +166,24 @@ def text(name: str) -> str:
     return get(name).to_ascii()
 
 
-@lru_cache(maxsize=64)
 def get(name: str) -> Level:
     """The built-in level called ``name``; a ``ValueError`` lists the known names."""
     if not isinstance(name, str):
         raise TypeError(f"level: expected a level name (str), got {type(name).__name__}")
+    return _get(name)
+
+
+@lru_cache(maxsize=64)
+def _get(name: str) -> Level:
     if name in _TEXTS:
         return Level.from_ascii(_TEXTS[name], name=name)
     m = _MAZE.fullmatch(name)
     if m:
         w, h, seed = int(m[1]), int(m[2]), int(m[3] or 0)
-        return maze(w, h, seed, name=name)
+        try:
+            return maze(w, h, seed, name=name)
+        except ValueError as err:
+            raise ValueError(f"level {name!r}: {err}") from None
     raise ValueError(
         f"level: unknown level {name!r}; known levels: {', '.join(names())} "
         "(and maze-WxH or maze-WxH-sSEED for any size and seed), or pass a Level or a level text"
@@ -188,6 +195,8 @@ def maze(width: int, height: int, seed: int = 0, name: str = "") -> Level:
     for arg, v in (("width", width), ("height", height)):
         if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not 1 <= v <= 256:
             raise ValueError(f"{arg}: a maze side is an integer in 1..256, got {v!r}")
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise ValueError(f"seed: a maze seed is an integer >= 0, got {seed!r}")
     if width * height < 2:
         raise ValueError(f"width, height: a maze needs at least 2 cells for a start and an exit, got {width}x{height}")
     rng = np.random.default_rng(seed)

@@ -112,6 +112,7 @@ from typing import Any
 
 from pettingzoo.utils import parallel_to_aec, wrappers
 
+from .envs.common import check_action
 from .envs.race import RaceEnv
 
 __all__ = ["RaceEnv", "env", "parallel_env", "raw_env"]
@@ -127,8 +128,21 @@ def raw_env(**kwargs: Any):
     return parallel_to_aec(parallel_env(**kwargs))
 
 
+class CheckedActions(wrappers.BaseWrapper):
+    """Checks each agent's action as it is given.
+
+    ``parallel_to_aec`` collects a whole cycle of actions before the race steps: without this,
+    a bad action would be found only at the end of the cycle, after being stored.
+    """
+
+    def step(self, action: Any) -> None:
+        if action is not None:  # agents that are done step with None
+            check_action(action, f"action of {self.agent_selection!r}")
+        super().step(action)
+
+
 def env(**kwargs: Any):
     """The race in the AEC form with PettingZoo's usual wrappers."""
-    aec = raw_env(**kwargs)
+    aec = CheckedActions(raw_env(**kwargs))
     aec = wrappers.AssertOutOfBoundsWrapper(aec)
     return wrappers.OrderEnforcingWrapper(aec)

@@ -18,9 +18,13 @@ line and column indices, edge slots between them, corners at even/even indices::
 
 from __future__ import annotations
 
+import math
+import numbers
 from collections import deque
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field, replace
+
+import numpy as np
 
 Cell = tuple[int, int]
 Edge = tuple[Cell, Cell]
@@ -95,12 +99,11 @@ class Level:
                 raise LevelError(f"{dim}: must be an integer >= 1, got {v!r}")
         norm = object.__setattr__
         for name in ("walls", "glass"):
-            norm(self, name, frozenset(_as_edge(e, name) for e in getattr(self, name)))
+            norm(self, name, frozenset(_as_edge(e, name) for e in _items(getattr(self, name), name, "edges")))
         for name in ("blocked", "small_puddles", "large_puddles", "exits"):
-            norm(self, name, frozenset(as_cell(c, name) for c in getattr(self, name)))
-        norm(self, "starts", tuple(as_cell(c, "starts") for c in self.starts))
-        rewards = self.rewards.items() if isinstance(self.rewards, Mapping) else self.rewards
-        norm(self, "rewards", tuple(sorted((as_cell(c, "rewards"), _as_reward(r)) for c, r in rewards)))
+            norm(self, name, frozenset(as_cell(c, name) for c in _items(getattr(self, name), name, "cells")))
+        norm(self, "starts", tuple(as_cell(c, "starts") for c in _items(self.starts, "starts", "cells")))
+        norm(self, "rewards", _reward_pairs(self.rewards))
         self._validate()
 
     # ----------------------------------------------------------------------------- checks
@@ -176,10 +179,10 @@ class Level:
     def reward_map(self) -> dict[Cell, float]:
         return dict(self.rewards)
 
-    def with_rewards(self, rewards: Mapping[Cell, float]) -> Level:
+    def with_rewards(self, rewards: Mapping[Cell, float] | Iterable[tuple[Cell, float]]) -> Level:
         """A copy with custom rewards for the given cells (added to any already set)."""
         merged = self.reward_map()
-        merged.update({as_cell(c, "rewards"): _as_reward(r) for c, r in rewards.items()})
+        merged.update(_reward_pairs(rewards))
         return replace(self, rewards=tuple(merged.items()))
 
     def with_area_reward(self, corner_a: Cell, corner_b: Cell, reward: float) -> Level:
@@ -258,10 +261,35 @@ class Level:
             raise ValueError(f"line {line + first + 1}, column {col + indent + 1}: {err}") from None
 
 
+def is_number(value: object) -> bool:
+    """A real number (numpy's too), not a bool."""
+    return isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_))
+
+
 def _as_reward(r: object) -> float:
-    if isinstance(r, bool) or not isinstance(r, (int, float)) or r != r or r in (float("inf"), float("-inf")):
+    if not is_number(r) or not math.isfinite(r):
         raise LevelError(f"rewards: a reward must be a finite number, got {r!r}")
     return float(r)
+
+
+def _items(value: object, name: str, what: str) -> Iterable:
+    """The members of a collection argument; a clear error for a non-collection."""
+    if isinstance(value, (str, bytes)) or not isinstance(value, Iterable):
+        raise LevelError(f"{name}: expected a collection of {what}, got {value!r}")
+    return value
+
+
+def _reward_pairs(rewards: object) -> tuple[tuple[Cell, float], ...]:
+    """Custom rewards from a mapping cell -> reward or from (cell, reward) pairs, sorted."""
+    pairs = rewards.items() if isinstance(rewards, Mapping) else _items(rewards, "rewards", "(cell, reward) pairs")
+    out = []
+    for pair in pairs:
+        try:
+            cell, r = pair
+        except (TypeError, ValueError):
+            raise LevelError(f"rewards: expected (cell, reward) pairs or a dict cell -> reward, got {pair!r}") from None
+        out.append((as_cell(cell, "rewards"), _as_reward(r)))
+    return tuple(sorted(out))
 
 
 def _parse(lines: list[str], name: str) -> Level:

@@ -6,6 +6,8 @@ import math
 from dataclasses import dataclass, fields, replace
 from typing import Any
 
+from .level import is_number
+
 COLLISION_MODES = ("block", "bounce", "pass")
 
 _PROBABILITIES = ("small_puddle_move_prob", "large_puddle_move_prob", "glass_pass_prob")
@@ -50,7 +52,7 @@ class Rules:
                 if value not in COLLISION_MODES:
                     raise ValueError(f"collisions: must be one of {', '.join(map(repr, COLLISION_MODES))}, got {value!r}")
                 continue
-            if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+            if not is_number(value) or not math.isfinite(value):
                 raise ValueError(f"{f.name}: must be a finite number, got {value!r}")
             if f.name in _PROBABILITIES and not 0.0 <= value <= 1.0:
                 raise ValueError(f"{f.name}: is a probability and must lie in [0, 1], got {value!r}")

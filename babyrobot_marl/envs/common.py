@@ -32,6 +32,9 @@ def resolve_rules(rules: Rules | Mapping[str, Any] | None, overrides: Mapping[st
     elif isinstance(rules, Rules):
         base = rules
     elif isinstance(rules, Mapping):
+        bad = [k for k in rules if not isinstance(k, str)]
+        if bad:
+            raise TypeError(f"rules: keys are rule names (str), got {bad[0]!r}; rules are: {', '.join(sorted(RULE_NAMES))}")
         base = Rules().replace(**rules)
     else:
         raise TypeError(f"rules: expected a Rules, a dict of rule values or None, got {type(rules).__name__}")
@@ -74,3 +77,12 @@ def check_positive_int(value: object, what: str) -> int:
     if v is None or v < 1:
         raise ValueError(f"{what}: must be an integer >= 1, got {value!r}")
     return v
+
+
+def check_options(options: object) -> Mapping[str, Any]:
+    """``reset(options=...)``: None or a dict."""
+    if options is None:
+        return {}
+    if not isinstance(options, Mapping):
+        raise ValueError(f"options: expected a dict or None, got {type(options).__name__}")
+    return options

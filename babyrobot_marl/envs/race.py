@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import operator
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from functools import cached_property
 from itertools import compress
 from typing import Any
@@ -21,7 +21,7 @@ from ..core.rules import COLLISION_MODES, Rules
 from ..core.table import compile_level
 from ..render.ansi import frame, robot_glyph
 from ..render.rgb import RgbRenderer, Theme, check_cell_size, resolve_theme
-from .common import check_action, check_positive_int, check_render_mode, resolve_level, resolve_rules
+from .common import check_action, check_options, check_positive_int, check_render_mode, resolve_level, resolve_rules
 from .single import default_max_steps
 
 START_MODES = ("level", "fill", "random")
@@ -111,6 +111,7 @@ class RaceEnv(ParallelEnv):
         return self._act_space
 
     def reset(self, seed: int | None = None, options: dict | None = None):
+        check_options(options)
         if seed is not None:
             self.np_random, _ = _seeding(seed)
         self._key = new_key(self.np_random)
@@ -278,6 +279,8 @@ class RaceEnv(ParallelEnv):
 
     def set_cells(self, cells: list[Cell]) -> None:
         """Place the robots by hand (tests, tutorials): one distinct open cell per robot."""
+        if not isinstance(cells, Sequence) or isinstance(cells, str):
+            raise ValueError(f"cells: expected a list of {self.n_robots} cells (x, y), got {cells!r}")
         if len(cells) != self.n_robots:
             raise ValueError(f"cells: expected {self.n_robots} cells, got {len(cells)}")
         ids = []

@@ -12,6 +12,7 @@ from ..core.level import Level
 from ..core.rules import Rules
 from ..policies import POLICY_NAMES, make
 from ..render.rgb import Theme
+from .common import check_action
 from .race import RaceEnv
 
 
@@ -45,7 +46,7 @@ class BabyRobotRaceEnv(gym.Env):
         theme: str | Theme = "light",
         **rule_overrides: Any,
     ):
-        if isinstance(opponents, str) or not all(p in POLICY_NAMES for p in opponents):
+        if isinstance(opponents, str) or not isinstance(opponents, Sequence) or not all(p in POLICY_NAMES for p in opponents):
             raise ValueError(f"opponents: expected a list of policy names from {POLICY_NAMES}, got {opponents!r}")
         self.race = RaceEnv(
             level=level,
@@ -81,7 +82,9 @@ class BabyRobotRaceEnv(gym.Env):
     def step(self, action):
         if not self.race.agents:
             raise RuntimeError("step: the episode has ended or not started; call reset() first")
-        actions = {"robot_0": action}
+        # check the learner's action before the random opponents draw theirs: a rejected step
+        # must leave the generator, and so the rest of the episode, as it was
+        actions = {"robot_0": check_action(action)}
         for k, policy in enumerate(self._opponents, start=1):
             agent = f"robot_{k}"
             actions[agent] = policy(self._obs[agent])

@@ -19,7 +19,7 @@ from ..core.rules import Rules
 from ..core.table import compile_level
 from ..render.ansi import frame
 from ..render.rgb import RgbRenderer, Theme, check_cell_size, resolve_theme
-from .common import check_action, check_positive_int, check_render_mode, resolve_level, resolve_rules
+from .common import check_action, check_options, check_positive_int, check_render_mode, resolve_level, resolve_rules
 
 
 def default_max_steps(level: Level) -> int:
@@ -130,7 +130,7 @@ class BabyRobotEnv(gym.Env):
 
     # ------------------------------------------------------------------------ Gymnasium API
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
-        start = None if options is None else options.get("start")
+        start = check_options(options).get("start")
         if start is not None:
             start = self._check_start(start)
         super().reset(seed=seed)
