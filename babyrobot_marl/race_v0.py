@@ -143,6 +143,5 @@ class CheckedActions(wrappers.BaseWrapper):
 
 def env(**kwargs: Any):
     """The race in the AEC form with PettingZoo's usual wrappers."""
-    aec = CheckedActions(raw_env(**kwargs))
-    aec = wrappers.AssertOutOfBoundsWrapper(aec)
-    return wrappers.OrderEnforcingWrapper(aec)
+    aec = wrappers.AssertOutOfBoundsWrapper(raw_env(**kwargs))
+    return wrappers.OrderEnforcingWrapper(CheckedActions(aec))  # a clear ValueError before the assert

@@ -154,11 +154,14 @@ def test_pettingzoo_make_aec_builds_the_wrapped_aec_race():
     assert turns == 4 * 6 + 4  # six cycles, then one last turn each to leave
 
 
-def test_aec_env_rejects_an_out_of_range_action():
+def test_aec_env_rejects_an_out_of_range_action_naming_the_agent_and_goes_on():
     env = race_v0.env()
     env.reset(seed=0)
-    with pytest.raises(AssertionError):  # AssertOutOfBoundsWrapper, PettingZoo's usual AEC wrapper
+    first = env.agent_selection
+    with pytest.raises(ValueError, match=f"action of '{first}'"):  # checked before PettingZoo's assert
         env.step(7)
+    assert env.agent_selection == first  # nothing was stored: the same agent acts next
+    env.step(0)
 
 
 # ------------------------------------------------------------------------ SuperSuit

@@ -200,15 +200,19 @@ class Level:
         return self.to_ascii()
 
     # ----------------------------------------------------------------------------- text
-    def to_ascii(self) -> str:
-        """The level in the text format of DESIGN.md (custom rewards are not part of it)."""
-        if len(self.starts) > MAX_TEXT_STARTS:
+    def to_ascii(self, starts: bool = True) -> str:
+        """The level in the text format of DESIGN.md (custom rewards are not part of it).
+
+        ``starts=False`` draws start cells as floor: the map of a level with more starts than
+        the format holds (used by text frames, which draw the robots themselves).
+        """
+        if starts and len(self.starts) > MAX_TEXT_STARTS:
             raise ValueError(
                 f"to_ascii: the text format holds at most {MAX_TEXT_STARTS} starts, this level has {len(self.starts)}"
             )
         w, h = self.width, self.height
         grid = [["+"] * (2 * w + 1) for _ in range(2 * h + 1)]
-        start_char = {c: ("S" if len(self.starts) == 1 else str(i)) for i, c in enumerate(self.starts)}
+        start_char = {c: ("S" if len(self.starts) == 1 else str(i)) for i, c in enumerate(self.starts)} if starts else {}
         for y in range(h):
             for x in range(w):
                 c = (x, y)

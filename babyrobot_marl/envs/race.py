@@ -250,7 +250,7 @@ class RaceEnv(ParallelEnv):
     def render_text(self, colour: bool = False) -> str:
         """The text frame: the level, racing robots as letters A, B, ..., and a status line."""
         robots: list[Cell | None] = [self._xy[c] if r else None for c, r in zip(self._cells, self._racing)]
-        done = [f"{robot_glyph(i, self.n_robots)}#{self._rank[i]}" for i in range(self.n_robots) if self._rank[i]]
+        done = [f"{robot_glyph(i, self.n_robots)}#{r}" for i, r in enumerate(self._rank) if r]  # [] before reset
         status = f"step {self._t}/{self.max_cycles}" + (f"  finished: {' '.join(done)}" if done else "")
         return frame(self.level, robots, status, colour=colour)
 

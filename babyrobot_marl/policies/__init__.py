@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import numpy as np
+
 from ..core.table import Table
 from .random import RandomPolicy
 from .shortest import ShortestPathPolicy, distances, shortest_path_actions
@@ -9,9 +11,13 @@ from .shortest import ShortestPathPolicy, distances, shortest_path_actions
 POLICY_NAMES = ("random", "shortest")
 
 
-def make(name: str, table: Table, seed: int | None = None) -> RandomPolicy | ShortestPathPolicy:
+def make(name: str, table: Table, seed: int | np.random.Generator | None = None) -> RandomPolicy | ShortestPathPolicy:
     """A scripted policy by name: ``"random"`` (seeded) or ``"shortest"``."""
+    if not isinstance(table, Table):
+        raise TypeError(f"table: expected a compiled Table (babyrobot_marl.compile_level(level)), got {type(table).__name__}")
     if name == "random":
+        if not (seed is None or isinstance(seed, np.random.Generator) or (isinstance(seed, int) and seed >= 0)):
+            raise ValueError(f"seed: a policy seed is None, an integer >= 0 or a numpy Generator, got {seed!r}")
         return RandomPolicy(seed)
     if name == "shortest":
         return ShortestPathPolicy(table)

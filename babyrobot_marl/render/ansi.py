@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-from ..core.level import Cell, Level
+from ..core.level import MAX_TEXT_STARTS, Cell, Level
 
 ROBOT_LETTERS = "ABCDEFGHIJKLMNOPQRSTUVWXYZ"
 # Foreground colours for robots in a terminal (ANSI SGR codes), cycled.
@@ -25,7 +25,8 @@ def frame(level: Level, robots: Sequence[Cell | None], status: str = "", colour:
     Several robots in one cell (collision mode "pass") show the lowest-numbered one.
     ``colour=True`` adds ANSI colours for a terminal.
     """
-    lines = [list(line) for line in level.to_ascii().split("\n")]
+    text = level.to_ascii(starts=len(level.starts) <= MAX_TEXT_STARTS)  # more starts than digits: plain floor
+    lines = [list(line) for line in text.split("\n")]
     n = len(robots)
     for i in reversed(range(n)):
         cell = robots[i]
