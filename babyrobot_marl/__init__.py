@@ -11,6 +11,7 @@ from . import levels
 from .core import Action, Level, Rules, compile_level
 from .envs.race_gym import BabyRobotRaceEnv
 from .envs.single import BabyRobotEnv
+from .envs.vector import sb3_vec_env
 
 __version__ = "0.1.0"
 
@@ -20,9 +21,10 @@ def _register() -> None:
         "babyrobot_marl/BabyRobot-v0": "babyrobot_marl.envs.single:BabyRobotEnv",
         "babyrobot_marl/BabyRobotRace-v0": "babyrobot_marl.envs.race_gym:BabyRobotRaceEnv",
     }
+    vector_ids = {"babyrobot_marl/BabyRobot-v0": "babyrobot_marl.envs.vector:BabyRobotVectorEnv"}
     for env_id, entry_point in gym_ids.items():
         if env_id not in gymnasium.registry:
-            gymnasium.register(id=env_id, entry_point=entry_point)
+            gymnasium.register(id=env_id, entry_point=entry_point, vector_entry_point=vector_ids.get(env_id))
     try:  # PettingZoo >= 1.26 has a registry; older versions have none
         import pettingzoo
     except ImportError:
@@ -34,4 +36,14 @@ def _register() -> None:
 
 _register()
 
-__all__ = ["Action", "BabyRobotEnv", "BabyRobotRaceEnv", "Level", "Rules", "__version__", "compile_level", "levels"]
+__all__ = [
+    "Action",
+    "BabyRobotEnv",
+    "BabyRobotRaceEnv",
+    "Level",
+    "Rules",
+    "__version__",
+    "compile_level",
+    "levels",
+    "sb3_vec_env",
+]

@@ -127,7 +127,7 @@ def load_level(spec: str) -> Level:
     path = Path(spec)
     if path.is_file():
         try:
-            text = path.read_text(encoding="utf-8")
+            text = path.read_text(encoding="utf-8-sig")  # a BOM from some editors is not part of the level
         except (OSError, UnicodeDecodeError) as err:
             raise ValueError(f"level: cannot read the level file {spec!r}: {err}") from None
         try:

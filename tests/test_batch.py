@@ -138,3 +138,21 @@ def test_state_is_a_few_bytes_per_env():
     batch = batch_like_race(env, 4096)
     assert batch.nbytes / 4096 <= 128  # cells, racing, rank, step, key: tens of bytes, not kilobytes
     assert batch.nbytes < 1 << 20
+
+
+def test_an_env_whose_race_is_over_stays_as_it_is_until_reset():
+    env = BabyRobotEnv(level="default", max_steps=1)
+    batch = batch_like_single(env, 2)
+    batch.seed([0, 1])
+    batch.reset_envs([0, 1])
+    *_, over = batch.step(np.array([[2], [2]]))  # EAST, then truncated at max_steps=1
+    assert over.tolist() == [True, True]
+    cells, t = batch.cells.copy(), batch.t.copy()
+    rewards, *_, over = batch.step(np.array([[2], [2]]))
+    assert np.array_equal(batch.cells, cells) and np.array_equal(batch.t, t)
+    assert over.tolist() == [True, True] and not rewards.any()
+    batch.reset_envs([1])
+    assert batch.cells[1, 0] == 0  # back at the start (0, 0)
+    batch.step(np.array([[2], [2]]))
+    assert np.array_equal(batch.cells[0], cells[0])  # still waiting
+    assert batch.cells[1, 0] == 1 and batch.t[1] == 1  # a new episode, stepped once

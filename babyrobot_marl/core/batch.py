@@ -8,8 +8,8 @@ batch plays exactly the episode of a single env given the same seed and actions.
 keeps its own ``numpy.random.Generator`` only for what a reset draws (the episode key, random
 starts), in the same order as the single envs do.
 
-``BatchRace`` is the core: ``reset`` and ``step`` without auto-reset, ``reset_done`` to restart
-finished envs. The Gymnasium and Stable-Baselines3 vector envs are thin shells over it.
+``BatchRace`` is the core: ``step`` without auto-reset, ``reset_envs`` to start new episodes.
+The Gymnasium and Stable-Baselines3 vector envs are thin shells over it.
 """
 
 from __future__ import annotations
@@ -35,9 +35,9 @@ def resolve_collisions_array(
     destination (block: to a contender of higher priority; bounce: to any contender). Rounds
     repeat until nothing changes; only envs with a possible conflict take part.
     """
-    if mode == "pass":
-        return desired
     n_envs, n = cells.shape
+    if mode == "pass" or n == 1:  # one robot meets nobody
+        return desired
     others = ~np.eye(n, dtype=bool)
     # Envs where some robot heads for another robot's destination or current cell: a superset
     # of the envs with a conflict (parked robots and robots that follow count too). Compared
@@ -109,6 +109,7 @@ class BatchRace:
         self.n_finished = np.zeros(e, dtype=np.int32)
         self.t = np.zeros(e, dtype=np.int64)
         self.keys = np.zeros(e, dtype=np.uint64)
+        self.over = np.ones(e, dtype=bool)  # no episode yet
         self.generators = [np.random.default_rng() for _ in range(e)]
         self._robot_counts = np.arange(n, dtype=np.uint64) * np.uint64(SLOTS)
         w = table.width
@@ -123,7 +124,7 @@ class BatchRace:
     @property
     def nbytes(self) -> int:
         """Bytes of per-env state (not counting the shared table or the generators)."""
-        return sum(a.nbytes for a in (self.cells, self.racing, self.rank, self.n_finished, self.t, self.keys))
+        return sum(a.nbytes for a in (self.cells, self.racing, self.rank, self.n_finished, self.t, self.keys, self.over))
 
     # ------------------------------------------------------------------ resets
     def seed(self, seeds: Sequence[int | None]) -> None:
@@ -142,6 +143,7 @@ class BatchRace:
         self.rank[envs] = 0
         self.n_finished[envs] = 0
         self.t[envs] = 0
+        self.over[envs] = False
 
     def _starts(self, g: np.random.Generator) -> np.ndarray:
         if self.start == "single":
@@ -162,7 +164,8 @@ class BatchRace:
         (everyone finished, or ``max_steps`` reached). Over envs stay as they are until
         ``reset_envs``.
         """
-        t, cells, racing = self.table, self.cells, self.racing
+        t, cells = self.table, self.cells
+        racing = self.racing & ~self.over[:, None]  # an env whose race is over waits for reset_envs
         counts = (self.t[:, None].astype(np.uint64) * np.uint64(self.n_robots)) * np.uint64(SLOTS) + self._robot_counts
         desired, outcome = move_array(t, cells, actions, self.keys[:, None], counts)
         desired = np.where(racing, desired, cells)
@@ -176,10 +179,11 @@ class BatchRace:
             rewards += np.where(finishing & first[:, None], self.win_bonus, 0.0)
             self.rank = np.where(finishing, (self.n_finished + 1)[:, None], self.rank)
             self.n_finished += finishing.sum(axis=1, dtype=np.int32)
-            self.racing = racing = racing & ~finishing
+            self.racing = self.racing & ~finishing
+            racing = racing & ~finishing
         self.cells = final
-        self.t += 1
-        over = (self.t >= self.max_steps) | ~racing.any(axis=1)
+        self.t += ~self.over
+        self.over = over = (self.t >= self.max_steps) | ~racing.any(axis=1)
         return rewards, finishing, blocked, outcome, over
 
     def observations(self) -> np.ndarray:
