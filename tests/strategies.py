@@ -345,3 +345,23 @@ def slot_texts(draw) -> str:
             )
         rows.append("".join(row))
     return "\n".join(rows)
+
+
+def exit_distances(level: Level) -> dict[Cell, int]:
+    """Moves from each cell to the nearest exit (glass passable), by BFS over the level's own
+    sets: an oracle written independently of the compiled tables."""
+    dist, todo = dict.fromkeys(level.exits, 0), deque(level.exits)
+    while todo:
+        x, y = todo.popleft()
+        for n in ((x + 1, y), (x - 1, y), (x, y + 1), (x, y - 1)):
+            e = ((x, y), n) if (x, y) < n else (n, (x, y))
+            if (
+                0 <= n[0] < level.width
+                and 0 <= n[1] < level.height
+                and n not in level.blocked
+                and e not in level.walls
+                and n not in dist
+            ):
+                dist[n] = dist[(x, y)] + 1
+                todo.append(n)
+    return dist

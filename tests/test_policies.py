@@ -2,35 +2,17 @@
 
 from __future__ import annotations
 
-from collections import Counter, deque
+from collections import Counter
 
 import numpy as np
 import pytest
 
 from babyrobot_marl import Action, BabyRobotEnv, Level, Rules, compile_level, levels
 from babyrobot_marl.policies import POLICY_NAMES, RandomPolicy, ShortestPathPolicy, distances, make, shortest_path_actions
+from tests.strategies import exit_distances
 
 # No skids, glass always passes: every move goes where it aims, so the shortest path is a BFS path.
 SURE = {"small_puddle_move_prob": 1.0, "large_puddle_move_prob": 1.0, "glass_pass_prob": 1.0}
-
-
-def bfs_distances(level: Level) -> dict:
-    """Moves from each cell to the nearest exit, glass passable, from the level's own sets."""
-    dist, todo = {e: 0 for e in level.exits}, deque(level.exits)
-    while todo:
-        x, y = todo.popleft()
-        for n in ((x + 1, y), (x - 1, y), (x, y + 1), (x, y - 1)):
-            e = ((x, y), n) if (x, y) < n else (n, (x, y))
-            if (
-                0 <= n[0] < level.width
-                and 0 <= n[1] < level.height
-                and n not in level.blocked
-                and e not in level.walls
-                and n not in dist
-            ):
-                dist[n] = dist[(x, y)] + 1
-                todo.append(n)
-    return dist
 
 
 @pytest.mark.parametrize("name", levels.names())
@@ -38,7 +20,7 @@ def test_distances_are_the_bfs_distances_when_glass_always_passes(name):
     level = levels.get(name)
     t = compile_level(level, Rules(**SURE))
     got = distances(t)
-    want = bfs_distances(level)
+    want = exit_distances(level)
     for c in range(t.n_cells):
         cell = t.cell_xy(c)
         assert got[c] == want.get(cell, np.inf), cell
@@ -49,7 +31,7 @@ def test_shortest_path_robot_reaches_the_exit_in_exactly_the_bfs_distance_from_e
     level = levels.get(name)
     env = BabyRobotEnv(level, **SURE)
     policy = ShortestPathPolicy(env.table)
-    dist = bfs_distances(level)
+    dist = exit_distances(level)
     starts = [c for c in dist if c not in level.exits]
     assert set(level.starts) <= set(starts)
     env.reset(seed=0)

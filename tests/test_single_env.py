@@ -21,6 +21,7 @@ from stable_baselines3.common.env_checker import check_env as sb3_check_env
 import babyrobot_marl
 from babyrobot_marl import Action, BabyRobotEnv, Level, Rules, levels
 from babyrobot_marl.policies import RandomPolicy
+from tests.strategies import exit_distances
 
 ENV_ID = "babyrobot_marl/BabyRobot-v0"
 ROOT = Path(babyrobot_marl.__file__).resolve().parents[1]
@@ -294,21 +295,7 @@ def test_reset_options_start_places_the_robot():
 
 def free_cells_by_the_rules(level):
     """Floor cells (no puddle, no exit, not blocked) from which an exit is reachable: computed independently."""
-    reach, frontier = set(level.exits), list(level.exits)
-    while frontier:
-        x, y = frontier.pop()
-        for n in ((x + 1, y), (x - 1, y), (x, y + 1), (x, y - 1)):
-            e = ((x, y), n) if (x, y) < n else (n, (x, y))
-            if (
-                0 <= n[0] < level.width
-                and 0 <= n[1] < level.height
-                and n not in level.blocked
-                and e not in level.walls
-                and n not in reach
-            ):
-                reach.add(n)
-                frontier.append(n)
-    return reach - level.exits - level.small_puddles - level.large_puddles
+    return set(exit_distances(level)) - level.exits - level.small_puddles - level.large_puddles
 
 
 @pytest.mark.parametrize("name", ["blocked", "puddles", "mixed-8x8"])
