@@ -33,7 +33,7 @@ LEVEL = "maze-8x8"
 
 def engine(n_envs: int, n_robots: int = 4) -> BatchRace:
     env = race_v0.parallel_env(level=LEVEL, n_robots=n_robots, start="random")
-    batch = BatchRace(env.table, n_envs, n_robots, env.max_cycles, env._fixed_starts, env._free, "random", env.rules.win_bonus)
+    batch = env.batch(n_envs)
     batch.seed(range(n_envs))
     batch.reset_envs(range(n_envs))
     return batch

@@ -8,21 +8,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from babyrobot_marl import BabyRobotEnv, levels, race_v0
-from babyrobot_marl.core.batch import BatchRace, resolve_collisions_array
+from babyrobot_marl.core.batch import resolve_collisions_array
 from babyrobot_marl.core.race import resolve_collisions
 
 MODES = ("block", "bounce", "pass")
-
-
-def batch_like_race(env, n_envs: int) -> BatchRace:
-    return BatchRace(
-        env.table, n_envs, env.n_robots, env.max_cycles, env._fixed_starts, env._free, env.start, env.rules.win_bonus
-    )
-
-
-def batch_like_single(env: BabyRobotEnv, n_envs: int) -> BatchRace:
-    fixed = [] if env.random_start else [env.table.cell_id(env.level.starts[0])]
-    return BatchRace(env.table, n_envs, 1, env.max_steps, fixed, env._free, "single" if env.random_start else "level", 0.0)
 
 
 RACES = [
@@ -43,7 +32,7 @@ def test_batch_matches_separate_race_envs_step_by_step(level, n_robots, start, m
         race_v0.parallel_env(level=level, n_robots=n_robots, collisions=mode, finished="freeze", start=start)
         for _ in range(n_envs)
     ]
-    batch = batch_like_race(envs[0], n_envs)
+    batch = envs[0].batch(n_envs)
     batch.seed([seed0 + i for i in range(n_envs)])
     batch.reset_envs(range(n_envs))
     for i, env in enumerate(envs):
@@ -78,7 +67,7 @@ def test_batch_matches_separate_race_envs_step_by_step(level, n_robots, start, m
 def test_batch_of_one_robot_matches_separate_single_envs_across_resets(level, start):
     n_envs = 4
     envs = [BabyRobotEnv(level=level, start=start, max_steps=60) for _ in range(n_envs)]
-    batch = batch_like_single(envs[0], n_envs)
+    batch = envs[0].batch(n_envs)
     batch.seed(range(20, 20 + n_envs))
     batch.reset_envs(range(n_envs))
     for i, env in enumerate(envs):
@@ -135,14 +124,14 @@ def test_array_collisions_equal_the_scalar_rules_on_random_crowds(data, n, mode)
 
 def test_state_is_a_few_bytes_per_env():
     env = race_v0.parallel_env(level="maze-8x8", n_robots=4, start="random")
-    batch = batch_like_race(env, 4096)
+    batch = env.batch(4096)
     assert batch.nbytes / 4096 <= 128  # cells, racing, rank, step, key: tens of bytes, not kilobytes
     assert batch.nbytes < 1 << 20
 
 
 def test_an_env_whose_race_is_over_stays_as_it_is_until_reset():
     env = BabyRobotEnv(level="default", max_steps=1)
-    batch = batch_like_single(env, 2)
+    batch = env.batch(2)
     batch.seed([0, 1])
     batch.reset_envs([0, 1])
     *_, over = batch.step(np.array([[2], [2]]))  # EAST, then truncated at max_steps=1

@@ -20,7 +20,6 @@ from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 
 from babyrobot_marl import BabyRobotEnv, race_v0
-from babyrobot_marl.core.batch import BatchRace
 from babyrobot_marl.envs.race_gym import BabyRobotRaceEnv
 from babyrobot_marl.policies import ShortestPathPolicy
 from tests.strategies import (
@@ -425,9 +424,7 @@ def test_batch_engine_plays_the_same_races_as_separate_envs_on_random_levels(lev
     kwargs = {"level": level, "n_robots": n_robots, "start": start, "finished": "freeze", "rules": rules_, "max_cycles": 25}
     envs = [race_v0.parallel_env(**kwargs) for _ in range(n_envs)]
     first = envs[0]
-    batch = BatchRace(
-        first.table, n_envs, n_robots, first.max_cycles, first._fixed_starts, first._free, first.start, rules_.win_bonus
-    )
+    batch = first.batch(n_envs)
     batch.seed([seed + i for i in range(n_envs)])
     batch.reset_envs(range(n_envs))
     for i, env in enumerate(envs):

@@ -13,6 +13,7 @@ from gymnasium import spaces
 from pettingzoo import ParallelEnv
 
 from ..core.actions import N_ACTIONS
+from ..core.batch import BatchRace
 from ..core.engine import OUTCOMES
 from ..core.level import Cell, Level, as_cell
 from ..core.race import race_step
@@ -237,6 +238,13 @@ class RaceEnv(ParallelEnv):
             return text
         print(text, flush=True)
         return None
+
+    def batch(self, n_envs: int) -> BatchRace:
+        """``n_envs`` copies of this race as one batch engine (the ``finished="freeze"`` view):
+        env ``i`` plays exactly the races of this env seeded the same way."""
+        return BatchRace(
+            self.table, n_envs, self.n_robots, self.max_cycles, self._fixed_starts, self._free, self.start, self.rules.win_bonus
+        )
 
     @cached_property
     def rgb_renderer(self) -> RgbRenderer:

@@ -11,6 +11,7 @@ import numpy as np
 from gymnasium import spaces
 
 from ..core.actions import N_ACTIONS, Action
+from ..core.batch import BatchRace
 from ..core.engine import OUTCOMES, STAYED, move
 from ..core.level import Cell, Level, as_cell
 from ..core.model import Transition, frozenlake_P
@@ -189,6 +190,13 @@ class BabyRobotEnv(gym.Env):
     @property
     def elapsed_steps(self) -> int:
         return self._t
+
+    def batch(self, n_envs: int) -> BatchRace:
+        """``n_envs`` copies of this env as one batch engine: env ``i`` plays exactly the episodes
+        of this env seeded the same way (``BatchRace.seed``, then ``reset_envs``)."""
+        fixed = [] if self.random_start else [self.table.cell_id(self.level.starts[0])]
+        start = "single" if self.random_start else "level"
+        return BatchRace(self.table, n_envs, 1, self.max_steps, fixed, self._free, start, win_bonus=0.0)
 
     @cached_property
     def rgb_renderer(self) -> RgbRenderer:

@@ -313,10 +313,7 @@ class BabyRobotVectorEnv(_BatchVectorEnv):
         ref = BabyRobotEnv(
             level=level, rules=rules, max_steps=max_steps, start=start, cell_size=cell_size, theme=theme, **rule_overrides
         )
-        t = ref.table
-        fixed = [] if ref.random_start else [t.cell_id(ref.level.starts[0])]
-        batch = BatchRace(t, n, 1, ref.max_steps, fixed, ref._free, "single" if ref.random_start else "level", 0.0)
-        self._setup(ref, batch, render_mode)
+        self._setup(ref, ref.batch(n), render_mode)
         self.level, self.rules, self.max_steps = ref.level, ref.rules, ref.max_steps
 
     def _start_option(self, options: Mapping[str, Any]) -> int | None:
@@ -427,10 +424,7 @@ class RaceVectorEnv(_BatchVectorEnv):
             theme=theme,
             **rule_overrides,
         )
-        batch = BatchRace(
-            ref.table, n, ref.n_robots, ref.max_cycles, ref._fixed_starts, ref._free, ref.start, ref.rules.win_bonus
-        )
-        self._setup(ref, batch, render_mode)
+        self._setup(ref, ref.batch(n), render_mode)
         self.level, self.rules, self.max_cycles, self.collisions = ref.level, ref.rules, ref.max_cycles, ref.collisions
 
     def _robots(self, i: int) -> list[Cell | None]:
