@@ -129,7 +129,10 @@ class RaceEnv(ParallelEnv):
         if self.render_mode == "human":
             self.render()
         obs = self._observations()
-        infos = {a: self._info(i, -1, False) for i, a in enumerate(self.possible_agents)}
+        infos = {
+            a: {"cell": self._xy[c], "outcome": "start", "blocked": False, "finished": False}
+            for a, c in zip(self.possible_agents, self._cells)
+        }
         return {a: obs[i] for i, a in enumerate(self.possible_agents)}, infos
 
     def step(self, actions: Mapping[str, Any]):
@@ -345,17 +348,6 @@ class RaceEnv(ParallelEnv):
         for c, r in zip(self._cells, self._racing):
             flat += xyf[r][c]
         return np.array(flat, dtype=np.int64)[self._gather]
-
-    def _info(self, i: int, outcome: int, blocked: bool) -> dict[str, Any]:
-        info: dict[str, Any] = {
-            "cell": self._xy[self._cells[i]],
-            "outcome": OUTCOMES[outcome] if outcome >= 0 else "finished" if self._rank[i] else "start",
-            "blocked": bool(blocked),
-            "finished": not self._racing[i],
-        }
-        if self._rank[i]:
-            info["rank"] = self._rank[i]
-        return info
 
     def _placement(self, n: int) -> tuple[list[int], list[int]]:
         """Level starts used as they are, and the free cells random starts are drawn from."""
