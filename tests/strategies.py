@@ -365,3 +365,16 @@ def exit_distances(level: Level) -> dict[Cell, int]:
                 dist[n] = dist[(x, y)] + 1
                 todo.append(n)
     return dist
+
+
+def resolve_all_robots(mode, cells, desired, racing, key, step):
+    """``core.race.resolve_collisions`` for a whole race: the racing robots resolved (with their
+    robot numbers), the finished ones left where ``desired`` puts them."""
+    from babyrobot_marl.core import race
+
+    live = [i for i in range(len(cells)) if racing[i]]
+    got = race.resolve_collisions(mode, [cells[i] for i in live], [desired[i] for i in live], key, step, live, len(cells))
+    final = list(desired)
+    for k, i in enumerate(live):
+        final[i] = got[k]
+    return final

@@ -9,7 +9,7 @@ from hypothesis import strategies as st
 
 from babyrobot_marl import BabyRobotEnv, levels, race_v0
 from babyrobot_marl.core.batch import resolve_collisions_array
-from babyrobot_marl.core.race import resolve_collisions
+from tests.strategies import resolve_all_robots
 
 MODES = ("block", "bounce", "pass")
 
@@ -110,7 +110,7 @@ def test_array_collisions_equal_the_scalar_rules_on_random_crowds(data, n, mode)
         ]
         desired.append(data.draw(st.sampled_from(options)) if r else c)
     key, step = data.draw(st.integers(0, 2**64 - 1)), data.draw(st.integers(0, 1000))
-    expected = resolve_collisions(mode, cells, desired, racing, key, step)
+    expected = resolve_all_robots(mode, cells, desired, racing, key, step)
     got = resolve_collisions_array(
         mode,
         np.array([cells]),

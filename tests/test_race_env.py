@@ -445,6 +445,23 @@ def test_numpy_integer_actions_are_accepted_like_ints():
     assert same(env.step({a: np.int64(v) for a, v in acts.items()}), twin.step(acts))
 
 
+
+@pytest.mark.parametrize("finished", ["remove", "freeze"])
+def test_the_order_of_the_actions_dict_does_not_matter(finished):
+    """Actions given in another order than ``agents`` (not the step's fast path) act the same."""
+    env, twin = race_v0.parallel_env(level="race-4", n_robots=4, finished=finished), race_v0.parallel_env(
+        level="race-4", n_robots=4, finished=finished
+    )
+    env.reset(seed=3)
+    twin.reset(seed=3)
+    rng = np.random.default_rng(0)
+    for _ in range(200):
+        if not env.agents:
+            break
+        acts = {a: int(rng.integers(5)) for a in env.agents}
+        assert same(env.step(dict(reversed(acts.items()))), twin.step(acts))
+    assert env.ranks == twin.ranks and env.returns == twin.returns
+
 # ------------------------------------------------------------------------ copies and seeding
 @pytest.mark.parametrize("how", ["pickle", "cloudpickle", "deepcopy"])
 @pytest.mark.parametrize("finished", ["remove", "freeze"])

@@ -16,6 +16,7 @@ from babyrobot_marl.core import race as race_core
 from babyrobot_marl.core import rng
 from babyrobot_marl.core.level import Level
 from babyrobot_marl.envs.race import RaceEnv
+from tests.strategies import resolve_all_robots
 
 STAY, NORTH, EAST, SOUTH, WEST = (int(a) for a in (Action.STAY, Action.NORTH, Action.EAST, Action.SOUTH, Action.WEST))
 MODES = ("block", "bounce", "pass")
@@ -460,7 +461,7 @@ def test_resolve_collisions_agrees_with_a_brute_force_reading_of_the_rules(confi
     def priority(i):  # DESIGN: uniform draw; the package ranks contenders by this number
         return rng.uniform(key, (step_no * n + i) * 4 + 3)
 
-    got = race_core.resolve_collisions(mode, list(cells), list(desired), list(racing), key, step_no)
+    got = resolve_all_robots(mode, list(cells), list(desired), list(racing), key, step_no)
     assert list(got) == reference_resolve(mode, cells, desired, racing, priority)
     if mode != "pass":
         final = [got[i] for i in range(n) if racing[i]]
@@ -483,11 +484,11 @@ def test_resolve_collisions_does_not_depend_on_the_order_of_the_robots(config, m
         return [xs[inv[j]] for j in range(n)]
 
     with mock.patch.object(race_core, "_priority", lambda key, step, n, robot: prio[robot]):
-        got = list(race_core.resolve_collisions(mode, list(cells), list(desired), list(racing), key, step_no))
+        got = list(resolve_all_robots(mode, list(cells), list(desired), list(racing), key, step_no))
     permuted_prio = permuted(prio)
     with mock.patch.object(race_core, "_priority", lambda key, step, n, robot: permuted_prio[robot]):
         got_permuted = list(
-            race_core.resolve_collisions(mode, permuted(cells), permuted(desired), permuted(racing), key, step_no)
+            resolve_all_robots(mode, permuted(cells), permuted(desired), permuted(racing), key, step_no)
         )
     # the patched priorities did rank the contenders (else this test would check nothing)
     assert got == reference_resolve(mode, cells, desired, racing, prio.__getitem__)

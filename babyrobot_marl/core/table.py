@@ -30,6 +30,7 @@ class TableLists(NamedTuple):
     reward: list[float]
     is_exit: list[bool]
     glass_pass_prob: float
+    exits: frozenset[int]  # the exit cells
 
 
 @dataclass(frozen=True, eq=False)
@@ -80,6 +81,7 @@ class Table:
             self.reward.tolist(),
             self.is_exit.tolist(),
             self.rules.glass_pass_prob,
+            frozenset(np.flatnonzero(self.is_exit).tolist()),
         )
 
     def cell_id(self, cell: Cell) -> int:
