@@ -10,7 +10,8 @@
    of per-env state.
 2. The Gymnasium vector env (``gymnasium.make_vec(..., vectorization_mode="vector_entry_point")``)
    with 64 envs beside ``gymnasium.vector.SyncVectorEnv`` of 64 BabyRobot-v0 envs and of 64
-   FrozenLake-v1 envs, same random actions, rounds interleaved.
+   FrozenLake-v1 envs, same random actions, rounds interleaved: on the maze (walls only) and
+   on mixed-8x8 (puddles and glass walls, where steps draw random numbers).
 
 All in one process on one core (numpy runs these ops single-threaded); medians over rounds.
 """
@@ -63,16 +64,16 @@ def vector_rate(env: gymnasium.vector.VectorEnv, steps: int, rng: np.random.Gene
     return steps * n / (time.perf_counter() - t0)
 
 
-def vector_envs(n: int) -> dict[str, gymnasium.vector.VectorEnv]:
+def vector_envs(n: int, level: str) -> dict[str, gymnasium.vector.VectorEnv]:
     envs: dict[str, gymnasium.vector.VectorEnv] = {}
     try:
         envs["BabyRobot-v0 make_vec (batch engine)"] = gymnasium.make_vec(
-            "babyrobot_marl/BabyRobot-v0", num_envs=n, vectorization_mode="vector_entry_point", level=LEVEL
+            "babyrobot_marl/BabyRobot-v0", num_envs=n, vectorization_mode="vector_entry_point", level=level
         )
     except (gymnasium.error.Error, ValueError, TypeError) as err:  # no vector entry point registered
         print(f"(no batch-engine vector env: {err})")
     envs["BabyRobot-v0 SyncVectorEnv"] = gymnasium.vector.SyncVectorEnv(
-        [lambda: gymnasium.make("babyrobot_marl/BabyRobot-v0", level=LEVEL)] * n
+        [lambda: gymnasium.make("babyrobot_marl/BabyRobot-v0", level=level)] * n
     )
     envs["FrozenLake-v1 SyncVectorEnv"] = gymnasium.vector.SyncVectorEnv([lambda: gymnasium.make("FrozenLake-v1")] * n)
     return envs
@@ -98,17 +99,19 @@ def main(argv: list[str] | None = None) -> None:
 
     n = 64
     steps = 50 if args.quick else 1000
-    envs = vector_envs(n)
-    times: dict[str, list[float]] = {name: [] for name in envs}
-    for _ in range(rounds):
-        for name, env in envs.items():
-            times[name].append(vector_rate(env, steps, rng))
-    print(f"\n2. Gymnasium vector envs, {n} envs, random actions (median of {rounds})")
-    base = statistics.median(times["BabyRobot-v0 SyncVectorEnv"])
-    print(f"{'vector env':40s} {'env-steps/s':>13s} {'vs Sync BabyRobot':>18s}")
-    for name, rates in times.items():
-        rate = statistics.median(rates)
-        print(f"{name:40s} {rate:13,.0f} {rate / base:17.1f}x")
+    # the maze has walls only (every step a table look-up); mixed-8x8 adds puddles and glass walls (draws)
+    for number, level in (("2", LEVEL), ("2b", "mixed-8x8")):
+        envs = vector_envs(n, level)
+        times: dict[str, list[float]] = {name: [] for name in envs}
+        for _ in range(rounds):
+            for name, env in envs.items():
+                times[name].append(vector_rate(env, steps, rng))
+        print(f"\n{number}. Gymnasium vector envs, {n} envs, {level}, random actions (median of {rounds})")
+        base = statistics.median(times["BabyRobot-v0 SyncVectorEnv"])
+        print(f"{'vector env':40s} {'env-steps/s':>13s} {'vs Sync BabyRobot':>18s}")
+        for name, rates in times.items():
+            rate = statistics.median(rates)
+            print(f"{name:40s} {rate:13,.0f} {rate / base:17.1f}x")
 
     if args.all:
         import bench_race
