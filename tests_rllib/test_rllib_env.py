@@ -11,7 +11,8 @@ from ray.rllib.env.env_context import EnvContext
 from ray.rllib.utils.pre_checks.env import check_multiagent_environments
 
 from babyrobot_marl import race_v0
-from babyrobot_marl.integrations.rllib import RaceMultiAgentEnv, register_race
+from babyrobot_marl.integrations.rllib import RaceMultiAgentEnv, register_race, win_rate
+from babyrobot_marl.policies import ShortestPathPolicy
 
 CONFIGS = [
     {},
@@ -175,3 +176,17 @@ def test_core_does_not_import_ray():
     code = "import sys, babyrobot_marl, babyrobot_marl.race_v0, babyrobot_marl.integrations; print('ray' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
+
+
+def test_win_rate_tells_good_from_bad_drivers():
+    config = {"level": "race-4", "n_robots": 4, "max_cycles": 60}
+    shortest = ShortestPathPolicy(RaceMultiAgentEnv(config).race.table)
+    assert win_rate(lambda obs: 0, config, "random", races=5) == 0.0  # a robot that stays never wins
+    assert win_rate(shortest, config, "random", races=20) > 0.5  # the planner beats random robots
+    assert win_rate(shortest, config, "random", races=20, seed=4) == win_rate(shortest, config, "random", races=20, seed=4)
+
+
+@pytest.mark.parametrize(("kwargs", "words"), [({"opponent": "smart"}, "opponent"), ({"races": 0}, "races")])
+def test_win_rate_bad_arguments(kwargs, words):
+    with pytest.raises(ValueError, match=words):
+        win_rate(lambda obs: 0, **kwargs)

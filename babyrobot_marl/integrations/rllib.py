@@ -52,6 +52,7 @@ __all__ = [
     "race_config",
     "register_race",
     "shared_policy_config",
+    "win_rate",
 ]
 
 
@@ -231,3 +232,35 @@ def greedy_policy(module: Any, observation_space: gym.Space) -> Callable[[np.nda
         return int(torch.argmax(out[Columns.ACTION_DIST_INPUTS][0]))
 
     return act
+
+
+def win_rate(
+    policy: Callable[[np.ndarray], int],
+    env_config: Mapping[str, Any] | None = None,
+    opponent: str = "shortest",
+    races: int = 100,
+    seed: int = 0,
+) -> float:
+    """Share of ``races`` that ``policy``, driving ``robot_0``, wins against scripted robots.
+
+    Every other robot is the scripted ``opponent`` (``"shortest"`` or ``"random"``, seeded from
+    ``seed``). A race is won when ``robot_0`` finishes first; finishing in the same step as the
+    first opponent counts as a win too (ranks are shared). Races are seeded ``seed``, ``seed + 1``, ...
+    """
+    from ..policies import POLICY_NAMES, make
+
+    if opponent not in POLICY_NAMES:
+        raise ValueError(f"opponent: must be one of {', '.join(map(repr, POLICY_NAMES))}, got {opponent!r}")
+    if isinstance(races, bool) or not isinstance(races, int) or races < 1:
+        raise ValueError(f"races: must be an integer >= 1, got {races!r}")
+    race = RaceEnv(**{**dict(env_config or {}), "finished": "remove"})
+    rng = np.random.default_rng(seed)
+    others = {a: make(opponent, race.table, seed=rng) for a in race.possible_agents[1:]}
+    wins = 0
+    for k in range(races):
+        obs, _ = race.reset(seed=seed + k)
+        while race.agents:
+            actions = {a: (policy(obs[a]) if a == "robot_0" else others[a](obs[a])) for a in race.agents}
+            obs, *_ = race.step(actions)
+        wins += race.ranks[0] == 1
+    return wins / races
