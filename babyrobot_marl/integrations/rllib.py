@@ -13,8 +13,9 @@ Why a native ``MultiAgentEnv`` and not ``ParallelPettingZooEnv`` over ``race_v0.
 RLlib's wrapper sets ``__all__`` to "every reported agent terminated" / "every reported agent
 truncated", so the step that ends a race with one robot finishing and another truncated at
 ``max_cycles`` ends the episode in neither dict; its ``agents`` list also never shrinks. The
-native env reports ``__all__`` from the race itself and keeps ``agents`` current; measured in
-``benchmarks/bench_rllib.py``, it is also a little faster (one dict less per step).
+native env reports ``__all__`` from the race itself and keeps ``agents`` current. Speed does
+not decide it: in ``benchmarks/bench_rllib.py`` both step at the same rate (within a few per
+cent, ~87k env-steps/s for 4 robots), far above what RLlib's sampling loop asks of them.
 
 Seeding: RLlib seeds env runner ``k``'s sub-env ``i`` with ``seed + k + i`` on its first reset
 only (``config.debugging(seed=...)``), so runner ``k`` sub-env ``1`` and runner ``k + 1`` sub-env
