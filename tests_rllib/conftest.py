@@ -1,0 +1,25 @@
+"""RLlib tests: run only in a venv with the ``rllib`` extra (``bash .ci/rllib.sh``), never with ``tests/``.
+
+Puts the repository root first on ``sys.path`` and gives the tests one small local Ray
+(two CPUs, no dashboard), shut down when the session ends so no process is left behind.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+if str(ROOT) not in sys.path:
+    sys.path.insert(0, str(ROOT))
+
+
+@pytest.fixture(scope="session")
+def ray_local():
+    import ray
+
+    ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False, configure_logging=False)
+    yield ray
+    ray.shutdown()
