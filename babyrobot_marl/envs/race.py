@@ -20,18 +20,24 @@ from ..core.rng import new_key
 from ..core.rules import COLLISION_MODES, Rules
 from ..core.table import compile_level
 from ..render.ansi import frame, robot_glyph
+from ..render.canvas import check_animation_frames
+from ..render.overlay import Overlay
 from ..render.rgb import RgbRenderer, Theme, check_cell_size, resolve_theme
 from .common import check_action, check_options, check_positive_int, check_render_mode, resolve_level, resolve_rules
+from .drawing import Drawing
 from .single import default_max_steps
 
 START_MODES = ("level", "fill", "random")
 FINISHED_MODES = ("remove", "freeze")
 # actions on the fast path: Python ints 0..4 (bools, numpy ints and the rest are checked one by one)
 _INT, _ACTIONS = frozenset({int}), frozenset(range(N_ACTIONS))
-_ARGS = "arguments are level, n_robots, collisions, max_cycles, start, finished, rules, render_mode, cell_size, theme"
+_ARGS = (
+    "arguments are level, n_robots, collisions, max_cycles, start, finished, rules, render_mode, cell_size, theme, "
+    "animation_frames"
+)
 
 
-class RaceEnv(ParallelEnv):
+class RaceEnv(Drawing, ParallelEnv):
     """Several Baby Robots race to the exit. See ``babyrobot_marl.race_v0`` for the full table."""
 
     metadata = {
@@ -53,6 +59,7 @@ class RaceEnv(ParallelEnv):
         render_mode: str | None = None,
         cell_size: int = 32,
         theme: str | Theme = "light",
+        animation_frames: int = 4,
         **rule_overrides: Any,
     ):
         self.level = resolve_level(level)
@@ -73,6 +80,8 @@ class RaceEnv(ParallelEnv):
         self._fixed_starts, self._free = self._placement(n)
         self.render_mode = check_render_mode(render_mode, self.metadata["render_modes"])
         self.cell_size, self.theme = check_cell_size(cell_size), resolve_theme(theme)
+        self.animation_frames = check_animation_frames(animation_frames)
+        self._overlay, self.canvas = Overlay(), None
 
         w, h = self.level.width, self.level.height
         self.possible_agents = [f"robot_{i}" for i in range(n)]
@@ -281,12 +290,12 @@ class RaceEnv(ParallelEnv):
 
             gymnasium.logger.warn("render() called with render_mode=None; pass render_mode='ansi' or 'human'")
             return None
+        robots: list[Cell | None] = [self._xy[c] if r else None for c, r in zip(self._cells, self._racing)]
         if self.render_mode == "rgb_array":
-            return self.rgb_renderer.frame([self._xy[c] if r else None for c, r in zip(self._cells, self._racing)])
-        text = self.render_text()
+            return self._overlay_frame(robots)
         if self.render_mode == "ansi":
-            return text
-        print(text, flush=True)
+            return self.render_text()
+        self._show_human(robots, self.render_text, animate=self._t > 0)
         return None
 
     def batch(self, n_envs: int) -> BatchRace:
