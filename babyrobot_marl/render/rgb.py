@@ -127,6 +127,7 @@ class RgbRenderer:
         r = (cell_size - 1) / 2
         yy, xx = np.mgrid[0:cell_size, 0:cell_size]
         self._disc = (yy - r) ** 2 + (xx - r) ** 2 <= (0.34 * cell_size) ** 2
+        self._overlaid: tuple[Overlay | None, np.ndarray] = (None, self.background)
 
     @property
     def shape(self) -> tuple[int, int, int]:
@@ -138,7 +139,14 @@ class RgbRenderer:
         Robots sharing a cell (collisions "pass") show the lowest-numbered one on top. An
         ``overlay`` is drawn under the robots; its panel makes the frame taller.
         """
-        img = self.background.copy() if overlay is None or overlay.empty else self.overlay_image(overlay)
+        if overlay is None or overlay.empty:
+            img = self.background.copy()
+        else:  # an Overlay is immutable: draw it once, then copy it like the background
+            if self._overlaid[0] is not overlay:
+                image = self.overlay_image(overlay)
+                image.setflags(write=False)
+                self._overlaid = (overlay, image)
+            img = self._overlaid[1].copy()
         cs, colours = self.cell_size, self.theme.robots
         for i in reversed(range(len(robots))):
             cell = robots[i]
