@@ -85,7 +85,7 @@ step), `finished`, and `rank` once finished (1 = first; robots finishing togethe
 ```python
 race_v0.parallel_env(level="race-2", n_robots=2, collisions="block", max_cycles=None,
                      start="level", finished="remove", rules=None, render_mode=None,
-                     cell_size=32, theme="light", **rule_overrides)
+                     cell_size=32, theme="light", animation_frames=4, **rule_overrides)
 ```
 
 * `level`: a built-in name (`babyrobot_marl.levels.names()`), a level text or a `Level`.
@@ -98,8 +98,12 @@ race_v0.parallel_env(level="race-2", n_robots=2, collisions="block", max_cycles=
 * `finished`: `"remove"` or `"freeze"` (above).
 * `rules` / keyword overrides: any `Rules` field, e.g. `win_bonus=0`, `glass_pass_prob=1`.
 * `render_mode`: `"ansi"` (text frame), `"rgb_array"` (`uint8[H * cell_size, W * cell_size, 3]`,
-  pure numpy, each robot a disc in its own colour) or `"human"` (prints the text frame each step).
-* `cell_size` (pixels, default 32) and `theme` (`"light"`, `"dark"`, `"mono"` or a `Theme`): `rgb_array` style.
+  pure numpy, each robot a disc in its own colour) or `"human"` (in Jupyter with the `notebook`
+  extra: a live ipycanvas canvas, robots gliding over `animation_frames` frames per step, 0:
+  jumping; elsewhere the text frame printed each step).
+* `cell_size` (pixels, default 32) and `theme` (`"light"`, `"dark"`, `"mono"` or a `Theme`): style of
+  the frames and the canvas. `env.unwrapped.set_overlay(values=..., arrows=..., text=..., panel=...)`
+  draws over the grid (`babyrobot_marl.render.overlay`).
 
 ## Version history
 
