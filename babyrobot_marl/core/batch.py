@@ -18,7 +18,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from .engine import move_array
+from .actions import N_ACTIONS
+from .engine import move_array, move_drawn
 from .rng import SLOT_PRIORITY, SLOTS, uniform_array
 from .table import Table
 
@@ -58,18 +59,22 @@ def resolve_collisions_array(
     counts = (steps[todo, None].astype(np.uint64) * np.uint64(n) + np.arange(n, dtype=np.uint64)) * np.uint64(SLOTS)
     prio = uniform_array(keys[todo, None], counts + np.uint64(SLOT_PRIORITY))
     beaten_by = (prio[:, None, :] > prio[:, :, None]) & others  # (e, i, j): j would win a contest with i
-    c_j, c_i, live_j = c[:, None, :], c[:, :, None], live[:, None, :] & others
+    live_j = live[:, None, :] & others
+    rows = np.arange(todo.size)  # the envs still changing: an env with no stop in a round is settled
     for _ in range(n + 1):
-        moving = live & (f != c)
-        f_i, f_j = f[:, :, None], f[:, None, :]
+        fr, cr, lr = f[rows], c[rows], live[rows]
+        moving = lr & (fr != cr)
+        f_i, f_j, c_i = fr[:, :, None], fr[:, None, :], cr[:, :, None]
         # j sits on i's destination and stays there, or heads for i's cell (a swap): i stays
-        held = ((f_i == c_j) & live_j & ((f == c)[:, None, :] | (f_j == c_i))).any(axis=2)
+        held = ((f_i == cr[:, None, :]) & live_j[rows] & ((fr == cr)[:, None, :] | (f_j == c_i))).any(axis=2)
         same = (f_i == f_j) & (moving[:, :, None] & moving[:, None, :]) & others
-        lost = same.any(axis=2) if mode == "bounce" else (same & beaten_by).any(axis=2)
+        lost = same.any(axis=2) if mode == "bounce" else (same & beaten_by[rows]).any(axis=2)
         stop = moving & (held | lost)
-        if not stop.any():
+        changed = stop.any(axis=1)
+        if not changed.any():
             break
-        f = np.where(stop, c, f)
+        f[rows] = np.where(stop, cr, fr)
+        rows = rows[changed]
     final[todo] = f
     return final
 
@@ -120,6 +125,9 @@ class BatchRace:
         )
         ids = np.arange(table.n_cells)
         self._xyf = np.stack([ids % w, ids // w, np.zeros_like(ids)], axis=1).astype(np.int64)
+        self._xy = np.ascontiguousarray(self._xyf[:, :2])
+        self._no_block = np.zeros((e, n), dtype=bool)
+        self._no_block.setflags(write=False)  # one robot is never blocked by another
 
     @property
     def nbytes(self) -> int:
@@ -164,6 +172,8 @@ class BatchRace:
         (everyone finished, or ``max_steps`` reached). Over envs stay as they are until
         ``reset_envs``.
         """
+        if self.n_robots == 1:
+            return self._step_one(actions)
         t, cells = self.table, self.cells
         racing = self.racing & ~self.over[:, None]  # an env whose race is over waits for reset_envs
         counts = (self.t[:, None].astype(np.uint64) * np.uint64(self.n_robots)) * np.uint64(SLOTS) + self._robot_counts
@@ -186,8 +196,43 @@ class BatchRace:
         self.over = over = (self.t >= self.max_steps) | ~racing.any(axis=1)
         return rewards, finishing, blocked, outcome, over
 
+    def _step_one(self, actions: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """``step`` for one robot per env (no collisions, finishing ends the episode): fewer numpy calls."""
+        t, c, a = self.table, self.cells[:, 0], actions[:, 0]
+        sure_next, sure_code = t.sure_flat  # move_array's look-up, inlined: counts only where drawn
+        idx = c * N_ACTIONS + a
+        nxt, code = sure_next.take(idx), sure_code.take(idx)
+        draw = nxt < 0
+        if np.count_nonzero(draw):  # puddles and glass walls
+            k = np.flatnonzero(draw)
+            counts = self.t[k].astype(np.uint64) * np.uint64(SLOTS)  # robot 0 of 1: (t * 1 + 0) * SLOTS
+            nxt[k], code[k] = move_drawn(t, idx[k], c[k], self.keys[k], counts)
+        frozen = self.over  # an env whose episode is over waits for reset_envs
+        waiting = np.count_nonzero(frozen)
+        if waiting:
+            nxt = np.where(frozen, c, nxt)
+            code = np.where(frozen, -1, code)
+        rewards = t.reward.take(nxt)
+        finishing = t.is_exit.take(nxt)
+        if waiting:
+            rewards[frozen] = 0.0
+            finishing &= ~frozen
+            self.t += ~frozen
+        else:
+            self.t += 1
+        if np.count_nonzero(finishing):  # a lone robot that finishes wins its race
+            rewards[finishing] += self.win_bonus
+            self.rank[finishing, 0] = 1
+            self.n_finished[finishing] = 1
+            self.racing[finishing, 0] = False
+        self.cells = nxt[:, None]
+        self.over = over = frozen | finishing | (self.t >= self.max_steps)
+        return rewards[:, None], finishing[:, None], self._no_block, code[:, None], over
+
     def observations(self) -> np.ndarray:
         """``(n_envs, n_robots, 2 + 3 * (n_robots - 1))`` int64, as ``race_v0`` (``[x, y]`` for one robot)."""
-        flat = self._xyf[self.cells]  # (E, R, 3): [x, y, 0]
+        if self.n_robots == 1:  # [x, y] alone
+            return self._xy.take(self.cells, axis=0)
+        flat = self._xyf.take(self.cells, axis=0)  # (E, R, 3): [x, y, 0]
         flat[:, :, 2] = ~self.racing
-        return flat.reshape(self.n_envs, -1)[:, self.gather]
+        return flat.reshape(self.n_envs, -1).take(self.gather, axis=1)

@@ -20,10 +20,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from .actions import N_ACTIONS
 from .rng import SLOT_GLASS, SLOT_SKID, SLOT_SKID_DIRECTION, uniform, uniform_array
 from .table import Table, TableLists
 
 MOVED, STAYED, BUMPED, SKIDDED, GLASS = range(5)  # MOVED and STAYED first: 'intended' is <= STAYED
+_SLOT_COLUMN = np.array([[SLOT_SKID], [SLOT_SKID_DIRECTION], [SLOT_GLASS]], dtype=np.uint64)  # row i: slot i
 OUTCOMES = ("moved", "stayed", "bumped", "skidded", "glass")
 
 
@@ -49,20 +51,37 @@ def move(t: TableLists, cell: int, action: int, key: int, count: int) -> tuple[i
 def move_array(
     t: Table, cells: np.ndarray, actions: np.ndarray, keys: np.ndarray, counts: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:
-    """``move`` over arrays: ``cells``, ``actions``, ``counts`` share a shape, ``keys`` broadcasts."""
-    dest = t.target[cells, actions]
-    outcome = np.where(actions == 0, STAYED, np.where(dest == cells, BUMPED, MOVED))
-    on_glass = t.glass[cells, actions]
-    if on_glass.any():
-        fail = on_glass & (uniform_array(keys, counts + SLOT_GLASS) >= t.rules.glass_pass_prob)
-        dest = np.where(fail, cells, dest)
-        outcome = np.where(fail, GLASS, outcome)
-    p = t.move_prob[cells]
-    may_skid = (actions != 0) & (p < 1.0)
-    if may_skid.any():
-        skids = may_skid & (uniform_array(keys, counts + SLOT_SKID) >= p)
-        n = t.n_skid[cells, actions]
-        k = (uniform_array(keys, counts + SLOT_SKID_DIRECTION) * n).astype(np.int64)
-        dest = np.where(skids, t.skid[cells, actions, np.minimum(k, t.skid.shape[2] - 1)], dest)
-        outcome = np.where(skids, SKIDDED, outcome)
+    """``move`` over arrays: ``cells``, ``actions``, ``counts`` share a shape, ``keys`` broadcasts.
+
+    Outcomes that need no draw come from one look-up in ``t.sure_flat``; the rest (robots on
+    puddles or at glass walls) are drawn by ``move_drawn``, on those elements only.
+    """
+    idx = cells * N_ACTIONS + actions
+    sure_next, sure_code = t.sure_flat
+    dest, outcome = sure_next.take(idx), sure_code.take(idx)
+    draw = dest < 0
+    if np.count_nonzero(draw):  # (count_nonzero costs a fraction of .any() on short arrays)
+        k = np.nonzero(draw)
+        dest[k], outcome[k] = move_drawn(t, idx[k], cells[k], np.broadcast_to(keys, cells.shape)[k], counts[k])
+    return dest, outcome
+
+
+def move_drawn(
+    t: Table, idx: np.ndarray, cells: np.ndarray, keys: np.ndarray, counts: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """``move`` over 1-D arrays of robots whose step may draw (``idx = cell * 5 + action``)."""
+    f = t.flat
+    # the three numbers a step may read, drawn in one call (rows: skid, skid direction, glass)
+    u = uniform_array(keys, counts + _SLOT_COLUMN)
+    dest, outcome = f.target.take(idx), f.code.take(idx)
+    skids = u[SLOT_SKID] >= f.move_prob.take(idx)  # never where move_prob is 1
+    fail = f.glass.take(idx) & (u[SLOT_GLASS] >= t.rules.glass_pass_prob) & ~skids
+    if np.count_nonzero(fail):
+        dest[fail] = cells[fail]
+        outcome[fail] = GLASS
+    if np.count_nonzero(skids):
+        s = idx[skids]
+        k = (u[SLOT_SKID_DIRECTION, skids] * f.n_skid.take(s)).astype(np.int64)
+        dest[skids] = f.skid[s, np.minimum(k, f.skid.shape[1] - 1)]  # no open neighbour: padded with the cell
+        outcome[skids] = SKIDDED
     return dest, outcome

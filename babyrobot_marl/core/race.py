@@ -14,65 +14,76 @@ The uniform draw of "block" gives each robot a priority ``rng.uniform`` at its
 go from moving to staying, so the loop ends after at most ``n_robots`` rounds, and the result
 does not depend on the order in which conflicts are found.
 
-Finished robots (``racing[i]`` False) are off the board: they neither move nor block.
+Finished robots are off the board: they neither move nor block, so the functions here take
+the racing robots only, with their robot numbers to address the random draws.
 """
 
 from __future__ import annotations
 
 import operator
-from itertools import compress
+from collections.abc import Sequence
+from operator import getitem
 
-from .engine import move
+from .engine import MOVED, SKIDDED, move
 from .rng import SLOT_PRIORITY, SLOTS, uniform
 from .table import TableLists
 
 
 def resolve_collisions(
-    mode: str, cells: list[int], desired: list[int], racing: list[bool], key: int, step: int
-) -> list[int]:
-    """Final cells after the collision rules of ``mode``, from current and desired cells.
+    mode: str, cells: Sequence[int], desired: Sequence[int], key: int, step: int, robots: Sequence[int] | None = None, n: int = 0
+) -> Sequence[int]:
+    """Final cells after the collision rules of ``mode``, from the current and desired cells.
 
-    Returns ``desired`` itself (not a copy) when no robot is stopped by another.
+    ``cells`` and ``desired`` list the racing robots only (finished robots are off the board);
+    ``robots`` are their numbers (default ``0, 1, ...``) and ``n`` the robots in the race
+    (default ``len(cells)``): they address the uniform draws of "block". Returns ``desired``
+    itself (not a copy) when no robot is stopped by another.
     """
     if mode == "pass":
         return desired
-    n = len(cells)
-    # The common case, returned as is: no two racing robots head for one cell, and only the
-    # robots that stay head for a cell occupied now.
-    if False in racing:
-        now, heading = list(compress(cells, racing)), list(compress(desired, racing))
-    else:
-        now, heading = cells, desired
-    heads = set(heading)
-    if len(heads) == len(heading) and len(heads.intersection(now)) == sum(map(operator.eq, now, heading)):
+    m = len(cells)
+    # The common case, returned as is: no two robots head for one cell, and no robot heads for
+    # a cell occupied now. Then the cells now and the cells ahead together hold each robot's
+    # cell once and each mover's new cell once more.
+    if len({*cells, *desired}) == m + sum(map(operator.ne, cells, desired)):
         return desired
-    live = [i for i in range(n) if racing[i]]
-    occupant = {cells[i]: i for i in live}
+    if len(set(desired)) == m:
+        # No two robots head for one cell: only a staying occupant or a swap can stop a robot,
+        # and if neither happens every chain of followers ends at a free cell or goes round.
+        going = dict(zip(cells, desired))  # cell -> where its robot is heading
+        for c, d in zip(cells, desired):
+            if c != d and d in going and going[d] in (c, d):  # its occupant stays, or a swap
+                break
+        else:
+            return desired
+    robots = range(m) if robots is None else robots
+    n = n or m
+    occupant = {c: k for k, c in enumerate(cells)}
     final = list(desired)
     changed = True
     while changed:
         changed = False
         contests: dict[int, list[int]] = {}
-        for i in live:
-            dest = final[i]
-            if dest == cells[i]:
+        for k in range(m):
+            dest = final[k]
+            if dest == cells[k]:
                 continue
             j = occupant.get(dest)
-            if j is not None and (final[j] == cells[j] or final[j] == cells[i]):
-                # its occupant stays, or the two would swap: both cases leave i in place
-                final[i] = cells[i]
-                if final[j] == cells[i]:
+            if j is not None and (final[j] == cells[j] or final[j] == cells[k]):
+                # its occupant stays, or the two would swap: both cases leave k in place
+                final[k] = cells[k]
+                if final[j] == cells[k]:
                     final[j] = cells[j]
                 changed = True
             else:
-                contests.setdefault(dest, []).append(i)
+                contests.setdefault(dest, []).append(k)
         for group in contests.values():
-            if len(group) < 2 or any(final[i] == cells[i] for i in group):
+            if len(group) < 2 or any(final[k] == cells[k] for k in group):
                 continue  # no contest, or found stale: the next round looks again
-            keep = -1 if mode == "bounce" else max(group, key=lambda i: _priority(key, step, n, i))
-            for i in group:
-                if i != keep:
-                    final[i] = cells[i]
+            keep = -1 if mode == "bounce" else max(group, key=lambda k: _priority(key, step, n, robots[k]))
+            for k in group:
+                if k != keep:
+                    final[k] = cells[k]
             changed = True
     return final
 
@@ -85,29 +96,41 @@ def _priority(key: int, step: int, n: int, robot: int) -> float:
 def race_step(
     t: TableLists,
     mode: str,
-    cells: list[int],
-    racing: list[bool],
-    actions: list[int],
+    cells: Sequence[int],
+    actions: Sequence[int],
     key: int,
     step: int,
-) -> tuple[list[int], list[int], list[bool], list[bool]]:
-    """One race step: ``(new cells, outcome codes, blocked by a robot, finished now)``.
+    robots: Sequence[int] | None = None,
+    n: int = 0,
+) -> tuple[Sequence[int], Sequence[int], list[bool], list[bool]]:
+    """One race step of the racing robots: ``(new cells, outcome codes, blocked by a robot, finished now)``.
 
-    Robots not ``racing`` keep their cell and outcome -1. Rewards are the caller's: the cell
-    reward ``t.reward[new cell]`` of every racing robot, plus any finishing bonus.
+    ``cells`` and ``actions`` list the racing robots only, ``robots`` their numbers and ``n``
+    the robots in the race, as for ``resolve_collisions``. Rewards are the caller's: the cell
+    reward ``t.reward[new cell]`` of every robot, plus any finishing bonus.
     """
-    n = len(cells)
-    base = step * n * SLOTS
-    desired, outcome = list(cells), [-1] * n
-    is_exit = t.is_exit
-    near_exit = False  # only a robot heading for an exit can finish
-    for i in range(n):
-        if racing[i]:
-            d, o = move(t, cells[i], actions[i], key, base + i * SLOTS)
-            desired[i] = d
-            outcome[i] = o
-            near_exit = near_exit or is_exit[d]
-    final = resolve_collisions(mode, cells, desired, racing, key, step)
-    blocked = [False] * n if final is desired else [f != d for f, d in zip(final, desired)]
-    finished = [r and is_exit[f] for f, r in zip(final, racing)] if near_exit else [False] * n
+    m = len(cells)
+    if not m:
+        return [], [], [], []
+    # Table look-ups in C (map): the `sure` table holds the outcome of every cell and action
+    # that needs no random draw; only puddles and glass walls go through `move`.
+    moves = list(map(getitem, map(t.sure.__getitem__, cells), actions))
+    if None in moves:
+        robots = range(m) if robots is None else robots
+        base = step * (n or m) * SLOTS
+        for k in range(m):
+            if moves[k] is None:
+                moves[k] = move(t, cells[k], actions[k], key, base + robots[k] * SLOTS)
+    desired, outcome = zip(*moves)
+    if mode == "pass":
+        final = desired
+    # resolve_collisions' own first test, inlined; without skids the robots that move are the MOVED ones
+    elif len({*cells, *desired}) == m + (
+        outcome.count(MOVED) if SKIDDED not in outcome else sum(map(operator.ne, cells, desired))
+    ):
+        final = desired  # nobody in anybody's way
+    else:
+        final = resolve_collisions(mode, cells, desired, key, step, robots, n)
+    blocked = [False] * m if final is desired else list(map(operator.ne, final, desired))
+    finished = [False] * m if t.exits.isdisjoint(final) else list(map(t.is_exit.__getitem__, final))
     return final, outcome, blocked, finished

@@ -37,15 +37,28 @@ def uniform(key: int, count: int) -> float:
     return ((z ^ (z >> 31)) >> 11) * _TO_UNIT
 
 
+_U64 = {
+    name: np.uint64(v)
+    for name, v in {"gamma": _GAMMA, "c1": _C1, "c2": _C2, "one": 1, "s30": 30, "s27": 27, "s31": 31, "s11": 11}.items()
+}
+
+
 def uniform_array(keys: np.ndarray, counts: np.ndarray) -> np.ndarray:
     """``uniform`` over arrays (broadcast), bit for bit the same numbers."""
     keys = np.asarray(keys, dtype=np.uint64)
     counts = np.asarray(counts, dtype=np.uint64)
-    with np.errstate(over="ignore"):  # wrapping mod 2**64 is intended; 0-d inputs would warn
-        z = keys + (counts + np.uint64(1)) * np.uint64(_GAMMA)
-        z = (z ^ (z >> np.uint64(30))) * np.uint64(_C1)
-        z = (z ^ (z >> np.uint64(27))) * np.uint64(_C2)
-        z = (z ^ (z >> np.uint64(31))) >> np.uint64(11)
+    u = _U64
+    if keys.ndim == 0 and counts.ndim == 0:  # numpy scalars warn on the wrap-around that is intended
+        keys, counts = keys.reshape(1), counts.reshape(1)
+        return uniform_array(keys, counts)[0]
+    # in place where possible: every numpy call counts on small batches
+    z = keys + (counts + u["one"]) * u["gamma"]
+    z ^= z >> u["s30"]
+    z *= u["c1"]
+    z ^= z >> u["s27"]
+    z *= u["c2"]
+    z ^= z >> u["s31"]
+    z >>= u["s11"]
     return z.astype(np.float64) * _TO_UNIT
 
 

@@ -30,6 +30,18 @@ class TableLists(NamedTuple):
     reward: list[float]
     is_exit: list[bool]
     glass_pass_prob: float
+    exits: frozenset[int]  # the exit cells
+
+
+class FlatTable(NamedTuple):
+    """``Table``'s per-(cell, action) arrays flattened to index ``c * 5 + a``."""
+
+    target: np.ndarray
+    code: np.ndarray  # the outcome when nothing is drawn: STAYED, BUMPED or MOVED
+    glass: np.ndarray
+    move_prob: np.ndarray  # 1.0 for STAY: it never skids
+    n_skid: np.ndarray
+    skid: np.ndarray  # (cells * 5, MAX_SKIDS)
 
 
 @dataclass(frozen=True, eq=False)
@@ -80,7 +92,39 @@ class Table:
             self.reward.tolist(),
             self.is_exit.tolist(),
             self.rules.glass_pass_prob,
+            frozenset(np.flatnonzero(self.is_exit).tolist()),
         )
+
+    @cached_property
+    def sure_flat(self) -> tuple[np.ndarray, np.ndarray]:
+        """``lists.sure`` as two flat arrays indexed by ``c * 5 + a``: the next cell (-1 where the
+        step needs a random draw) and the outcome code (-1 there too). One ``take`` steps a batch."""
+        nxt = np.full(self.n_cells * N_ACTIONS, -1, dtype=np.int64)
+        code = np.full(self.n_cells * N_ACTIONS, -1, dtype=np.int64)
+        for c, row in enumerate(self.lists.sure):
+            for a, sure in enumerate(row):
+                if sure is not None:
+                    nxt[c * N_ACTIONS + a], code[c * N_ACTIONS + a] = sure
+        nxt.setflags(write=False)
+        code.setflags(write=False)
+        return nxt, code
+
+    @cached_property
+    def flat(self) -> FlatTable:
+        """The per-(cell, action) tables as flat arrays indexed by ``c * 5 + a`` (for batches)."""
+        from .engine import BUMPED, MOVED, STAYED  # the outcome codes live with the step
+
+        n = self.n_cells
+        cells = np.repeat(np.arange(n), N_ACTIONS)
+        actions = np.tile(np.arange(N_ACTIONS), n)
+        target = self.target.reshape(-1)
+        code = np.where(actions == 0, STAYED, np.where(target == cells, BUMPED, MOVED))
+        move_prob = np.where(actions == 0, 1.0, self.move_prob[cells])  # STAY never skids
+        arrays = (target.copy(), code, self.glass.reshape(-1).copy(), move_prob, self.n_skid.reshape(-1).copy(),
+                  self.skid.reshape(n * N_ACTIONS, -1).copy())
+        for arr in arrays:
+            arr.setflags(write=False)
+        return FlatTable(*arrays)
 
     def cell_id(self, cell: Cell) -> int:
         return cell[1] * self.level.width + cell[0]

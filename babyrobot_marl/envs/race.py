@@ -5,7 +5,6 @@ from __future__ import annotations
 import operator
 from collections.abc import Mapping, Sequence
 from functools import cached_property
-from itertools import compress
 from typing import Any
 
 import numpy as np
@@ -21,16 +20,24 @@ from ..core.rng import new_key
 from ..core.rules import COLLISION_MODES, Rules
 from ..core.table import compile_level
 from ..render.ansi import frame, robot_glyph
+from ..render.canvas import check_animation_frames
+from ..render.overlay import Overlay
 from ..render.rgb import RgbRenderer, Theme, check_cell_size, resolve_theme
 from .common import check_action, check_options, check_positive_int, check_render_mode, resolve_level, resolve_rules
+from .drawing import Drawing
 from .single import default_max_steps
 
 START_MODES = ("level", "fill", "random")
 FINISHED_MODES = ("remove", "freeze")
-_ARGS = "arguments are level, n_robots, collisions, max_cycles, start, finished, rules, render_mode, cell_size, theme"
+# actions on the fast path: Python ints 0..4 (bools, numpy ints and the rest are checked one by one)
+_INT, _ACTIONS = frozenset({int}), frozenset(range(N_ACTIONS))
+_ARGS = (
+    "arguments are level, n_robots, collisions, max_cycles, start, finished, rules, render_mode, cell_size, theme, "
+    "animation_frames"
+)
 
 
-class RaceEnv(ParallelEnv):
+class RaceEnv(Drawing, ParallelEnv):
     """Several Baby Robots race to the exit. See ``babyrobot_marl.race_v0`` for the full table."""
 
     metadata = {
@@ -52,6 +59,7 @@ class RaceEnv(ParallelEnv):
         render_mode: str | None = None,
         cell_size: int = 32,
         theme: str | Theme = "light",
+        animation_frames: int = 4,
         **rule_overrides: Any,
     ):
         self.level = resolve_level(level)
@@ -72,10 +80,11 @@ class RaceEnv(ParallelEnv):
         self._fixed_starts, self._free = self._placement(n)
         self.render_mode = check_render_mode(render_mode, self.metadata["render_modes"])
         self.cell_size, self.theme = check_cell_size(cell_size), resolve_theme(theme)
+        self.animation_frames = check_animation_frames(animation_frames)
+        self._overlay, self.canvas = Overlay(), None
 
         w, h = self.level.width, self.level.height
         self.possible_agents = [f"robot_{i}" for i in range(n)]
-        self.agents: list[str] = []
         self._index = {a: i for i, a in enumerate(self.possible_agents)}
         self._obs_space = spaces.MultiDiscrete([w, h] + [w, h, 2] * (n - 1))
         self._act_space = spaces.Discrete(5)
@@ -91,11 +100,19 @@ class RaceEnv(ParallelEnv):
         self._lists = self.table.lists
         self._xy = [self.table.cell_xy(c) for c in range(self.table.n_cells)]
         self._reward_at = self._lists.reward.__getitem__
-        self._xyf = {racing: [(*xy, 0 if racing else 1) for xy in self._xy] for racing in (True, False)}
-        self._cells: list[int] = []
-        self._racing: list[bool] = []
+        # [x, y, finished] of a robot: row c racing in cell c, row n_cells + c finished there
+        self._xyf = np.array([(*xy, 0) for xy in self._xy] + [(*xy, 1) for xy in self._xy], dtype=np.int64)
+        # The state: the racing robots (`_live`, robot numbers, ascending) and their cells, and the
+        # finished ones (`_done`) with their `_xyf` rows (`_parked`). Steps work on the racing
+        # robots only; observations gather from the rows of `_live_cells + _parked`.
+        self._live: list[int] = []
+        self._live_cells: Sequence[int] = []
+        self._done: list[int] = []
+        self._parked: list[int] = []
+        self._set_agents([])
         self._rank: list[int] = []
-        self._returns: list[float] = []
+        self._returns: list[float] = []  # of the finished robots; the racing ones' in _live_returns
+        self._live_returns: list[float] = []
         self._bumps: list[int] = []
         self._t = 0
         self._key = 0
@@ -116,117 +133,156 @@ class RaceEnv(ParallelEnv):
         if seed is not None:
             self.np_random, _ = _seeding(seed)
         self._key = new_key(self.np_random)
-        self._cells = self._draw_starts()
         n = self.n_robots
-        self._racing = [True] * n
+        self._live, self._live_cells = list(range(n)), self._draw_starts()
+        self._done, self._parked = [], []
         self._rank = [0] * n
         self._returns = [0.0] * n
+        self._live_returns = [0.0] * n
         self._bumps = [0] * n
         self._t = 0
         self._n_finished = 0
-        self.agents = list(self.possible_agents)
-        self._agent_ids = range(n)  # robot index of each entry of self.agents
+        self._set_agents(self._live)
         if self.render_mode == "human":
             self.render()
         obs = self._observations()
         infos = {
             a: {"cell": self._xy[c], "outcome": "start", "blocked": False, "finished": False}
-            for a, c in zip(self.possible_agents, self._cells)
+            for a, c in zip(self.possible_agents, self._live_cells)
         }
-        return {a: obs[i] for i, a in enumerate(self.possible_agents)}, infos
+        return dict(zip(self.possible_agents, obs)), infos
 
     def step(self, actions: Mapping[str, Any]):
-        if not self.agents:
+        reported = self.agents
+        if not reported:
             if actions:
                 raise ValueError("actions: the race is over (no agents left); call reset() before stepping again")
             return {}, {}, {}, {}, {}
         acts = self._check_actions(actions)  # raises before anything changes
-        n, step, racing = self.n_robots, self._t, self._racing
+        live, t = self._live, self._t
         cells, outcome, blocked, finishing = race_step(
-            self._lists, self.collisions, self._cells, racing, acts, self._key, step
+            self._lists, self.collisions, self._live_cells, acts, self._key, t, live, self.n_robots
         )
-        self._cells = cells
-        self._t = step + 1
-        returns = self._returns
+        self._live_cells, self._t = cells, t + 1
         rewards = list(map(self._reward_at, cells))
-        if self._n_finished:
-            for i in compress(range(n), map(operator.not_, racing)):
-                rewards[i] = 0.0
         if True in blocked:
-            self._bumps = [b + k for b, k in zip(self._bumps, blocked)]
-        finished_now = True in finishing
-        if finished_now:
+            bumps = self._bumps
+            for i, b in zip(live, blocked):
+                bumps[i] += b
+        if True in finishing or t + 1 >= self.max_cycles or not self._reported_live:
+            out = self._step_general(cells, outcome, blocked, finishing, rewards)
+        else:  # the common step: nobody finishes, the race goes on, the agents are the racing robots
+            self._live_returns = list(map(operator.add, self._live_returns, rewards))
+            xy, names = self._xy, OUTCOMES
+            infos = {
+                a: {"cell": xy[c], "outcome": names[o], "blocked": b, "finished": False}
+                for a, c, o, b in zip(reported, cells, outcome, blocked)
+            }
+            no = self._none_done
+            out = dict(zip(reported, self._observations())), dict(zip(reported, rewards)), no.copy(), no.copy(), infos
+        if self.render_mode == "human":
+            self.render()
+        return out
+
+    def _step_general(
+        self, cells: Sequence[int], outcome: Sequence[int], blocked: list[bool], finishing: list[bool], rewards: list[float]
+    ):
+        """The outputs of any step: robots finishing, the race ending, parked robots reported (freeze)."""
+        n, live = self.n_robots, self._live
+        was_live = dict(zip(live, range(len(live))))  # robot -> its place among the racing robots
+        if True in finishing:  # ranks, and the bonus of the robots finishing first
             first = self._n_finished == 0
             rank = self._n_finished + 1
-            for i in range(n):
-                if finishing[i]:
+            for k, i in enumerate(live):
+                if finishing[k]:
                     self._rank[i] = rank
                     self._n_finished += 1
                     if first:
-                        rewards[i] += self.rules.win_bonus
-            self._racing = racing_now = [r and not f for r, f in zip(racing, finishing)]
-        else:
-            racing_now = racing
-        self._returns = list(map(operator.add, returns, rewards))
-        over = self._t >= self.max_cycles or True not in racing_now
+                        rewards[k] += self.rules.win_bonus
+        returns = list(map(operator.add, self._live_returns, rewards))
+        if True in finishing:  # the finishers leave the board for their parking rows
+            for i, r, f in zip(live, returns, finishing):
+                if f:
+                    self._returns[i] = r
+            returns = [r for r, f in zip(returns, finishing) if not f]
+            self._live = [i for i, f in zip(live, finishing) if not f]
+            self._live_cells = [c for c, f in zip(cells, finishing) if not f]
+            self._done = self._done + [i for i, f in zip(live, finishing) if f]
+            self._parked = self._parked + [self.table.n_cells + c for c, f in zip(cells, finishing) if f]
+            self._set_layout()
+        self._live_returns = returns
+        reward = [0.0] * n  # parked robots earn nothing
+        for i, r in zip(live, rewards):
+            reward[i] = r
+        racing_now = self._racing
+        over = self._t >= self.max_cycles or not self._live
         obs = self._observations()
-
-        reported = self.agents
-        index, xy, ranks = self._index, self._xy, self._rank
-        ids = self._agent_ids
-        all_reported = len(reported) == n
+        reported, ids = self.agents, self._agent_ids
+        all_cells, xy, ranks = self._cells, self._xy, self._rank
         # parked robots (freeze) are terminated only when the race ends: PettingZoo expects a
         # terminated agent to leave `agents` in the same step
-        if over or finished_now:
-            parked_done = over or self.finished_mode == "remove"
-            terms = {a: not racing_now[i] and parked_done for a, i in zip(reported, ids)}
-            truncs = {a: over and racing_now[i] for a, i in zip(reported, ids)}
-        else:
-            terms = dict.fromkeys(reported, False)
-            truncs = terms.copy()
-        if all_reported:
-            rews = dict(zip(reported, rewards))
-            observations = dict(zip(reported, obs))
-        else:
-            rews = dict(zip(reported, map(rewards.__getitem__, ids)))
-            observations = dict(zip(reported, map(obs.__getitem__, ids)))
-        if all_reported and not self._n_finished:  # the common case: everyone racing
-            infos = {
-                a: {"cell": xy[c], "outcome": OUTCOMES[o], "blocked": b, "finished": False}
-                for a, c, o, b in zip(reported, cells, outcome, blocked)
+        parked_done = over or self.finished_mode == "remove"
+        terms = {a: not racing_now[i] and parked_done for a, i in zip(reported, ids)}
+        truncs = {a: over and racing_now[i] for a, i in zip(reported, ids)}
+        rews = {a: reward[i] for a, i in zip(reported, ids)}
+        infos = {}
+        for a, i in zip(reported, ids):
+            k = was_live.get(i)
+            info = {
+                "cell": xy[all_cells[i]],
+                "outcome": "finished" if k is None else OUTCOMES[outcome[k]],
+                "blocked": k is not None and blocked[k],
+                "finished": not racing_now[i],
             }
-        elif not finished_now and self.finished_mode == "remove":  # only racing robots reported
-            infos = {
-                a: {"cell": xy[cells[i]], "outcome": OUTCOMES[outcome[i]], "blocked": blocked[i], "finished": False}
-                for a, i in zip(reported, ids)
-            }
-        else:
-            infos = {}
-            for a, i in zip(reported, ids):
-                info = {
-                    "cell": xy[cells[i]],
-                    "outcome": OUTCOMES[outcome[i]] if racing[i] else "finished",
-                    "blocked": blocked[i],
-                    "finished": not racing_now[i],
-                }
-                if ranks[i]:
-                    info["rank"] = ranks[i]
-                infos[a] = info
+            if ranks[i]:
+                info["rank"] = ranks[i]
+            infos[a] = info
         if over:
-            self.agents = []
-        elif finished_now and self.finished_mode == "remove":
-            self.agents = [a for a in reported if racing_now[index[a]]]
-            self._agent_ids = [index[a] for a in self.agents]
-        if self.render_mode == "human":
-            self.render()
-        return observations, rews, terms, truncs, infos
+            self._set_agents([])
+        elif self.finished_mode == "remove":
+            self._set_agents(self._live)
+        return dict(zip(reported, obs)), rews, terms, truncs, infos
+
+    def _set_agents(self, ids: list[int]) -> None:
+        """The robots reported in ``agents``, by robot number, and what steps precompute for them."""
+        self.agents = [self.possible_agents[i] for i in ids]
+        self._agent_ids = ids
+        self._none_done = dict.fromkeys(self.agents, False)
+        self._set_layout()
+
+    def _set_layout(self) -> None:
+        """Observation rows of the reported agents, gathered from the rows of ``_live_cells + _parked``."""
+        place = np.empty(self.n_robots, dtype=np.intp)
+        place[self._live + self._done] = np.arange(len(self._live) + len(self._done))
+        g = self._gather[self._agent_ids]
+        self._gather_reported = 3 * place[g // 3] + g % 3 if len(self._done) else g
+        self._reported_live = self._agent_ids == self._live
+        self._live_set = frozenset(self._live)
+
+    @property
+    def _cells(self) -> list[int]:
+        """Each robot's cell (a finished robot: the exit it took), in robot order."""
+        cells = [0] * self.n_robots
+        for i, c in zip(self._live, self._live_cells):
+            cells[i] = c
+        n_cells = self.table.n_cells
+        for i, row in zip(self._done, self._parked):
+            cells[i] = row - n_cells
+        return cells
+
+    @property
+    def _racing(self) -> list[bool]:
+        racing = [False] * self.n_robots
+        for i in self._live:
+            racing[i] = True
+        return racing
 
     def state(self) -> np.ndarray:
         """Every robot's ``[x, y, finished]`` in robot order (a global view for critics)."""
-        flat: list[int] = []
-        for c, r in zip(self._cells, self._racing):
-            flat += self._xyf[r][c]
-        return np.array(flat, dtype=np.int64)
+        rows = [0] * self.n_robots
+        for i, row in zip(self._live + self._done, [*self._live_cells, *self._parked]):
+            rows[i] = row
+        return self._xyf.take(rows, axis=0).ravel()
 
     def render(self) -> str | None:
         if self.render_mode is None:
@@ -234,12 +290,12 @@ class RaceEnv(ParallelEnv):
 
             gymnasium.logger.warn("render() called with render_mode=None; pass render_mode='ansi' or 'human'")
             return None
+        robots: list[Cell | None] = [self._xy[c] if r else None for c, r in zip(self._cells, self._racing)]
         if self.render_mode == "rgb_array":
-            return self.rgb_renderer.frame([self._xy[c] if r else None for c, r in zip(self._cells, self._racing)])
-        text = self.render_text()
+            return self._overlay_frame(robots)
         if self.render_mode == "ansi":
-            return text
-        print(text, flush=True)
+            return self.render_text()
+        self._show_human(robots, self.render_text, animate=self._t > 0)
         return None
 
     def batch(self, n_envs: int) -> BatchRace:
@@ -281,7 +337,10 @@ class RaceEnv(ParallelEnv):
 
     @property
     def returns(self) -> list[float]:
-        return list(self._returns)
+        returns = list(self._returns)
+        for i, r in zip(self._live, self._live_returns):
+            returns[i] = r
+        return returns
 
     @property
     def collisions_count(self) -> list[int]:
@@ -289,7 +348,8 @@ class RaceEnv(ParallelEnv):
         return list(self._bumps)
 
     def set_cells(self, cells: list[Cell]) -> None:
-        """Place the robots by hand (tests, tutorials): one distinct open cell per robot."""
+        """Place the robots by hand (tests, tutorials): one distinct open cell per robot (after a
+        reset; robots that have finished stay parked at their exits)."""
         if not isinstance(cells, Sequence) or isinstance(cells, str):
             raise ValueError(f"cells: expected a list of {self.n_robots} cells (x, y), got {cells!r}")
         if len(cells) != self.n_robots:
@@ -305,7 +365,7 @@ class RaceEnv(ParallelEnv):
             ids.append(c)
         if self.collisions != "pass" and len(set(ids)) < len(ids):
             raise ValueError(f"cells: two robots share a cell, which collisions={self.collisions!r} forbids")
-        self._cells = ids
+        self._live_cells = [ids[i] for i in self._live]  # finished robots stay parked at their exits
 
     def _agent_index(self, agent: str) -> int:
         try:
@@ -314,40 +374,36 @@ class RaceEnv(ParallelEnv):
             raise ValueError(f"agent: unknown agent {agent!r}; agents are {', '.join(self.possible_agents)}") from None
 
     def _check_actions(self, actions: Mapping[str, Any]) -> list[int]:
+        """The racing robots' actions, in robot order; a ValueError (and nothing changed) if any is bad."""
+        if type(actions) is dict and self._reported_live:
+            # the common case, checked in C: one int action per racing robot, in `agents` order
+            acts = list(actions.values())
+            if list(actions) == self.agents and _INT.issuperset(map(type, acts)) and _ACTIONS.issuperset(acts):
+                return acts
         if type(actions) is not dict and not isinstance(actions, Mapping):  # the ABC check is slow
             raise ValueError(f"actions: expected a dict agent -> action, got {type(actions).__name__}")
-        acts = [0] * self.n_robots
-        index, racing = self._index, self._racing
-        given = 0
+        given: dict[int, int] = {}
+        live = self._live_set
         for agent, action in actions.items():
-            i = index.get(agent) if type(agent) is str else None
-            if i is None:
-                i = self._agent_index(agent)  # a str subclass; else raises, naming the known agents
-            if not racing[i]:
+            i = self._agent_index(agent)  # raises, naming the known agents
+            if i not in live:
                 if self.finished_mode == "freeze":
                     check_action(action, f"actions[{agent!r}]")
                     continue  # parked: its action is ignored
                 raise ValueError(f"actions: {agent!r} has finished the race and takes no more actions")
-            given += 1
-            if type(action) is int and 0 <= action < N_ACTIONS:
-                acts[i] = action
-            else:
-                acts[i] = check_action(action, f"actions[{agent!r}]")
-        if given < self.n_robots - self._n_finished:
-            missing = [a for a in self.agents if racing[index[a]] and a not in actions]
+            given[i] = check_action(action, f"actions[{agent!r}]")
+        if len(given) < len(live):
+            missing = [self.possible_agents[i] for i in self._live if i not in given]
             raise ValueError(
                 f"actions: no action for {', '.join(map(repr, missing))}; every racing robot needs one "
                 "(give 0 for STAY)"
             )
-        return acts
+        return [given[i] for i in self._live]
 
     def _observations(self) -> np.ndarray:
-        """Row ``i`` is robot ``i``'s observation (one fresh array per step, rows never shared)."""
-        xyf = self._xyf
-        flat: list[int] = []
-        for c, r in zip(self._cells, self._racing):
-            flat += xyf[r][c]
-        return np.array(flat, dtype=np.int64)[self._gather]
+        """One row per reported agent, in ``agents`` order (a fresh array per step, rows never shared)."""
+        rows = [*self._live_cells, *self._parked] if self._parked else self._live_cells
+        return self._xyf.take(rows, axis=0).ravel()[self._gather_reported]
 
     def _placement(self, n: int) -> tuple[list[int], list[int]]:
         """Level starts used as they are, and the free cells random starts are drawn from."""

@@ -19,8 +19,11 @@ from ..core.rng import SLOTS, new_key
 from ..core.rules import Rules
 from ..core.table import compile_level
 from ..render.ansi import frame
+from ..render.canvas import check_animation_frames
+from ..render.overlay import Overlay
 from ..render.rgb import RgbRenderer, Theme, check_cell_size, resolve_theme
 from .common import check_action, check_options, check_positive_int, check_render_mode, resolve_level, resolve_rules
+from .drawing import Drawing
 
 
 def default_max_steps(level: Level) -> int:
@@ -28,7 +31,7 @@ def default_max_steps(level: Level) -> int:
     return max(100, 4 * level.n_cells)
 
 
-class BabyRobotEnv(gym.Env):
+class BabyRobotEnv(Drawing, gym.Env):
     """Baby Robot looks for the exit of a grid of walls, glass walls, puddles and blocked cells.
 
     ## Action space
@@ -79,8 +82,12 @@ class BabyRobotEnv(gym.Env):
     level's start, or a random free cell if it has none) or ``"random"`` (a random free cell
     each episode). ``reset(options={"start": (x, y)})`` starts one episode at a given cell.
     ``render_mode``: ``"ansi"`` (text frame), ``"rgb_array"`` (``uint8[H * cell_size, W * cell_size, 3]``,
-    pure numpy) or ``"human"`` (prints the text frame each step). ``cell_size`` (pixels, default 32)
-    and ``theme`` (``"light"``, ``"dark"``, ``"mono"`` or a ``render.Theme``) style ``rgb_array``.
+    pure numpy) or ``"human"`` (in Jupyter with the ``notebook`` extra: a live ipycanvas canvas in
+    the cell, the robot gliding over ``animation_frames`` frames per step, 0: jumping; elsewhere
+    the text frame printed each step). ``cell_size`` (pixels, default 32) and ``theme``
+    (``"light"``, ``"dark"``, ``"mono"`` or a ``render.Theme``) style both.
+    ``env.unwrapped.set_overlay(values=..., q_values=..., arrows=..., text=..., panel=...)`` draws
+    over the grid (``clear_overlay()`` removes it); ``env.unwrapped.canvas`` is the live canvas.
 
     ## Registered configurations
 
@@ -99,11 +106,14 @@ class BabyRobotEnv(gym.Env):
         render_mode: str | None = None,
         cell_size: int = 32,
         theme: str | Theme = "light",
+        animation_frames: int = 4,
         **rule_overrides: Any,
     ):
         self.level = resolve_level(level)
         self.rules = resolve_rules(
-            rules, rule_overrides, known="arguments are level, rules, max_steps, start, render_mode, cell_size, theme"
+            rules,
+            rule_overrides,
+            known="arguments are level, rules, max_steps, start, render_mode, cell_size, theme, animation_frames",
         )
         self.table = compile_level(self.level, self.rules)
         self.max_steps = default_max_steps(self.level) if max_steps is None else check_positive_int(max_steps, "max_steps")
@@ -115,6 +125,8 @@ class BabyRobotEnv(gym.Env):
             raise ValueError(f"level: {self.level!r} has no free cell to start a robot on")
         self.render_mode = check_render_mode(render_mode, self.metadata["render_modes"])
         self.cell_size, self.theme = check_cell_size(cell_size), resolve_theme(theme)
+        self.animation_frames = check_animation_frames(animation_frames)
+        self._overlay, self.canvas = Overlay(), None
 
         w, h = self.level.width, self.level.height
         self.action_space = spaces.Discrete(N_ACTIONS)
@@ -147,7 +159,7 @@ class BabyRobotEnv(gym.Env):
         self._return = 0.0
         self._last = ""
         if self.render_mode == "human":
-            self._render_human()
+            self._render_human(animate=False)
         return self._obs[self._cell].copy(), {"cell": self._xy[self._cell]}
 
     def step(self, action):
@@ -177,7 +189,7 @@ class BabyRobotEnv(gym.Env):
         if self.render_mode == "ansi":
             return self._frame()
         if self.render_mode == "rgb_array":
-            return self.rgb_renderer.frame([self.robot_cell] if self._cell >= 0 else [])
+            return self._overlay_frame([self.robot_cell] if self._cell >= 0 else [])
         self._render_human()
         return None
 
@@ -216,8 +228,8 @@ class BabyRobotEnv(gym.Env):
         status = f"step {self._t}/{self.max_steps}  return {self._return:g}" + (f"  {self._last}" if self._last else "")
         return frame(self.level, robots, status, colour=colour)
 
-    def _render_human(self) -> None:
-        print(self._frame(), flush=True)
+    def _render_human(self, animate: bool = True) -> None:
+        self._show_human([self.robot_cell] if self._cell >= 0 else [], self._frame, animate)
 
     def _check_start(self, start: object) -> int:
         try:

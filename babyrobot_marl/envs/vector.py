@@ -49,6 +49,7 @@ __all__ = ["BabyRobotVectorEnv", "RaceVectorEnv", "sb3_vec_env"]
 
 # outcome names by engine code; code -1 (a parked robot) reads the last entry
 _OUTCOME_NAMES = np.array([*OUTCOMES, "finished"], dtype=object)
+_INTENDED = np.array([code <= STAYED for code in range(len(OUTCOMES))] + [False])  # by code; -1 reads the last
 _RENDER_MODES = ["rgb_array", "ansi"]
 
 
@@ -78,6 +79,7 @@ class _BatchVectorEnv(gym.vector.VectorEnv):
             self.single_observation_space = ref.observation_space
         self.observation_space = batch_space(self.single_observation_space, self.num_envs)
         self._autoreset = np.zeros(self.n_envs, dtype=bool)  # envs whose episode ended on the last step
+        self._all_slots = np.ones(self.num_envs, dtype=bool)
         self._started = False
         self._level, self._xy = ref.level, [ref.table.cell_xy(c) for c in range(ref.table.n_cells)]
 
@@ -116,7 +118,7 @@ class _BatchVectorEnv(gym.vector.VectorEnv):
             raise RuntimeError("step: call reset() before the first step()")
         b, reset = self._batch, self._autoreset
         rewards, _, blocked, outcome, over = b.step(acts)
-        if reset.any():
+        if np.count_nonzero(reset):
             # the envs stepped above are restarted; their new episode starts from their own generators
             self._restart(np.flatnonzero(reset), None)
             rewards[reset] = 0.0
@@ -126,7 +128,7 @@ class _BatchVectorEnv(gym.vector.VectorEnv):
         terminated = (ended & ~b.racing).reshape(-1)
         truncated = (ended & b.racing).reshape(-1)
         self._autoreset = over
-        infos = self._step_infos(obs, outcome, blocked, np.repeat(reset, self.n_robots))
+        infos = self._step_infos(obs, outcome, blocked, reset if self.n_robots == 1 else np.repeat(reset, self.n_robots))
         return obs, rewards.reshape(-1), terminated, truncated, infos
 
     def render(self) -> tuple[Any, ...] | None:
@@ -156,9 +158,9 @@ class _BatchVectorEnv(gym.vector.VectorEnv):
             raise ValueError(f"actions: expected an array of shape ({self.num_envs},), one action per env, got shape {a.shape}")
         if a.dtype.kind not in "iu":
             raise ValueError(f"actions: expected integer actions ({ACTION_HELP}), got dtype {a.dtype}")
-        bad = np.flatnonzero((a < 0) | (a >= N_ACTIONS))
-        if bad.size:
-            k = int(bad[0])
+        # one comparison: as unsigned, negative actions are huge
+        if np.count_nonzero(a.view(np.uint64) >= N_ACTIONS if a.dtype == np.int64 else (a < 0) | (a >= N_ACTIONS)):
+            k = int(np.flatnonzero((a < 0) | (a >= N_ACTIONS))[0])
             raise ValueError(f"actions: must be integers in 0..{N_ACTIONS - 1} ({ACTION_HELP}), got {a[k]} at index {k}")
         return a.astype(np.intp, copy=False).reshape(self.n_envs, self.n_robots)
 
@@ -328,15 +330,18 @@ class BabyRobotVectorEnv(_BatchVectorEnv):
 
     def _step_infos(self, obs: np.ndarray, outcome: np.ndarray, blocked: np.ndarray, reset: np.ndarray) -> dict[str, Any]:
         code = outcome[:, 0]
-        names = _OUTCOME_NAMES[code]
-        names[reset] = None
+        names = _OUTCOME_NAMES.take(code)
         stepped = ~reset
+        intended = _INTENDED.take(code)
+        if np.count_nonzero(reset):
+            names[reset] = None
+            intended &= stepped
         return {
             "cell": obs.copy(),
-            "_cell": np.ones(self.num_envs, dtype=bool),
+            "_cell": self._all_slots.copy(),
             "outcome": names,
             "_outcome": stepped,
-            "intended": (code <= STAYED) & stepped,
+            "intended": intended,
             "_intended": stepped.copy(),
         }
 

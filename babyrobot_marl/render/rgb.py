@@ -16,6 +16,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..core.level import Cell, Level
+from .font import draw_text, text_size
+from .geometry import ARROWS, TRIANGLES, cell_mask
+from .overlay import Overlay, format_value, value_colours
 
 Colour = tuple[int, int, int]
 
@@ -35,6 +38,12 @@ class Theme:
     start: Colour
     label: Colour
     robots: tuple[Colour, ...]
+    # overlays: value tints from low to high, arrows, overlay text, the panel below the grid
+    value_low: Colour = (214, 96, 77)
+    value_high: Colour = (77, 172, 120)
+    arrow: Colour = (40, 40, 40)
+    text: Colour = (20, 20, 20)
+    panel: Colour = (250, 250, 250)
 
 
 THEMES: dict[str, Theme] = {
@@ -63,6 +72,11 @@ THEMES: dict[str, Theme] = {
         start=(110, 100, 50),
         label=(235, 235, 235),
         robots=((255, 95, 85), (100, 150, 255), (90, 220, 120), (210, 120, 240), (255, 190, 70), (70, 220, 230)),
+        value_low=(150, 60, 50),
+        value_high=(50, 130, 80),
+        arrow=(240, 240, 240),
+        text=(240, 240, 240),
+        panel=(30, 32, 38),
     ),
     "mono": Theme(
         floor=(255, 255, 255),
@@ -76,24 +90,14 @@ THEMES: dict[str, Theme] = {
         start=(245, 245, 245),
         label=(0, 0, 0),
         robots=((30, 30, 30), (110, 110, 110), (60, 60, 60), (140, 140, 140)),
+        value_low=(120, 120, 120),
+        value_high=(245, 245, 245),
+        arrow=(0, 0, 0),
+        text=(0, 0, 0),
+        panel=(255, 255, 255),
     ),
 }
 
-# 3x5 bitmaps of the labels, one string per row ('#' on).
-_GLYPHS = {
-    "S": ("###", "#..", "###", "..#", "###"),
-    "E": ("###", "#..", "###", "#..", "###"),
-    "0": ("###", "#.#", "#.#", "#.#", "###"),
-    "1": (".#.", "##.", ".#.", ".#.", "###"),
-    "2": ("###", "..#", "###", "#..", "###"),
-    "3": ("###", "..#", "###", "..#", "###"),
-    "4": ("#.#", "#.#", "###", "..#", "..#"),
-    "5": ("###", "#..", "###", "..#", "###"),
-    "6": ("###", "#..", "###", "#.#", "###"),
-    "7": ("###", "..#", "..#", "..#", "..#"),
-    "8": ("###", "#.#", "###", "#.#", "###"),
-    "9": ("###", "#.#", "###", "..#", "###"),
-}
 MIN_CELL_SIZE, MAX_CELL_SIZE = 8, 256
 
 
@@ -123,17 +127,26 @@ class RgbRenderer:
         r = (cell_size - 1) / 2
         yy, xx = np.mgrid[0:cell_size, 0:cell_size]
         self._disc = (yy - r) ** 2 + (xx - r) ** 2 <= (0.34 * cell_size) ** 2
+        self._overlaid: tuple[Overlay | None, np.ndarray] = (None, self.background)
 
     @property
     def shape(self) -> tuple[int, int, int]:
         return self.background.shape  # type: ignore[return-value]
 
-    def frame(self, robots: Sequence[Cell | None] = ()) -> np.ndarray:
+    def frame(self, robots: Sequence[Cell | None] = (), overlay: Overlay | None = None) -> np.ndarray:
         """The level with robot ``i`` as a disc at ``robots[i]`` (``None``: off the board).
 
-        Robots sharing a cell (collisions "pass") show the lowest-numbered one on top.
+        Robots sharing a cell (collisions "pass") show the lowest-numbered one on top. An
+        ``overlay`` is drawn under the robots; its panel makes the frame taller.
         """
-        img = self.background.copy()
+        if overlay is None or overlay.empty:
+            img = self.background.copy()
+        else:  # an Overlay is immutable: draw it once, then copy it like the background
+            if self._overlaid[0] is not overlay:
+                image = self.overlay_image(overlay)
+                image.setflags(write=False)
+                self._overlaid = (overlay, image)
+            img = self._overlaid[1].copy()
         cs, colours = self.cell_size, self.theme.robots
         for i in reversed(range(len(robots))):
             cell = robots[i]
@@ -195,10 +208,66 @@ class RgbRenderer:
 
     def _label(self, img: np.ndarray, cell: Cell, text: str) -> None:
         cs = self.cell_size
-        glyph = np.array([[ch == "#" for ch in row] for row in _GLYPHS[text]])
         scale = max(1, cs // 16)
-        bitmap = np.kron(glyph, np.ones((scale, scale), dtype=bool))
-        gh, gw = bitmap.shape
-        x0 = cell[0] * cs + (cs - gw) // 2
-        y0 = cell[1] * cs + (cs - gh) // 2
-        img[y0 : y0 + gh, x0 : x0 + gw][bitmap] = self.theme.label
+        gw, gh = text_size(text, scale)
+        draw_text(img, text, cell[0] * cs + (cs - gw) // 2, cell[1] * cs + (cs - gh) // 2, self.theme.label, scale)
+
+    # ------------------------------------------------------------------ overlays
+    def overlay_image(self, overlay: Overlay) -> np.ndarray:
+        """The level with ``overlay`` drawn on it (and its panel below), without robots."""
+        img = self.background.copy()
+        lv, cs, th = self.level, self.cell_size, self.theme
+        if overlay.values is not None:
+            colours = value_colours(overlay.values, th.value_low, th.value_high)
+            self._tint(img, colours, np.isfinite(overlay.values), self._interior)
+        if overlay.q_values is not None:
+            for action, polygon in TRIANGLES.items():
+                q = overlay.q_values[:, :, action]
+                colours = value_colours(overlay.q_values[:, :, 1:], th.value_low, th.value_high)[:, :, action - 1]
+                self._tint(img, colours, np.isfinite(q), cell_mask(polygon, cs) & self._interior)
+        if overlay.arrows is not None:
+            for action, polygon in ARROWS.items():
+                on = np.repeat(np.repeat(overlay.arrows[:, :, action], cs, axis=0), cs, axis=1)
+                img[on & np.tile(cell_mask(polygon, cs), (lv.height, lv.width))] = th.arrow
+        if overlay.values is not None and cs >= 24:  # the numbers, where they fit
+            for y, x in zip(*np.nonzero(np.isfinite(overlay.values))):
+                self._cell_text(img, format_value(float(overlay.values[y, x])), int(x), int(y), bottom=True)
+        for (x, y), text in overlay.text.items():
+            self._cell_text(img, text, x, y, bottom=False)
+        if overlay.panel:
+            img = np.concatenate([img, self._panel(overlay.panel, img.shape[1])], axis=0)
+        return img
+
+    @property
+    def _inset(self) -> int:
+        return max(2, self.cell_size // 8)  # the wall thickness: tints stay inside the walls
+
+    @property
+    def _interior(self) -> np.ndarray:
+        cs, m = self.cell_size, self._inset
+        mask = np.zeros((cs, cs), dtype=bool)
+        mask[m : cs - m, m : cs - m] = True
+        return mask
+
+    def _tint(self, img: np.ndarray, colours: np.ndarray, on: np.ndarray, cell_pixels: np.ndarray) -> None:
+        """Blend ``colours[y, x]`` over the ``cell_pixels`` of every cell where ``on[y, x]``."""
+        cs, lv = self.cell_size, self.level
+        big = np.repeat(np.repeat(colours, cs, axis=0), cs, axis=1)
+        mask = np.repeat(np.repeat(on, cs, axis=0), cs, axis=1) & np.tile(cell_pixels, (lv.height, lv.width))
+        img[mask] = (0.35 * img[mask] + 0.65 * big[mask]).astype(np.uint8)
+
+    def _cell_text(self, img: np.ndarray, text: str, x: int, y: int, bottom: bool) -> None:
+        cs = self.cell_size
+        scale = max(1, cs // 32)
+        w, h = text_size(text, scale)
+        ty = y * cs + (cs - h - self._inset - 1 if bottom else self._inset + 1)
+        draw_text(img, text, x * cs + max(self._inset, (cs - w) // 2), ty, self.theme.text, scale)
+
+    def _panel(self, lines: tuple[str, ...], width: int) -> np.ndarray:
+        scale = max(1, self.cell_size // 16)
+        line_h = (5 + 2) * scale
+        panel = np.empty((len(lines) * line_h + 3 * scale, width, 3), dtype=np.uint8)
+        panel[:] = self.theme.panel
+        for k, line in enumerate(lines):
+            draw_text(panel, line, 2 * scale, 2 * scale + k * line_h, self.theme.text, scale)
+        return panel
