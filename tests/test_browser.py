@@ -97,3 +97,91 @@ def test_plain_ipycanvas_pixels(lab, page, capsys):
     assert img.shape == (60, 120, 3)
     assert tuple(img[30, 30]) == (0xDC, 0x3C, 0x32)
     assert tuple(img[30, 90]) == (0x32, 0x5A, 0xD2)
+
+
+# ------------------------------------------------------------------ the env's live canvas
+CELL = 32  # cell_size of the test envs: cell (x, y) covers pixels [x*CELL, (x+1)*CELL) of the grid
+
+
+def _centre(cell) -> tuple[int, int]:
+    return cell[0] * CELL + CELL // 2, cell[1] * CELL + CELL // 2
+
+
+def expected_pixels(level, robots, theme) -> list[tuple[str, tuple[int, int], tuple[int, int, int]]]:
+    """(what, (px, py), colour) at known places: each robot's centre, an empty floor cell's centre,
+    the middle of an inner wall, the middle of the top border."""
+    samples = [(f"robot {i} at {cell}", _centre(cell), theme.robots[i % len(theme.robots)]) for i, cell in enumerate(robots)]
+    marked = {*level.starts, *level.exits, *level.small_puddles, *level.large_puddles, *level.blocked, *robots}
+    empty = next((x, y) for y in range(level.height) for x in range(level.width) if (x, y) not in marked)
+    samples.append((f"empty floor cell {empty}", _centre(empty), theme.floor))
+    a, b = sorted(level.walls)[len(level.walls) // 2]
+    on_wall = (b[0] * CELL, a[1] * CELL + CELL // 2) if a[1] == b[1] else (a[0] * CELL + CELL // 2, b[1] * CELL)
+    samples.append((f"wall between {a} and {b}", on_wall, theme.wall))
+    samples.append(("top border", (CELL // 2 + CELL, 1), theme.wall))
+    return samples
+
+
+def assert_pixels(img: np.ndarray, samples) -> None:
+    wrong = [
+        f"{what} at pixel {p}: expected {colour}, got {tuple(int(v) for v in img[p[1], p[0]])}"
+        for what, p, colour in samples
+        if tuple(int(v) for v in img[p[1], p[0]]) != tuple(colour)
+    ]
+    assert not wrong, "\n".join(wrong)
+
+
+SINGLE_ACTIONS = [2, 2, 3, 3]  # EAST, EAST, SOUTH, SOUTH on "walls" from its start (0, 0)
+
+
+def test_single_robot_live_canvas(lab, page, capsys):
+    from babyrobot_marl import BabyRobotEnv
+    from babyrobot_marl.render.rgb import THEMES
+
+    img = run_in_browser(lab, page, "single_robot_canvas", [
+        f"""
+        from babyrobot_marl import BabyRobotEnv
+        env = BabyRobotEnv(level="walls", render_mode="human", cell_size={CELL})
+        env.reset(seed=0)
+        for a in {SINGLE_ACTIONS}:
+            env.step(a)
+        print("robot at", env.robot_cell)
+        """,
+    ], capsys)  # fmt: skip
+    env = BabyRobotEnv(level="walls")  # the same episode, played here
+    env.reset(seed=0)
+    for a in SINGLE_ACTIONS:
+        env.step(a)
+    assert env.robot_cell != env.level.starts[0]
+    assert f"robot at {env.robot_cell}" in page.outputs_text()
+    assert_pixels(img, expected_pixels(env.level, [env.robot_cell], THEMES["light"]))
+
+
+RACE_STEPS = 3
+
+
+def test_race_live_canvas(lab, page, capsys):
+    from babyrobot_marl import race_v0
+    from babyrobot_marl.policies import ShortestPathPolicy
+    from babyrobot_marl.render.rgb import THEMES
+
+    img = run_in_browser(lab, page, "race_canvas", [
+        f"""
+        from babyrobot_marl import race_v0
+        from babyrobot_marl.policies import ShortestPathPolicy
+        env = race_v0.parallel_env(level="race-4", n_robots=4, render_mode="human", cell_size={CELL})
+        obs, infos = env.reset(seed=0)
+        policy = ShortestPathPolicy(env.unwrapped.table)
+        for _ in range({RACE_STEPS}):
+            obs, *_ = env.step({{a: policy(obs[a]) for a in env.agents}})
+        print("robots at", env.unwrapped.robot_cells)
+        """,
+    ], capsys)  # fmt: skip
+    env = race_v0.parallel_env(level="race-4", n_robots=4)  # the same race, played here
+    obs, _ = env.reset(seed=0)
+    policy = ShortestPathPolicy(env.unwrapped.table)
+    for _ in range(RACE_STEPS):
+        obs, *_ = env.step({a: policy(obs[a]) for a in env.agents})
+    cells = env.unwrapped.robot_cells
+    assert len(env.agents) == 4 and len(set(cells)) == 4  # all four still on the board, apart
+    assert f"robots at {cells}" in page.outputs_text()
+    assert_pixels(img, expected_pixels(env.unwrapped.level, cells, THEMES["light"]))
