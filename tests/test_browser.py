@@ -107,11 +107,11 @@ def _centre(cell) -> tuple[int, int]:
     return cell[0] * CELL + CELL // 2, cell[1] * CELL + CELL // 2
 
 
-def expected_pixels(level, robots, theme) -> list[tuple[str, tuple[int, int], tuple[int, int, int]]]:
+def expected_pixels(level, robots, theme, avoid=()) -> list[tuple[str, tuple[int, int], tuple[int, int, int]]]:
     """(what, (px, py), colour) at known places: each robot's centre, an empty floor cell's centre,
-    the middle of an inner wall, the middle of the top border."""
+    the middle of an inner wall, the middle of the top border. The empty cell is none of ``avoid``."""
     samples = [(f"robot {i} at {cell}", _centre(cell), theme.robots[i % len(theme.robots)]) for i, cell in enumerate(robots)]
-    marked = {*level.starts, *level.exits, *level.small_puddles, *level.large_puddles, *level.blocked, *robots}
+    marked = {*level.starts, *level.exits, *level.small_puddles, *level.large_puddles, *level.blocked, *robots, *avoid}
     empty = next((x, y) for y in range(level.height) for x in range(level.width) if (x, y) not in marked)
     samples.append((f"empty floor cell {empty}", _centre(empty), theme.floor))
     a, b = sorted(level.walls)[len(level.walls) // 2]
@@ -131,6 +131,7 @@ def assert_pixels(img: np.ndarray, samples) -> None:
 
 
 SINGLE_ACTIONS = [2, 2, 3, 3]  # EAST, EAST, SOUTH, SOUTH on "walls" from its start (0, 0)
+ARROW_CELL = (3, 2)  # an empty cell of "walls" given an EAST arrow overlay
 
 
 def test_single_robot_live_canvas(lab, page, capsys):
@@ -139,11 +140,15 @@ def test_single_robot_live_canvas(lab, page, capsys):
 
     img = run_in_browser(lab, page, "single_robot_canvas", [
         f"""
+        import numpy as np
         from babyrobot_marl import BabyRobotEnv
         env = BabyRobotEnv(level="walls", render_mode="human", cell_size={CELL})
         env.reset(seed=0)
         for a in {SINGLE_ACTIONS}:
             env.step(a)
+        arrows = np.full((env.level.height, env.level.width), -1)
+        arrows[{ARROW_CELL[1]}, {ARROW_CELL[0]}] = 2
+        env.set_overlay(arrows=arrows, panel="a panel line")
         print("robot at", env.robot_cell)
         """,
     ], capsys)  # fmt: skip
@@ -151,9 +156,16 @@ def test_single_robot_live_canvas(lab, page, capsys):
     env.reset(seed=0)
     for a in SINGLE_ACTIONS:
         env.step(a)
-    assert env.robot_cell != env.level.starts[0]
+    lv, theme = env.level, THEMES["light"]
+    assert env.robot_cell != lv.starts[0] and env.robot_cell != ARROW_CELL
     assert f"robot at {env.robot_cell}" in page.outputs_text()
-    assert_pixels(img, expected_pixels(env.level, [env.robot_cell], THEMES["light"]))
+    samples = expected_pixels(lv, [env.robot_cell], theme, avoid=[ARROW_CELL])
+    # the overlay layer: an arrow's shaft east of the cell centre, and the panel below the grid
+    samples.append(("EAST arrow shaft", (ARROW_CELL[0] * CELL + CELL * 5 // 8, ARROW_CELL[1] * CELL + CELL // 2), theme.arrow))
+    grid_h = lv.height * CELL
+    assert img.shape[0] > grid_h + 8, f"no panel below the {grid_h}-pixel grid: canvas is {img.shape[0]} pixels high"
+    samples.append(("panel background", (img.shape[1] - 3, grid_h + 3), theme.panel))
+    assert_pixels(img, samples)
 
 
 RACE_STEPS = 3

@@ -51,7 +51,7 @@ def _outputs(nb) -> list[dict]:
 
 
 @pytest.mark.parametrize("name", notebook_names())
-def test_notebook_runs_top_to_bottom(name, monkeypatch):
+def test_notebook_runs_top_to_bottom(name, monkeypatch, tmp_path):
     module = NEEDS.get(name)
     if module is not None and importlib.util.find_spec(module) is None:
         message = f"{name} needs {module}, which is not in this checkout"
@@ -60,6 +60,8 @@ def test_notebook_runs_top_to_bottom(name, monkeypatch):
         pytest.skip(message)
     # the kernel is a child process: it imports this checkout first, whatever is installed
     monkeypatch.setenv("PYTHONPATH", os.pathsep.join(p for p in (str(ROOT), os.environ.get("PYTHONPATH", "")) if p))
+    monkeypatch.setenv("JUPYTER_DATA_DIR", str(tmp_path / "jupyter_data"))  # "python3" is this interpreter's ipykernel
+    monkeypatch.setenv("IPYTHONDIR", str(tmp_path / "ipython"))  # no user profile or startup files
     nb = nbformat.read(NOTEBOOKS / name, as_version=4)
     client = nbclient.NotebookClient(
         nb, timeout=CELL_TIMEOUT, kernel_name="python3", resources={"metadata": {"path": str(NOTEBOOKS)}}

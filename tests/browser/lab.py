@@ -73,6 +73,8 @@ class LabServer:
         env.update(
             JUPYTER_CONFIG_DIR=str(config),
             JUPYTER_RUNTIME_DIR=str(self.work_dir / "runtime"),
+            JUPYTER_DATA_DIR=str(self.work_dir / "data"),  # no user kernelspec can replace this interpreter's
+            IPYTHONDIR=str(self.work_dir / "ipython"),  # no user profile or startup files
             JUPYTERLAB_WORKSPACES_DIR=str(self.work_dir / "workspaces"),
             XDG_CACHE_HOME=str(self.work_dir / "xdg_cache"),
             XDG_CONFIG_HOME=str(self.work_dir / "xdg_config"),
