@@ -6,6 +6,11 @@
 Both render through their env's ``render()`` after a random step, in the same process,
 interleaved round by round; medians over rounds. Minigrid (pip package ``minigrid``, the
 ``bench`` extra) draws MiniGrid-Empty-8x8-v0 with its default 32-pixel tiles: 256x256.
+Rows for 8x8 and 32x32 mazes with 1 and 8 robots, and with an overlay (values and arrows).
+
+Then the live canvas: the Python-side time to issue one frame (robots redrawn in one
+``hold_canvas`` batch, serialised as ipycanvas sends it; no browser attached), and one
+overlay redraw (needs the ``notebook`` extra).
 """
 
 from __future__ import annotations
@@ -54,8 +59,17 @@ def main(argv: list[str] | None = None) -> None:
     parser.add_argument("--rounds", type=int, default=5)
     args = parser.parse_args(argv)
     frames, rounds = (200, 1) if args.quick else (args.frames, args.rounds)
+    def race(level: str, n: int, **kw):
+        return race_v0.parallel_env(level=level, n_robots=n, start="random", render_mode="rgb_array", cell_size=32, **kw)
+
+    overlaid = BabyRobotEnv(level="maze-8x8", render_mode="rgb_array", cell_size=32)
+    overlaid.set_overlay(values=np.arange(64.0).reshape(8, 8), arrows=np.full((8, 8), 2))
     envs = {
         "babyrobot mixed-8x8, 1 robot": (BabyRobotEnv(level="mixed-8x8", render_mode="rgb_array", cell_size=32), gym_step),
+        "babyrobot maze-8x8, 8 robots": (race("maze-8x8", 8), race_step),
+        "babyrobot maze-8x8 + overlay": (overlaid, gym_step),
+        "babyrobot maze-32x32, 1 robot": (BabyRobotEnv(level="maze-32x32", render_mode="rgb_array", cell_size=32), gym_step),
+        "babyrobot maze-32x32, 8 robots": (race("maze-32x32", 8), race_step),
         "babyrobot race-4 (7x7), 4 robots": (
             race_v0.parallel_env(level="race-4", n_robots=4, render_mode="rgb_array", cell_size=32),
             race_step,
@@ -81,6 +95,38 @@ def main(argv: list[str] | None = None) -> None:
         print(f"{name:36s} {t * 1e3:9.4f} {str(shape):>15s} {ratio}")
     if peer_t is None:
         print("minigrid is not installed (pip install -e '.[bench]'): no peer figure")
+    canvas_times(frames // 4, rounds)
+
+
+def canvas_times(frames: int, rounds: int) -> None:
+    """Python-side cost of live-canvas frames (ipycanvas serialises and sends; no browser here)."""
+    if importlib.util.find_spec("ipycanvas") is None:
+        print("\nipycanvas is not installed (pip install -e '.[notebook]'): no canvas figures")
+        return
+    from babyrobot_marl import levels
+    from babyrobot_marl.render.canvas import LiveCanvas
+    from babyrobot_marl.render.overlay import Overlay, update_overlay
+    from babyrobot_marl.render.rgb import RgbRenderer
+
+    print(f"\n{'live canvas, Python side':36s} {'ms/frame':>9s}")
+    for level, n in (("maze-8x8", 1), ("maze-8x8", 8), ("maze-32x32", 8)):
+        lv = levels.get(level)
+        canvas = LiveCanvas(RgbRenderer(lv, 32), animation_frames=0)
+        cells = [[(k % lv.width, (k + i) % lv.height) for i in range(n)] for k in range(frames)]
+        ts = []
+        for _ in range(rounds):
+            t0 = time.perf_counter()
+            for robots in cells:
+                canvas.draw(robots)
+            ts.append((time.perf_counter() - t0) / frames)
+        print(f"{f'robots frame, {level}, {n} robots':36s} {statistics.median(ts) * 1e3:9.4f}")
+    lv = levels.get("maze-8x8")
+    canvas = LiveCanvas(RgbRenderer(lv, 32), animation_frames=0)
+    overlays = [update_overlay(Overlay(), lv, values=np.full((8, 8), float(k)), arrows=np.full((8, 8), 2)) for k in range(20)]
+    t0 = time.perf_counter()
+    for ov in overlays:
+        canvas.draw([(0, 0)], ov)
+    print(f"{'overlay redraw, maze-8x8 (values+arrows)':36s} {(time.perf_counter() - t0) / len(overlays) * 1e3:9.4f}")
 
 
 if __name__ == "__main__":

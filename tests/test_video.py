@@ -1,0 +1,62 @@
+"""Saving episodes to GIF and MP4 with imageio (the video extra, part of the test extra)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+iio = pytest.importorskip("imageio.v3", reason="imageio is part of the test extra; CI installs it")
+
+from babyrobot_marl.envs.single import BabyRobotEnv  # noqa: E402
+from babyrobot_marl.policies import make as make_policy  # noqa: E402
+from babyrobot_marl.render.video import save_gif, save_video  # noqa: E402
+
+
+def episode_frames(n_max: int = 30) -> list[np.ndarray]:
+    env = BabyRobotEnv(level="maze-8x8", render_mode="rgb_array", cell_size=16)
+    env.reset(seed=0)
+    policy = make_policy("shortest", env.table)
+    frames = [env.render()]
+    for _ in range(n_max):
+        _, _, term, trunc, _ = env.step(policy(env.robot_cell))
+        frames.append(env.render())
+        if term or trunc:
+            break
+    return frames
+
+
+def test_a_gif_holds_every_frame_of_the_episode(tmp_path):
+    frames = episode_frames()
+    path = save_gif(frames, tmp_path / "ep.gif", fps=5)
+    back = iio.imread(path, index=None)
+    assert back.shape[0] == len(frames) and back.shape[1:3] == frames[0].shape[:2]
+    # GIF quantises colours: the frames still differ where the robot moved
+    assert not np.array_equal(back[0], back[-1])
+
+
+def test_an_mp4_is_written_with_even_sides(tmp_path):
+    pytest.importorskip("imageio_ffmpeg", reason="imageio-ffmpeg is part of the test extra; CI installs it")
+    frames = [f[:-1, :-1] for f in episode_frames(8)]  # odd sides: padded for H.264
+    path = save_video(frames, tmp_path / "ep.mp4", fps=8)
+    back = iio.imread(path, index=None)
+    assert back.shape[0] == len(frames) and back.shape[1] % 2 == 0 and back.shape[2] % 2 == 0
+
+
+@pytest.mark.parametrize(
+    "frames, match",
+    [
+        ([], "frames"),
+        ([np.zeros((4, 4), dtype=np.uint8)], "frames"),
+        ([np.zeros((4, 4, 3), dtype=np.float32)], "frames"),
+        ([np.zeros((4, 4, 3), dtype=np.uint8), np.zeros((6, 4, 3), dtype=np.uint8)], "frames"),
+    ],
+)
+def test_bad_frames_are_value_errors_naming_frames(tmp_path, frames, match):
+    with pytest.raises(ValueError, match=f"^{match}"):
+        save_gif(frames, tmp_path / "x.gif")
+
+
+@pytest.mark.parametrize("fps", [0, -1, 1000, "fast", True])
+def test_bad_fps_is_a_value_error_naming_fps(tmp_path, fps):
+    with pytest.raises(ValueError, match="^fps"):
+        save_gif([np.zeros((4, 4, 3), dtype=np.uint8)], tmp_path / "x.gif", fps=fps)
