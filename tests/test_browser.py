@@ -197,3 +197,32 @@ def test_race_live_canvas(lab, page, capsys):
     assert len(env.agents) == 4 and len(set(cells)) == 4  # all four still on the board, apart
     assert f"robots at {cells}" in page.outputs_text()
     assert_pixels(img, expected_pixels(env.unwrapped.level, cells, THEMES["light"]))
+
+
+def test_canvas_redrawn_when_a_browser_reconnects(lab, page, capsys):
+    """Reload the page: the kernel still holds the env, and the canvas (empty in a new page) must be
+    drawn again (``on_client_ready``), robot included."""
+    from babyrobot_marl import BabyRobotEnv
+    from babyrobot_marl.render.rgb import THEMES
+
+    name = "reconnect_canvas"
+    run_in_browser(lab, page, name, [
+        f"""
+        from babyrobot_marl import BabyRobotEnv
+        env = BabyRobotEnv(level="walls", render_mode="human", cell_size={CELL})
+        env.reset(seed=0)
+        for a in {SINGLE_ACTIONS}:
+            env.step(a)
+        """,
+    ], capsys)  # fmt: skip
+    page.save_and_reopen(f"{name}.ipynb", MARKER)
+    img = page.canvas_pixels(0)
+    shot = page.screenshot(SCREENSHOTS / f"{name}_reopened.png")
+    with capsys.disabled():
+        print(f"\nscreenshot: {shot}")
+    env = BabyRobotEnv(level="walls")
+    env.reset(seed=0)
+    for a in SINGLE_ACTIONS:
+        env.step(a)
+    assert (img[..., 3] == 255).all(), "the canvas was not drawn again after the page was reloaded"
+    assert_pixels(img[..., :3], expected_pixels(env.level, [env.robot_cell], THEMES["light"]))

@@ -97,19 +97,38 @@ class NotebookPage:
         except Exception as e:
             raise AssertionError(f"marker {marker!r} never appeared; outputs:\n{self.outputs_text()}") from e
 
+    def save_and_reopen(self, notebook: str, marker: str, timeout: float = 90.0) -> None:
+        """Save the notebook, load the page again (a browser reconnecting to the same kernel), wait for ``marker``."""
+        page, ms = self.page, timeout * 1000
+        page.evaluate("() => window.jupyterapp.commands.execute('docmanager:save')")
+        page.wait_for_function(
+            "() => { const w = window.jupyterapp.shell.currentWidget; return !!w && !w.context.model.dirty; }",
+            timeout=ms,
+            polling=200,
+        )
+        page.goto(self.lab.url(f"lab/tree/{notebook}"), timeout=ms)
+        page.wait_for_function(_KERNEL_IDLE, timeout=ms, polling=200)
+        page.wait_for_function(
+            "(m) => Array.from(document.querySelectorAll('.jp-OutputArea-output')).some(o => o.innerText.includes(m))",
+            arg=marker,
+            timeout=ms,
+            polling=200,
+        )
+
     def outputs_text(self) -> str:
         return self.page.evaluate(
             "() => Array.from(document.querySelectorAll('.jp-OutputArea-output')).map(o => o.innerText).join('\\n')"
         )
 
-    def canvas_pixels(self, index: int = 0, settle: float = 10.0) -> np.ndarray:
-        """The ``index``-th canvas output as ``uint8[H, W, 4]`` RGBA, read until two reads agree."""
+    def canvas_pixels(self, index: int = 0, settle: float = 15.0) -> np.ndarray:
+        """The ``index``-th canvas output as ``uint8[H, W, 4]`` RGBA, read until it is opaque (drawn: an
+        empty canvas is transparent) and two reads agree; after ``settle`` seconds, the last read."""
         deadline, last = time.monotonic() + settle, None
         while True:
             got = self.page.evaluate(_READ_CANVAS, index)
             if "data" in got:
                 img = np.array(got["data"], dtype=np.uint8).reshape(got["height"], got["width"], 4)
-                if last is not None and np.array_equal(img, last):
+                if last is not None and np.array_equal(img, last) and (img[..., 3] == 255).all():
                     return img
                 last = img
             if time.monotonic() > deadline:
