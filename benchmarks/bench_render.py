@@ -143,7 +143,7 @@ def canvas_times(frames: int, rounds: int) -> None:
     k = max(4, frames // 10)
     arrows = [update_overlay(Overlay(), lv, arrows=np.full((8, 8), 1 + i % 4)) for i in range(k)]
     values = [update_overlay(Overlay(), lv, values=np.full((8, 8), float(i)) + np.eye(8)) for i in range(k)]
-    for what, overlays in (("arrows (ink layer only)", arrows), ("values (level re-sent as PNG + numbers)", values)):
+    for what, overlays in (("arrows (ink layer only)", arrows), ("values (level PNG + numbers)", values)):
         canvas = LiveCanvas(RgbRenderer(lv, 32), animation_frames=0, fps=0)
         t0 = time.perf_counter()
         for ov in overlays:
