@@ -9,8 +9,9 @@ interleaved round by round; medians over rounds. Minigrid (pip package ``minigri
 Rows for 8x8 and 32x32 mazes with 1 and 8 robots, and with an overlay (values and arrows).
 
 Then the live canvas: the Python-side time to issue one frame (robots redrawn in one
-``hold_canvas`` batch, serialised as ipycanvas sends it; no browser attached), and one
-overlay redraw (needs the ``notebook`` extra).
+``hold_canvas`` batch, serialised as ipycanvas sends it; no browser attached) beside the
+plain way (the whole ``rgb_array`` frame put on a canvas each step, PNG-encoded), one
+animated step, and overlay changes (needs the ``notebook`` extra).
 """
 
 from __future__ import annotations
@@ -103,30 +104,52 @@ def canvas_times(frames: int, rounds: int) -> None:
     if importlib.util.find_spec("ipycanvas") is None:
         print("\nipycanvas is not installed (pip install -e '.[notebook]'): no canvas figures")
         return
+    from ipycanvas import Canvas, hold_canvas
+
     from babyrobot_marl import levels
     from babyrobot_marl.render.canvas import LiveCanvas
     from babyrobot_marl.render.overlay import Overlay, update_overlay
     from babyrobot_marl.render.rgb import RgbRenderer
 
-    print(f"\n{'live canvas, Python side':36s} {'ms/frame':>9s}")
+    print(f"\n{'live canvas, Python side (fps=0: unpaced)':52s} {'ms/frame':>9s} {'vs whole image':>15s}")
     for level, n in (("maze-8x8", 1), ("maze-8x8", 8), ("maze-32x32", 8)):
         lv = levels.get(level)
-        canvas = LiveCanvas(RgbRenderer(lv, 32), animation_frames=0)
+        renderer = RgbRenderer(lv, 32)
+        canvas = LiveCanvas(renderer, animation_frames=0, fps=0)
+        plain = Canvas(width=renderer.shape[1], height=renderer.shape[0])
         cells = [[(k % lv.width, (k + i) % lv.height) for i in range(n)] for k in range(frames)]
-        ts = []
+        ts, peer = [], []
         for _ in range(rounds):
             t0 = time.perf_counter()
             for robots in cells:
                 canvas.draw(robots)
-            ts.append((time.perf_counter() - t0) / frames)
-        print(f"{f'robots frame, {level}, {n} robots':36s} {statistics.median(ts) * 1e3:9.4f}")
+            t1 = time.perf_counter()
+            for robots in cells[: max(1, frames // 10)]:  # the peer: the whole rgb_array frame sent each step
+                rgba = np.dstack([renderer.frame(robots), np.full(renderer.shape[:2], 255, np.uint8)])
+                with hold_canvas():
+                    plain.put_image_data(rgba, 0, 0)
+            ts.append((t1 - t0) / frames)
+            peer.append((time.perf_counter() - t1) / max(1, frames // 10))
+        t, p = statistics.median(ts), statistics.median(peer)
+        print(f"{f'robots frame, {level}, {n} robots':52s} {t * 1e3:9.4f} {p / t:14.1f}x")
+        print(f"{f'  peer: whole frame as PNG, {level}':52s} {p * 1e3:9.4f}")
     lv = levels.get("maze-8x8")
-    canvas = LiveCanvas(RgbRenderer(lv, 32), animation_frames=0)
-    overlays = [update_overlay(Overlay(), lv, values=np.full((8, 8), float(k)), arrows=np.full((8, 8), 2)) for k in range(20)]
+    canvas = LiveCanvas(RgbRenderer(lv, 32), animation_frames=4, fps=0)
+    cells = [[(k % lv.width, 1)] for k in range(frames)]
     t0 = time.perf_counter()
-    for ov in overlays:
-        canvas.draw([(0, 0)], ov)
-    print(f"{'overlay redraw, maze-8x8 (values+arrows)':36s} {(time.perf_counter() - t0) / len(overlays) * 1e3:9.4f}")
+    for robots in cells:
+        canvas.draw(robots)
+    print(f"{'one step, 4 animation frames, 1 robot':52s} {(time.perf_counter() - t0) / frames * 1e3:9.4f}  (per step)")
+    k = max(4, frames // 10)
+    arrows = [update_overlay(Overlay(), lv, arrows=np.full((8, 8), 1 + i % 4)) for i in range(k)]
+    values = [update_overlay(Overlay(), lv, values=np.full((8, 8), float(i)) + np.eye(8)) for i in range(k)]
+    for what, overlays in (("arrows (ink layer only)", arrows), ("values (level PNG + numbers)", values)):
+        canvas = LiveCanvas(RgbRenderer(lv, 32), animation_frames=0, fps=0)
+        t0 = time.perf_counter()
+        for ov in overlays:
+            canvas.set_overlay(ov)
+        print(f"{'overlay change, 8x8: ' + what:52s} {(time.perf_counter() - t0) / len(overlays) * 1e3:9.4f}")
+    print("(a browser then decodes and paints these; that side is not measured here)")
 
 
 if __name__ == "__main__":

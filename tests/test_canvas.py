@@ -7,6 +7,7 @@ shows for them is tests/test_browser.py's job.
 
 from __future__ import annotations
 
+import io
 import numbers
 
 import numpy as np
@@ -181,3 +182,167 @@ def test_bad_animation_frames_is_a_value_error_naming_it():
     for bad in (-1, 61, 1.5, True, "4"):
         with pytest.raises(ValueError, match="^animation_frames"):
             BabyRobotEnv(animation_frames=bad)
+
+
+# ------------------------------------------------------------------ layers, shared pixels, pacing
+@pytest.fixture
+def sent_images(monkeypatch):
+    """The images put on the canvas, decoded: a list of (layer-less) uint8 arrays, in order."""
+    from PIL import Image
+
+    images: list[np.ndarray] = []
+
+    def record(command, buffers=()):
+        images.extend(np.array(Image.open(io.BytesIO(bytes(b)))) for b in buffers)
+
+    monkeypatch.setattr(ipc._CANVAS_MANAGER, "_send_custom", record)
+    return images
+
+
+def layer_commands(messages, canvas: live.LiveCanvas) -> list[tuple[int, str]]:
+    """(layer index, command name) of every drawing command, following ipycanvas's switchCanvas."""
+    layers = {f"IPY_MODEL_{layer.model_id}": i for i, layer in enumerate(canvas.widget._canvases)}
+    current, out = None, []
+    for message in messages:
+        for cmd in message if message and isinstance(message[0], list) else [message]:
+            if NAMES[cmd[0]] == "switchCanvas":
+                current = layers.get(cmd[1][0])
+            else:
+                out.append((current, NAMES[cmd[0]]))
+    return out
+
+
+def test_tints_go_under_the_robots_and_arrows_text_and_panel_over_them(sent):
+    c = make(animation_frames=0)  # its first message switches to layer 0: layer_commands follows from there
+    lv = levels.get("maze-8x8")
+    values, arrows = np.arange(64.0).reshape(8, 8), np.full((8, 8), 3)
+    ov = update_overlay(Overlay(), lv, values=values, arrows=arrows, text={(1, 1): "A"}, panel="p")
+    c.draw([(1, 1)], ov)
+    where: dict[str, set[int]] = {}
+    for layer, name in layer_commands(sent, c):
+        where.setdefault(name, set()).add(layer)
+    assert where["putImageData"] == {0} and sum(n == "putImageData" for _, n in layer_commands(sent, c)) >= 2  # level + tints
+    assert where["fillCircle"] == {1}  # the robots
+    assert where["fillPolygon"] == {2} and where["fillText"] == {2} and 2 in where["fillRect"]  # arrows, text, panel
+
+
+def test_the_level_layer_shows_exactly_the_rgb_array_pixels_with_the_tints(sent_images):
+    env = BabyRobotEnv(level="maze-8x8", render_mode="rgb_array", cell_size=32)
+    env.reset(seed=0)
+    values = np.random.default_rng(1).normal(size=(8, 8))
+    values[3, 3] = np.nan
+    env.set_overlay(values=values)
+    c = live.LiveCanvas(env.rgb_renderer, animation_frames=0, fps=0)
+    assert len(sent_images) == 1 and (sent_images[0][:, :, :3] == env.rgb_renderer.background).all()
+    c.draw([], env.overlay)
+    assert len(sent_images) == 2
+    img = sent_images[1]
+    assert img.shape[2] == 4 and (img[:, :, 3] == 255).all()  # RGBA: sent as lossless PNG, opaque
+    env.set_overlay(values=values)  # the same overlay without the robot: what rgb_array shows under it
+    assert (img[:, :, :3] == env.rgb_renderer.tinted(env.overlay)).all()
+    nan_cell = (slice(3 * 32, 4 * 32), slice(3 * 32, 4 * 32))  # values[3, 3] is NaN: the plain level there
+    assert (img[nan_cell][:, :, :3] == env.rgb_renderer.background[nan_cell]).all()
+    assert not (img[:64, :64, :3] == env.rgb_renderer.background[:64, :64]).all()
+
+
+def test_changing_only_arrows_or_text_does_not_resend_the_level(sent):
+    c = make(animation_frames=0)
+    lv = levels.get("maze-8x8")
+    ov = update_overlay(Overlay(), lv, values=np.ones((8, 8)))
+    c.draw([(1, 1)], ov)
+    sent.clear()
+    ov = update_overlay(ov, lv, arrows=np.full((8, 8), 2), text={(0, 0): "x"})
+    c.set_overlay(ov)
+    all_names = [n for m in sent for n in names(m)]
+    assert "putImageData" not in all_names and "fillPolygon" in all_names
+    assert "fillCircle" not in all_names  # the robots stay as they are
+    sent.clear()
+    c.set_overlay(update_overlay(ov, lv, values=np.zeros((8, 8))))
+    assert "putImageData" in [n for m in sent for n in names(m)]
+
+
+class FakeClock:
+    """time.monotonic and time.sleep for the canvas module: sleeping advances the clock."""
+
+    def __init__(self):
+        self.now, self.sleeps, self.sent_at = 100.0, [], []
+
+    def monotonic(self) -> float:
+        return self.now
+
+    def sleep(self, s: float) -> None:
+        self.sleeps.append(s)
+        self.now += s
+
+
+@pytest.fixture
+def clock(monkeypatch):
+    fake = FakeClock()
+    monkeypatch.setattr(live.time, "monotonic", fake.monotonic)
+    monkeypatch.setattr(live.time, "sleep", fake.sleep)
+    monkeypatch.setattr(ipc._CANVAS_MANAGER, "_send_custom", lambda command, buffers=(): fake.sent_at.append(fake.now))
+    return fake
+
+
+@pytest.mark.parametrize("frames", [0, 1, 2, 4])
+def test_robot_frames_are_paced_at_fps_steps_per_second(clock, frames):
+    c = live.LiveCanvas(RgbRenderer(levels.get("maze-8x8"), 32), animation_frames=frames, fps=4)
+    c.draw([(1, 1)], animate=False)
+    clock.sent_at.clear()
+    for x in range(2, 6):
+        c.draw([(x, 1)])
+    per_step = max(1, frames)
+    assert len(clock.sent_at) == 4 * per_step
+    gaps = np.diff(clock.sent_at)
+    assert gaps == pytest.approx(np.full(len(gaps), 0.25 / per_step))  # 4 steps a second, frames evenly spaced
+
+
+def test_time_spent_between_steps_is_not_added_to_the_pace(clock):
+    c = live.LiveCanvas(RgbRenderer(levels.get("maze-8x8"), 32), animation_frames=2, fps=4)
+    c.draw([(1, 1)], animate=False)
+    c.draw([(2, 1)])
+    clock.now += 1.0  # the program thinks for a second
+    clock.sleeps.clear()
+    c.draw([(3, 1)])
+    assert clock.sleeps == [pytest.approx(0.125)]  # only between this step's two frames
+
+
+def test_fps_zero_never_sleeps(clock):
+    c = live.LiveCanvas(RgbRenderer(levels.get("maze-8x8"), 32), animation_frames=3, fps=0)
+    for x in range(1, 6):
+        c.draw([(x, 1)])
+    assert clock.sleeps == [] and len(clock.sent_at) == 1 + 1 + 4 * 3
+
+
+def test_render_fps_is_the_env_own_and_reaches_the_canvas(monkeypatch, sent):
+    monkeypatch.setattr(live, "notebook_available", lambda: True)
+    monkeypatch.setattr(live.LiveCanvas, "show", lambda self: None)
+    env = BabyRobotEnv(level="maze-8x8", render_mode="human", render_fps=0)
+    env.reset(seed=0)
+    assert env.metadata["render_fps"] == 0 and BabyRobotEnv.metadata["render_fps"] == 4
+    assert env.canvas.fps == 0
+    race = race_v0.parallel_env(level="race-4", n_robots=2, render_mode="human", render_fps=12.5)
+    race.reset(seed=0)
+    assert race.unwrapped.canvas.fps == 12.5 and type(race.unwrapped).metadata["render_fps"] == 4
+
+
+@pytest.mark.parametrize("bad", [-1, float("inf"), float("nan"), "fast", True])
+def test_bad_render_fps_is_a_value_error_naming_it(bad):
+    with pytest.raises(ValueError, match="^render_fps"):
+        BabyRobotEnv(render_fps=bad)
+    with pytest.raises(ValueError, match="^render_fps"):
+        race_v0.parallel_env(render_fps=bad)
+
+
+def test_jupyter_is_an_ipython_shell_with_a_kernel(monkeypatch):
+    import IPython
+
+    class Shell:
+        kernel = None
+
+    monkeypatch.setattr(IPython, "get_ipython", lambda: None)
+    assert not live.notebook_available()  # plain Python
+    monkeypatch.setattr(IPython, "get_ipython", lambda: Shell())
+    assert not live.notebook_available()  # terminal IPython: no kernel
+    Shell.kernel = object()
+    assert live.notebook_available()  # a Jupyter kernel, ipycanvas installed

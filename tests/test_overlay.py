@@ -126,13 +126,31 @@ def test_parts_not_given_are_kept_none_clears_one_and_clear_overlay_clears_all()
     assert (env.render() == plain).all()
 
 
-def test_overlay_frames_are_deterministic_and_the_robot_is_drawn_on_top():
+def test_overlay_frames_are_deterministic_tints_under_the_robot_arrows_over_it():
     env = env_with()
     env.set_overlay(values=np.arange(64.0).reshape(8, 8), arrows=np.full((8, 8), int(Action.SOUTH)))
     a, b = env.render(), env.render()
     assert (a == b).all()
     x, y = env.robot_cell
-    assert px(a, x, y, 0.5, 0.5) == THEMES["light"].robots[0]
+    th = THEMES["light"]
+    assert px(a, x, y, 0.3, 0.5) == th.robots[0]  # on the disc, beside the arrow: the robot, not tinted
+    assert px(a, x, y, 0.5, 0.6) == th.arrow  # the arrow's shaft crosses the disc
+    env.clear_overlay()
+    assert px(env.render(), x, y, 0.5, 0.6) == th.robots[0]
+
+
+def test_only_ink_goes_back_over_a_robot():
+    """What is drawn over the robot's disc is exactly the overlay's arrow pixels there."""
+    env = env_with()
+    x, y = env.robot_cell
+    plain = env.render()
+    env.set_overlay(arrows=np.full((8, 8), int(Action.EAST)))
+    img = env.render()
+    cell = (slice(y * CS, (y + 1) * CS), slice(x * CS, (x + 1) * CS))
+    robot = (plain[cell] == THEMES["light"].robots[0]).all(axis=2)
+    changed = (img[cell] != plain[cell]).any(axis=2)
+    assert changed.any() and robot[changed].any()
+    assert (img[cell][changed] == THEMES["light"].arrow).all()
 
 
 BAD = [

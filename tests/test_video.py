@@ -7,12 +7,13 @@ import pytest
 
 iio = pytest.importorskip("imageio.v3", reason="imageio is part of the test extra; CI installs it")
 
+from babyrobot_marl import race_v0  # noqa: E402
 from babyrobot_marl.envs.single import BabyRobotEnv  # noqa: E402
 from babyrobot_marl.policies import make as make_policy  # noqa: E402
-from babyrobot_marl.render.video import save_gif, save_video  # noqa: E402
+from babyrobot_marl.render.video import episode_frames, save_gif, save_video  # noqa: E402
 
 
-def episode_frames(n_max: int = 30) -> list[np.ndarray]:
+def episode_frames_by_hand(n_max: int = 30) -> list[np.ndarray]:
     env = BabyRobotEnv(level="maze-8x8", render_mode="rgb_array", cell_size=16)
     env.reset(seed=0)
     policy = make_policy("shortest", env.table)
@@ -26,7 +27,7 @@ def episode_frames(n_max: int = 30) -> list[np.ndarray]:
 
 
 def test_a_gif_holds_every_frame_of_the_episode(tmp_path):
-    frames = episode_frames()
+    frames = episode_frames_by_hand()
     path = save_gif(frames, tmp_path / "ep.gif", fps=5)
     back = iio.imread(path, index=None)
     assert back.shape[0] == len(frames) and back.shape[1:3] == frames[0].shape[:2]
@@ -36,7 +37,7 @@ def test_a_gif_holds_every_frame_of_the_episode(tmp_path):
 
 def test_an_mp4_is_written_with_even_sides(tmp_path):
     pytest.importorskip("imageio_ffmpeg", reason="imageio-ffmpeg is part of the test extra; CI installs it")
-    frames = [f[:-1, :-1] for f in episode_frames(8)]  # odd sides: padded for H.264
+    frames = [f[:-1, :-1] for f in episode_frames_by_hand(8)]  # odd sides: padded for H.264
     path = save_video(frames, tmp_path / "ep.mp4", fps=8)
     back = iio.imread(path, index=None)
     assert back.shape[0] == len(frames) and back.shape[1] % 2 == 0 and back.shape[2] % 2 == 0
@@ -60,3 +61,42 @@ def test_bad_frames_are_value_errors_naming_frames(tmp_path, frames, match):
 def test_bad_fps_is_a_value_error_naming_fps(tmp_path, fps):
     with pytest.raises(ValueError, match="^fps"):
         save_gif([np.zeros((4, 4, 3), dtype=np.uint8)], tmp_path / "x.gif", fps=fps)
+
+
+def test_episode_frames_are_the_frames_of_the_episode_played_by_hand():
+    env = BabyRobotEnv(level="maze-8x8", render_mode="rgb_array", cell_size=16)
+    policy = make_policy("shortest", env.table)
+    frames, by_hand = episode_frames(env, policy, seed=0), episode_frames_by_hand(n_max=1000)
+    assert len(frames) == len(by_hand) and all((a == b).all() for a, b in zip(frames, by_hand))
+    assert env.unwrapped.robot_cell in env.level.exits  # played to the end
+
+
+def test_episode_frames_of_a_race_end_when_every_robot_has_finished(tmp_path):
+    env = race_v0.parallel_env(level="race-4", n_robots=4, render_mode="rgb_array", cell_size=16)
+    policy = make_policy("shortest", env.unwrapped.table)
+    frames = episode_frames(env, policy, seed=0)
+    assert not env.agents and len(frames) == env.unwrapped.elapsed_steps + 1
+    again = episode_frames(env, {a: policy for a in env.possible_agents}, seed=0)
+    assert len(again) == len(frames) and all((a == b).all() for a, b in zip(frames, again))
+    back = iio.imread(save_gif(frames, tmp_path / "race.gif"), index=None)
+    assert back.shape[0] == len(frames)
+
+
+def test_episode_frames_stop_after_max_steps():
+    env = BabyRobotEnv(level="maze-8x8", render_mode="rgb_array", cell_size=16)
+    assert len(episode_frames(env, lambda obs: 0, seed=0, max_steps=5)) == 6  # STAY forever: cut after 5 steps
+
+
+@pytest.mark.parametrize(
+    "make_env, policy, name",
+    [
+        (lambda: BabyRobotEnv(level="maze-8x8"), lambda obs: 0, "env"),
+        (lambda: BabyRobotEnv(level="maze-8x8", render_mode="ansi"), lambda obs: 0, "env"),
+        (lambda: BabyRobotEnv(level="maze-8x8", render_mode="rgb_array"), "shortest", "policy"),
+        (lambda: BabyRobotEnv(level="maze-8x8", render_mode="rgb_array"), {"robot_0": lambda obs: 0}, "policy"),
+        (lambda: race_v0.parallel_env(n_robots=2, render_mode="rgb_array"), {"robot_0": lambda obs: 0}, "policy"),
+    ],
+)
+def test_episode_frames_bad_arguments_are_value_errors_naming_them(make_env, policy, name):
+    with pytest.raises(ValueError, match=f"^{name}"):
+        episode_frames(make_env(), policy)

@@ -29,7 +29,7 @@ class Drawing:
         """
         self._overlay = update_overlay(self._overlay, self.level, values, q_values, arrows, text, panel)  # type: ignore[attr-defined]
         if self.canvas is not None:
-            self.canvas.draw(self.canvas.robots, self._overlay, animate=False)
+            self.canvas.set_overlay(self._overlay)
 
     def clear_overlay(self) -> None:
         """Remove every overlay."""

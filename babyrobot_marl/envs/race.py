@@ -20,7 +20,7 @@ from ..core.rng import new_key
 from ..core.rules import COLLISION_MODES, Rules
 from ..core.table import compile_level
 from ..render.ansi import frame, robot_glyph
-from ..render.canvas import check_animation_frames
+from ..render.canvas import check_animation_frames, check_fps
 from ..render.overlay import Overlay
 from ..render.rgb import RgbRenderer, Theme, check_cell_size, resolve_theme
 from .common import check_action, check_options, check_positive_int, check_render_mode, resolve_level, resolve_rules
@@ -33,7 +33,7 @@ FINISHED_MODES = ("remove", "freeze")
 _INT, _ACTIONS = frozenset({int}), frozenset(range(N_ACTIONS))
 _ARGS = (
     "arguments are level, n_robots, collisions, max_cycles, start, finished, rules, render_mode, cell_size, theme, "
-    "animation_frames"
+    "animation_frames, render_fps"
 )
 
 
@@ -60,6 +60,7 @@ class RaceEnv(Drawing, ParallelEnv):
         cell_size: int = 32,
         theme: str | Theme = "light",
         animation_frames: int = 4,
+        render_fps: float | None = None,
         **rule_overrides: Any,
     ):
         self.level = resolve_level(level)
@@ -81,6 +82,8 @@ class RaceEnv(Drawing, ParallelEnv):
         self.render_mode = check_render_mode(render_mode, self.metadata["render_modes"])
         self.cell_size, self.theme = check_cell_size(cell_size), resolve_theme(theme)
         self.animation_frames = check_animation_frames(animation_frames)
+        if render_fps is not None:  # this env's own metadata: the class's stays as it is
+            self.metadata = {**type(self).metadata, "render_fps": check_fps(render_fps)}
         self._overlay, self.canvas = Overlay(), None
 
         w, h = self.level.width, self.level.height

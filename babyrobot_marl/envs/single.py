@@ -19,7 +19,7 @@ from ..core.rng import SLOTS, new_key
 from ..core.rules import Rules
 from ..core.table import compile_level
 from ..render.ansi import frame
-from ..render.canvas import check_animation_frames
+from ..render.canvas import check_animation_frames, check_fps
 from ..render.overlay import Overlay
 from ..render.rgb import RgbRenderer, Theme, check_cell_size, resolve_theme
 from .common import check_action, check_options, check_positive_int, check_render_mode, resolve_level, resolve_rules
@@ -83,7 +83,8 @@ class BabyRobotEnv(Drawing, gym.Env):
     each episode). ``reset(options={"start": (x, y)})`` starts one episode at a given cell.
     ``render_mode``: ``"ansi"`` (text frame), ``"rgb_array"`` (``uint8[H * cell_size, W * cell_size, 3]``,
     pure numpy) or ``"human"`` (in Jupyter with the ``notebook`` extra: a live ipycanvas canvas in
-    the cell, the robot gliding over ``animation_frames`` frames per step, 0: jumping; elsewhere
+    the cell, the robot gliding over ``animation_frames`` frames per step, 0: jumping, at
+    ``render_fps`` steps per second, default ``metadata["render_fps"]`` = 4, 0: unpaced; elsewhere
     the text frame printed each step). ``cell_size`` (pixels, default 32) and ``theme``
     (``"light"``, ``"dark"``, ``"mono"`` or a ``render.Theme``) style both.
     ``env.unwrapped.set_overlay(values=..., q_values=..., arrows=..., text=..., panel=...)`` draws
@@ -107,13 +108,14 @@ class BabyRobotEnv(Drawing, gym.Env):
         cell_size: int = 32,
         theme: str | Theme = "light",
         animation_frames: int = 4,
+        render_fps: float | None = None,
         **rule_overrides: Any,
     ):
         self.level = resolve_level(level)
         self.rules = resolve_rules(
             rules,
             rule_overrides,
-            known="arguments are level, rules, max_steps, start, render_mode, cell_size, theme, animation_frames",
+            known="arguments are level, rules, max_steps, start, render_mode, cell_size, theme, animation_frames, render_fps",
         )
         self.table = compile_level(self.level, self.rules)
         self.max_steps = default_max_steps(self.level) if max_steps is None else check_positive_int(max_steps, "max_steps")
@@ -126,6 +128,8 @@ class BabyRobotEnv(Drawing, gym.Env):
         self.render_mode = check_render_mode(render_mode, self.metadata["render_modes"])
         self.cell_size, self.theme = check_cell_size(cell_size), resolve_theme(theme)
         self.animation_frames = check_animation_frames(animation_frames)
+        if render_fps is not None:  # this env's own metadata: the class's stays as it is
+            self.metadata = {**type(self).metadata, "render_fps": check_fps(render_fps)}
         self._overlay, self.canvas = Overlay(), None
 
         w, h = self.level.width, self.level.height

@@ -2,12 +2,19 @@
 
 A ``MultiCanvas`` of three layers:
 
-0. the level (floor, walls, glass, puddles, labels): the ``rgb_array`` background, sent once
-   as lossless RGBA (PNG) so canvas and ``rgb_array`` show the same pixels;
+0. the level (floor, walls, glass, puddles, labels) with the overlay's value tints: the
+   ``rgb_array`` image (``RgbRenderer.tinted``), sent as lossless RGBA (PNG; RGB would go as
+   lossy JPEG) so canvas and ``rgb_array`` show the same pixels; sent once, and again only
+   when the values change;
 1. the robots, redrawn each step: ``animation_frames`` interpolated frames glide them from
-   cell to cell (0: jump), each frame one ``hold_canvas()`` batch;
-2. the overlay (values, action values, arrows, text) and the panel below the grid, redrawn
-   only when it changes.
+   cell to cell (0: jump), each frame one ``hold_canvas()`` batch, paced at ``fps`` steps
+   per second;
+2. the overlay's ink (arrows, numbers, text) over the robots, and the panel below the grid,
+   redrawn only when it changes.
+
+As in ``rgb_array``: tints under the robots, arrows and text over them, one shared geometry
+(``render.geometry``). Every number sent is a Python number (without ``orjson`` ipycanvas
+cannot serialise numpy scalars).
 
 ``on_client_ready`` redraws everything when a browser (re)connects: a canvas keeps no state
 of its own. Needs the ``notebook`` extra (ipycanvas, ipywidgets, orjson); imported lazily.
@@ -22,8 +29,8 @@ from typing import Any
 import numpy as np
 
 from ..core.level import Cell
-from .geometry import ARROWS, TRIANGLE_LABELS, TRIANGLES, scaled
-from .overlay import Overlay, format_value, value_colours
+from .geometry import ARROWS, CELL_TEXT_CENTRE, ROBOT_RADIUS, TRIANGLE_LABELS, VALUE_TEXT_CENTRE, scaled
+from .overlay import Overlay, format_value
 from .rgb import RgbRenderer
 
 PANEL_LINE = 18  # pixels per panel line
@@ -52,6 +59,12 @@ def check_animation_frames(n: object) -> int:
     return n
 
 
+def check_fps(fps: object, name: str = "render_fps") -> float:
+    if isinstance(fps, bool) or not isinstance(fps, (int, float)) or not 0 <= fps < float("inf"):
+        raise ValueError(f"{name}: must be a finite number >= 0 (steps per second; 0: no pacing), got {fps!r}")
+    return float(fps)
+
+
 def _css(colour: Sequence[int]) -> str:
     return f"rgb({int(colour[0])}, {int(colour[1])}, {int(colour[2])})"
 
@@ -59,7 +72,9 @@ def _css(colour: Sequence[int]) -> str:
 class LiveCanvas:
     """Draws one env's level, robots and overlay on an ipycanvas ``MultiCanvas`` (``widget``).
 
-    ``fps``: steps per second when animating (``env.metadata["render_fps"]`` by default);
+    ``fps``: steps per second (``env.metadata["render_fps"]``; 0: as fast as drawn), frames
+    are sent at most ``fps * max(1, animation_frames)`` a second, measured from the frame
+    before, so the time a program spends between steps is not added to it;
     ``animation_frames``: frames per step (0: robots jump to their new cells).
     """
 
@@ -68,13 +83,15 @@ class LiveCanvas:
 
         self.renderer = renderer
         self.animation_frames = check_animation_frames(animation_frames)
-        self.fps = float(fps)
+        self.fps = check_fps(fps, "fps")
         h, w = renderer.shape[:2]
         self.grid_height, self.width = h, w
         self.widget = MultiCanvas(3, width=w, height=h)
         self.robots: list[Cell | None] = []
         self.overlay = Overlay()
         self.frames_sent = 0  # hold_canvas batches sent (tests, benchmarks)
+        self._level_image: np.ndarray | None = None  # what layer 0 shows
+        self._due = 0.0  # time.monotonic() at which the next robot frame may be sent
         self.widget.on_client_ready(self.redraw)
         self._draw_level()
 
@@ -88,21 +105,32 @@ class LiveCanvas:
     def draw(self, robots: Sequence[Cell | None], overlay: Overlay | None = None, animate: bool = True) -> None:
         """Move the robots to ``robots`` (gliding from where they were, unless ``animate`` is
         False or this is the first draw), and redraw the overlay if it changed."""
-        if overlay is not None and overlay is not self.overlay:
-            self.overlay = overlay
-            self._draw_overlay()
+        if overlay is not None:
+            self.set_overlay(overlay)
         start, end = self.robots, list(robots)
         self.robots = end
         steps = self.animation_frames if animate and len(start) == len(end) else 0
         if steps == 0:
+            self._pace(1.0 / self.fps if animate and self.fps > 0 else 0.0)
             self._draw_robots(end)
             return
-        pause = 1.0 / (self.fps * steps) if self.fps > 0 else 0.0
         for k in range(1, steps + 1):
-            t = k / steps
-            self._draw_robots([_between(a, b, t) for a, b in zip(start, end)])
-            if k < steps and pause:
-                time.sleep(pause)
+            self._pace(1.0 / (self.fps * steps) if self.fps > 0 else 0.0)
+            self._draw_robots([_between(a, b, k / steps) for a, b in zip(start, end)])
+
+    def set_overlay(self, overlay: Overlay) -> None:
+        """Show ``overlay``: the level layer again if its tints changed, the ink layer if anything did."""
+        if overlay is self.overlay:
+            return
+        self.overlay = overlay
+        height = self.grid_height + (len(overlay.panel) * PANEL_LINE + 6 if overlay.panel else 0)
+        if height != self.widget.height:
+            self.widget.height = height  # resizing clears every layer
+            self._draw_level()
+            self._draw_robots(self.robots)
+        elif self.renderer.tinted(overlay) is not self._level_image:
+            self._draw_level()
+        self._draw_overlay()
 
     def redraw(self, *_: Any) -> None:
         """Everything again (a browser connected: it starts from an empty canvas)."""
@@ -111,6 +139,14 @@ class LiveCanvas:
         self._draw_robots(self.robots)
 
     # ------------------------------------------------------------------ layers
+    def _pace(self, interval: float) -> None:
+        """Wait until the next frame is due, then set the one after ``interval`` seconds later."""
+        now = time.monotonic()
+        if now < self._due:
+            time.sleep(self._due - now)
+            now = self._due
+        self._due = now + interval
+
     def _hold(self) -> Any:
         from ipycanvas import hold_canvas
 
@@ -118,7 +154,7 @@ class LiveCanvas:
         return hold_canvas()
 
     def _draw_level(self) -> None:
-        bg = self.renderer.background
+        bg = self._level_image = self.renderer.tinted(self.overlay)
         rgba = np.concatenate([bg, np.full(bg.shape[:2] + (1,), 255, dtype=np.uint8)], axis=2)  # RGBA: sent as PNG
         with self._hold():
             self.widget[0].clear()
@@ -134,32 +170,14 @@ class LiveCanvas:
                 if cell is None:
                     continue
                 layer.fill_style = _css(colours[i % len(colours)])
-                layer.fill_circle(float((cell[0] + 0.5) * cs), float((cell[1] + 0.5) * cs), float(0.34 * cs))
+                layer.fill_circle(float((cell[0] + 0.5) * cs), float((cell[1] + 0.5) * cs), float(ROBOT_RADIUS * cs))
 
     def _draw_overlay(self) -> None:
         ov, r = self.overlay, self.renderer
         cs, th = r.cell_size, r.theme
-        height = self.grid_height + (len(ov.panel) * PANEL_LINE + 6 if ov.panel else 0)
-        if height != self.widget.height:
-            self.widget.height = height  # resizing clears every layer
-            self._draw_level()
-            self._draw_robots(self.robots)
         layer = self.widget[2]
         with self._hold():
             layer.clear()
-            layer.global_alpha = 0.65
-            if ov.values is not None:
-                colours = value_colours(ov.values, th.value_low, th.value_high)
-                for y, x in zip(*np.nonzero(np.isfinite(ov.values))):
-                    layer.fill_style = _css(colours[y, x])
-                    layer.fill_rect(float(x * cs), float(y * cs), float(cs), float(cs))
-            if ov.q_values is not None:
-                colours = value_colours(ov.q_values[:, :, 1:], th.value_low, th.value_high)
-                for action, polygon in TRIANGLES.items():
-                    for y, x in zip(*np.nonzero(np.isfinite(ov.q_values[:, :, action]))):
-                        layer.fill_style = _css(colours[y, x, action - 1])
-                        layer.fill_polygon(scaled(polygon, int(x), int(y), cs))
-            layer.global_alpha = 1.0
             if ov.arrows is not None:
                 layer.fill_style = _css(th.arrow)
                 for action, polygon in ARROWS.items():
@@ -168,19 +186,21 @@ class LiveCanvas:
             layer.fill_style = _css(th.text)
             layer.font = f"{max(9, cs // 4)}px sans-serif"
             layer.text_align, layer.text_baseline = "center", "middle"
+            u, v = VALUE_TEXT_CENTRE
             if ov.values is not None:
                 for y, x in zip(*np.nonzero(np.isfinite(ov.values))):
-                    layer.fill_text(format_value(float(ov.values[y, x])), float((x + 0.5) * cs), float((y + 0.8) * cs))
+                    layer.fill_text(format_value(float(ov.values[y, x])), float((x + u) * cs), float((y + v) * cs))
             if ov.q_values is not None and cs >= 48:  # the numbers fit in the triangles
                 for action, (u, v) in TRIANGLE_LABELS.items():
                     for y, x in zip(*np.nonzero(np.isfinite(ov.q_values[:, :, action]))):
                         q = float(ov.q_values[y, x, action])
                         layer.fill_text(format_value(q), float((x + u) * cs), float((y + v) * cs))
+            u, v = CELL_TEXT_CENTRE
             for (x, y), text in ov.text.items():
-                layer.fill_text(text, float((x + 0.5) * cs), float((y + 0.2) * cs))
+                layer.fill_text(text, float((x + u) * cs), float((y + v) * cs))
             if ov.panel:
                 layer.fill_style = _css(th.panel)
-                layer.fill_rect(0.0, float(self.grid_height), float(self.width), float(height - self.grid_height))
+                layer.fill_rect(0.0, float(self.grid_height), float(self.width), float(self.widget.height - self.grid_height))
                 layer.fill_style = _css(th.text)
                 layer.font = "14px monospace"
                 layer.text_align, layer.text_baseline = "left", "top"

@@ -14,6 +14,12 @@ from ..core.actions import Action
 
 Polygon = tuple[tuple[float, float], ...]
 
+ROBOT_RADIUS = 0.34  # a robot is a disc of this radius about its cell's centre
+
+# Where overlay text is centred: a state value low in its cell, free text high (the robot's disc between).
+VALUE_TEXT_CENTRE = (0.5, 0.8)
+CELL_TEXT_CENTRE = (0.5, 0.2)
+
 # The four triangles of a cell, centre to edge, one per move (action values are drawn in them).
 TRIANGLES: dict[int, Polygon] = {
     Action.NORTH: ((0.0, 0.0), (1.0, 0.0), (0.5, 0.5)),

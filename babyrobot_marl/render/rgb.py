@@ -17,7 +17,7 @@ import numpy as np
 
 from ..core.level import Cell, Level
 from .font import draw_text, text_size
-from .geometry import ARROWS, TRIANGLES, cell_mask
+from .geometry import ARROWS, CELL_TEXT_CENTRE, ROBOT_RADIUS, TRIANGLES, VALUE_TEXT_CENTRE, cell_mask
 from .overlay import Overlay, format_value, value_colours
 
 Colour = tuple[int, int, int]
@@ -116,7 +116,11 @@ def check_cell_size(cell_size: object) -> int:
 
 
 class RgbRenderer:
-    """Draws one level at one cell size and theme; ``frame(robots)`` returns a fresh image."""
+    """Draws one level at one cell size and theme; ``frame(robots)`` returns a fresh image.
+
+    Layers, bottom to top: the level, the overlay's tints (values, action values), the robots,
+    the overlay's ink (arrows, text), the panel below the grid. The live canvas stacks the same.
+    """
 
     def __init__(self, level: Level, cell_size: int = 32, theme: str | Theme = "light"):
         self.level = level
@@ -126,8 +130,10 @@ class RgbRenderer:
         self.background.setflags(write=False)
         r = (cell_size - 1) / 2
         yy, xx = np.mgrid[0:cell_size, 0:cell_size]
-        self._disc = (yy - r) ** 2 + (xx - r) ** 2 <= (0.34 * cell_size) ** 2
-        self._overlaid: tuple[Overlay | None, np.ndarray] = (None, self.background)
+        self._disc = (yy - r) ** 2 + (xx - r) ** 2 <= (ROBOT_RADIUS * cell_size) ** 2
+        # an Overlay is immutable: its images are drawn once, then copied per frame
+        self._tinted: tuple[tuple[object, object], np.ndarray] = ((None, None), self.background)
+        self._overlaid: tuple[Overlay | None, np.ndarray, np.ndarray] = (None, self.background, np.zeros((0, 0), bool))
 
     @property
     def shape(self) -> tuple[int, int, int]:
@@ -137,16 +143,18 @@ class RgbRenderer:
         """The level with robot ``i`` as a disc at ``robots[i]`` (``None``: off the board).
 
         Robots sharing a cell (collisions "pass") show the lowest-numbered one on top. An
-        ``overlay`` is drawn under the robots; its panel makes the frame taller.
+        ``overlay``'s tints are drawn under the robots, its arrows and text over them; its
+        panel makes the frame taller.
         """
         if overlay is None or overlay.empty:
-            img = self.background.copy()
-        else:  # an Overlay is immutable: draw it once, then copy it like the background
+            img, ink = self.background.copy(), None
+        else:
             if self._overlaid[0] is not overlay:
-                image = self.overlay_image(overlay)
+                image, ink = self._overlay_layers(overlay)
                 image.setflags(write=False)
-                self._overlaid = (overlay, image)
-            img = self._overlaid[1].copy()
+                self._overlaid = (overlay, image, ink)
+            image, ink = self._overlaid[1], self._overlaid[2]
+            img = image.copy()
         cs, colours = self.cell_size, self.theme.robots
         for i in reversed(range(len(robots))):
             cell = robots[i]
@@ -154,6 +162,12 @@ class RgbRenderer:
                 continue
             x, y = cell
             img[y * cs : (y + 1) * cs, x * cs : (x + 1) * cs][self._disc] = colours[i % len(colours)]
+        if ink is not None:  # arrows and text back over the robots
+            for cell in set(c for c in robots if c is not None):
+                x, y = cell
+                box = (slice(y * cs, (y + 1) * cs), slice(x * cs, (x + 1) * cs))
+                on = ink[box]
+                img[box][on] = image[box][on]
         return img
 
     # ------------------------------------------------------------------ the static layer
@@ -213,30 +227,49 @@ class RgbRenderer:
         draw_text(img, text, cell[0] * cs + (cs - gw) // 2, cell[1] * cs + (cs - gh) // 2, self.theme.label, scale)
 
     # ------------------------------------------------------------------ overlays
-    def overlay_image(self, overlay: Overlay) -> np.ndarray:
-        """The level with ``overlay`` drawn on it (and its panel below), without robots."""
+    def tinted(self, overlay: Overlay) -> np.ndarray:
+        """The level with the overlay's value and action-value tints (read-only; the live
+        canvas's static layer). The same arrays give the same image object back."""
+        key = (overlay.values, overlay.q_values)
+        if self._tinted[0][0] is key[0] and self._tinted[0][1] is key[1]:
+            return self._tinted[1]
         img = self.background.copy()
-        lv, cs, th = self.level, self.cell_size, self.theme
+        cs, th = self.cell_size, self.theme
         if overlay.values is not None:
             colours = value_colours(overlay.values, th.value_low, th.value_high)
             self._tint(img, colours, np.isfinite(overlay.values), self._interior)
         if overlay.q_values is not None:
+            colours = value_colours(overlay.q_values[:, :, 1:], th.value_low, th.value_high)
             for action, polygon in TRIANGLES.items():
-                q = overlay.q_values[:, :, action]
-                colours = value_colours(overlay.q_values[:, :, 1:], th.value_low, th.value_high)[:, :, action - 1]
-                self._tint(img, colours, np.isfinite(q), cell_mask(polygon, cs) & self._interior)
+                on = np.isfinite(overlay.q_values[:, :, action])
+                self._tint(img, colours[:, :, action - 1], on, cell_mask(polygon, cs) & self._interior)
+        img.setflags(write=False)
+        self._tinted = (key, img)
+        return img
+
+    def overlay_image(self, overlay: Overlay) -> np.ndarray:
+        """The level with ``overlay`` drawn on it (and its panel below), without robots."""
+        return self._overlay_layers(overlay)[0]
+
+    def _overlay_layers(self, overlay: Overlay) -> tuple[np.ndarray, np.ndarray]:
+        """The overlay image and ``bool[H * cs, W * cs]``: its ink (arrows, text) pixels."""
+        img = self.tinted(overlay).copy()
+        ink = np.zeros(img.shape[:2], dtype=bool)
+        lv, cs, th = self.level, self.cell_size, self.theme
         if overlay.arrows is not None:
             for action, polygon in ARROWS.items():
                 on = np.repeat(np.repeat(overlay.arrows[:, :, action], cs, axis=0), cs, axis=1)
-                img[on & np.tile(cell_mask(polygon, cs), (lv.height, lv.width))] = th.arrow
+                on &= np.tile(cell_mask(polygon, cs), (lv.height, lv.width))
+                img[on] = th.arrow
+                ink |= on
         if overlay.values is not None and cs >= 24:  # the numbers, where they fit
             for y, x in zip(*np.nonzero(np.isfinite(overlay.values))):
-                self._cell_text(img, format_value(float(overlay.values[y, x])), int(x), int(y), bottom=True)
+                self._cell_text(img, ink, format_value(float(overlay.values[y, x])), int(x), int(y), VALUE_TEXT_CENTRE)
         for (x, y), text in overlay.text.items():
-            self._cell_text(img, text, x, y, bottom=False)
+            self._cell_text(img, ink, text, x, y, CELL_TEXT_CENTRE)
         if overlay.panel:
             img = np.concatenate([img, self._panel(overlay.panel, img.shape[1])], axis=0)
-        return img
+        return img, ink
 
     @property
     def _inset(self) -> int:
@@ -256,12 +289,16 @@ class RgbRenderer:
         mask = np.repeat(np.repeat(on, cs, axis=0), cs, axis=1) & np.tile(cell_pixels, (lv.height, lv.width))
         img[mask] = (0.35 * img[mask] + 0.65 * big[mask]).astype(np.uint8)
 
-    def _cell_text(self, img: np.ndarray, text: str, x: int, y: int, bottom: bool) -> None:
-        cs = self.cell_size
+    def _cell_text(self, img: np.ndarray, ink: np.ndarray, text: str, x: int, y: int, centre: tuple[float, float]) -> None:
+        """``text`` centred on the point ``centre`` (cell units) of cell ``(x, y)``, kept inside the walls."""
+        cs, m = self.cell_size, self._inset
         scale = max(1, cs // 32)
         w, h = text_size(text, scale)
-        ty = y * cs + (cs - h - self._inset - 1 if bottom else self._inset + 1)
-        draw_text(img, text, x * cs + max(self._inset, (cs - w) // 2), ty, self.theme.text, scale)
+        tx = min(max(round((x + centre[0]) * cs - w / 2), x * cs + m), (x + 1) * cs - m - w)
+        ty = min(max(round((y + centre[1]) * cs - h / 2), y * cs + m + 1), (y + 1) * cs - m - 1 - h)
+        tx = max(tx, x * cs + m)  # too wide for the cell: start inside it and clip at the edge of the image
+        draw_text(img, text, tx, ty, self.theme.text, scale)
+        draw_text(ink, text, tx, ty, True, scale)  # type: ignore[arg-type]  # the same pixels in the ink mask
 
     def _panel(self, lines: tuple[str, ...], width: int) -> np.ndarray:
         scale = max(1, self.cell_size // 16)

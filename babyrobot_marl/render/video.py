@@ -1,8 +1,13 @@
-"""Saving episodes: ``rgb_array`` frames to GIF or MP4 with imageio (the ``video`` extra, imported lazily)."""
+"""Saving episodes: ``rgb_array`` frames to GIF or MP4 with imageio (the ``video`` extra, imported lazily).
+
+    frames = episode_frames(env, policy, seed=0)   # env made with render_mode="rgb_array"
+    save_gif(frames, "episode.gif", fps=4)
+    save_video(frames, "episode.mp4", fps=8)       # needs imageio-ffmpeg
+"""
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -55,3 +60,40 @@ def save_video(frames: Sequence[np.ndarray], path: str | Path, fps: float = 8) -
     path = Path(path)
     _imageio().imwrite(path, stack, fps=fps)
     return path
+
+
+def episode_frames(
+    env: Any, policy: Callable[[Any], Any] | Mapping[str, Callable[[Any], Any]], seed: int | None = None, max_steps: int = 10_000
+) -> list[np.ndarray]:
+    """Play one episode and return its ``rgb_array`` frames: the start, then one per step.
+
+    ``env``: a Gymnasium env (``BabyRobotEnv``, ``gymnasium.make(...)``) or a PettingZoo
+    parallel env (the race), made with ``render_mode="rgb_array"``. ``policy``: a function of
+    an observation returning an action (for a race, called with each robot's observation), or
+    for a race a dict of such functions by agent. The episode ends when it terminates or is
+    truncated (a race: when no agent is left), or after ``max_steps`` steps.
+    """
+    if getattr(env, "render_mode", None) != "rgb_array":
+        raise ValueError(f"env: needs render_mode='rgb_array' to give frames, got {getattr(env, 'render_mode', None)!r}")
+    if isinstance(max_steps, bool) or not isinstance(max_steps, int) or max_steps < 0:
+        raise ValueError(f"max_steps: must be an integer >= 0, got {max_steps!r}")
+    race = hasattr(env, "possible_agents")
+    if isinstance(policy, Mapping):
+        if not race or set(policy) != set(env.possible_agents):
+            raise ValueError("policy: a dict of policies needs a race and one policy for each of its agents")
+    elif not callable(policy):
+        raise ValueError(f"policy: expected a function of an observation or a dict of them by agent, got {type(policy).__name__}")
+    obs, _ = env.reset(seed=seed)
+    frames = [env.render()]
+    for _ in range(max_steps):
+        if race:
+            if not env.agents:
+                break
+            obs, *_ = env.step({a: (policy[a] if isinstance(policy, Mapping) else policy)(obs[a]) for a in env.agents})
+            frames.append(env.render())
+        else:
+            obs, _, terminated, truncated, _ = env.step(policy(obs))
+            frames.append(env.render())
+            if terminated or truncated:
+                break
+    return frames

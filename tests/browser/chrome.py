@@ -1,0 +1,143 @@
+"""Headless Debian Chromium through Playwright: open a notebook in JupyterLab, run it, read canvas pixels.
+
+Never ``playwright install``: the browser is the system's ``/usr/bin/chromium`` (apt package ``chromium``).
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import time
+from pathlib import Path
+
+import numpy as np
+
+CHROMIUM_ARGS = [
+    "--no-sandbox", "--disable-gpu", "--disable-background-networking", "--disable-component-update",
+    "--disable-sync", "--no-first-run", "--disable-dev-shm-usage",
+]  # fmt: skip
+
+
+def chromium_path() -> str | None:
+    """The system Chromium, or None: ``$CHROMIUM`` if set, else ``/usr/bin/chromium`` or ``chromium`` on PATH."""
+    for candidate in (os.environ.get("CHROMIUM"), "/usr/bin/chromium", shutil.which("chromium")):
+        if candidate and os.access(candidate, os.X_OK):
+            return candidate
+    return None
+
+
+# The notebook panel in focus, once its kernel is connected and idle.
+_KERNEL_IDLE = """() => {
+  const app = window.jupyterapp;
+  const w = app && app.shell.currentWidget;
+  const s = w && w.sessionContext;
+  return !!(s && s.session && s.session.kernel && s.session.kernel.connectionStatus === 'connected'
+            && s.session.kernel.status === 'idle' && w.content && w.content.widgets.length > 0);
+}"""
+
+# The ``index``-th canvas in the notebook's outputs as ``{width, height, data}`` (RGBA bytes). An ipycanvas
+# (Multi)Canvas view is one <canvas>: a MultiCanvas composites its layers into it (ipycanvas >= 0.13).
+_READ_CANVAS = """(index) => {
+  const all = Array.from(document.querySelectorAll('.jp-OutputArea-output canvas'))
+      .filter(c => c.width > 0 && c.height > 0);
+  if (index >= all.length) return {count: all.length};
+  const c = all[index];
+  const data = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+  return {count: all.length, width: c.width, height: c.height, data: Array.from(data)};
+}"""
+
+
+class NotebookPage:
+    """One JupyterLab page in a persistent headless Chromium profile (``with NotebookPage(...) as nb:``)."""
+
+    def __init__(self, lab, profile_dir: Path, executable: str, viewport=(1280, 1000)):
+        self.lab, self.profile_dir, self.executable, self.viewport = lab, Path(profile_dir), executable, viewport
+        self._pw = self.context = self.page = None
+
+    def __enter__(self) -> NotebookPage:
+        from playwright.sync_api import sync_playwright
+
+        self._pw = sync_playwright().start()
+        try:
+            self.context = self._pw.chromium.launch_persistent_context(
+                str(self.profile_dir), executable_path=self.executable, headless=True, args=CHROMIUM_ARGS,
+                viewport={"width": self.viewport[0], "height": self.viewport[1]},
+            )  # fmt: skip
+            self.page = self.context.pages[0] if self.context.pages else self.context.new_page()
+        except BaseException:
+            self.close()
+            raise
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    def close(self) -> None:
+        if self.context is not None:
+            self.context.close()
+            self.context = None
+        if self._pw is not None:
+            self._pw.stop()
+            self._pw = None
+
+    def run_all(self, notebook: str, marker: str, timeout: float = 90.0) -> None:
+        """Open ``notebook`` (relative to the server root), run all cells, wait for ``marker`` in an output."""
+        page, ms = self.page, timeout * 1000
+        page.goto(self.lab.url(f"lab/tree/{notebook}", reset=""), timeout=ms)
+        page.wait_for_function(_KERNEL_IDLE, timeout=ms, polling=200)
+        page.evaluate("() => window.jupyterapp.commands.execute('notebook:run-all-cells')")
+        try:
+            page.wait_for_function(
+                """(m) => Array.from(document.querySelectorAll('.jp-OutputArea-output'))
+                             .some(o => o.innerText.includes(m))""",
+                arg=marker,
+                timeout=ms,
+                polling=200,
+            )
+        except Exception as e:
+            raise AssertionError(f"marker {marker!r} never appeared; outputs:\n{self.outputs_text()}") from e
+
+    def save_and_reopen(self, notebook: str, marker: str, timeout: float = 90.0) -> None:
+        """Save the notebook, load the page again (a browser reconnecting to the same kernel), wait for ``marker``."""
+        page, ms = self.page, timeout * 1000
+        page.evaluate("() => window.jupyterapp.commands.execute('docmanager:save')")
+        page.wait_for_function(
+            "() => { const w = window.jupyterapp.shell.currentWidget; return !!w && !w.context.model.dirty; }",
+            timeout=ms,
+            polling=200,
+        )
+        page.goto(self.lab.url(f"lab/tree/{notebook}"), timeout=ms)
+        page.wait_for_function(_KERNEL_IDLE, timeout=ms, polling=200)
+        page.wait_for_function(
+            "(m) => Array.from(document.querySelectorAll('.jp-OutputArea-output')).some(o => o.innerText.includes(m))",
+            arg=marker,
+            timeout=ms,
+            polling=200,
+        )
+
+    def outputs_text(self) -> str:
+        return self.page.evaluate(
+            "() => Array.from(document.querySelectorAll('.jp-OutputArea-output')).map(o => o.innerText).join('\\n')"
+        )
+
+    def canvas_pixels(self, index: int = 0, settle: float = 15.0) -> np.ndarray:
+        """The ``index``-th canvas output as ``uint8[H, W, 4]`` RGBA, read until it is opaque (drawn: an
+        empty canvas is transparent) and two reads agree; after ``settle`` seconds, the last read."""
+        deadline, last = time.monotonic() + settle, None
+        while True:
+            got = self.page.evaluate(_READ_CANVAS, index)
+            if "data" in got:
+                img = np.array(got["data"], dtype=np.uint8).reshape(got["height"], got["width"], 4)
+                if last is not None and np.array_equal(img, last) and (img[..., 3] == 255).all():
+                    return img
+                last = img
+            if time.monotonic() > deadline:
+                if last is None:
+                    raise AssertionError(f"no canvas output #{index} (found {got['count']}); outputs:\n{self.outputs_text()}")
+                return last
+            time.sleep(0.3)
+
+    def screenshot(self, path: Path) -> Path:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        self.page.screenshot(path=str(path), full_page=True)
+        return path
