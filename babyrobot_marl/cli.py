@@ -27,7 +27,9 @@ import time
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
-from typing import NoReturn, TextIO
+from typing import Any, NoReturn, TextIO
+
+import numpy as np
 
 from . import __version__, levels, policies
 from .core.actions import Action
@@ -411,6 +413,57 @@ def _cmd_race(args: argparse.Namespace, out: TextIO) -> int:
     return 0
 
 
+# ------------------------------------------------------------------------ solve
+def _probability(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number in [0, 1], got {text!r}") from None
+    if not 0.0 <= value <= 1.0:
+        raise argparse.ArgumentTypeError(f"expected a number in [0, 1], got {text}")
+    return value
+
+
+def _add_solve_parser(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "solve",
+        help="value iteration on a level: print the values and the policy",
+        description="Solve a level exactly (value iteration on the model the simulator steps with) and print "
+        "the value of each cell and the optimal action as arrows.",
+    )
+    _add_level_arg(p)
+    p.add_argument("--gamma", type=_probability, default=1.0, help="discount in [0, 1] (default 1: the undiscounted episode)")
+    p.add_argument("--theta", type=float, default=1e-9, help="stop when no value changes by this much (default 1e-9)")
+    p.set_defaults(func=_cmd_solve)
+
+
+def solution_text(sol: Any) -> str:
+    """The value grid and the policy arrows of a ``planning.Solution``, as text."""
+    from .core.actions import ARROWS
+
+    values, policy = sol.value_grid, sol.policy_grid
+    cells = [[("#" if np.isnan(v) else f"{v:.2f}") for v in row] for row in values]
+    width = max(len(c) for row in cells for c in row)
+    lines = ["values:"] + ["  " + " ".join(c.rjust(width) for c in row) for row in cells]
+    exits = sol.model.table.is_exit.reshape(values.shape)
+    lines.append("policy (E exit, # blocked):")
+    for y, row in enumerate(policy):
+        marks = ["E" if exits[y, x] else "#" if a < 0 else ARROWS[a] for x, a in enumerate(row)]
+        lines.append("  " + " ".join(marks))
+    lines.append(f"gamma {sol.gamma:g}, {sol.iterations} sweeps")
+    return "\n".join(lines) + "\n"
+
+
+def _cmd_solve(args: argparse.Namespace, out: TextIO) -> int:
+    from .planning import model, value_iteration
+
+    if not args.theta > 0:
+        raise ValueError(f"--theta: must be a positive number, got {args.theta}")
+    sol = value_iteration(model(load_level(args.level)), gamma=args.gamma, theta=args.theta)
+    out.write(solution_text(sol))
+    return 0
+
+
 # ------------------------------------------------------------------------ entry point
 def build_parser() -> argparse.ArgumentParser:
     """The parser of ``babyrobot-marl`` with all subcommands."""
@@ -419,7 +472,8 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     _add_levels_parser(sub)
     _add_play_parser(sub)
-    _add_race_parser(sub)  # each further subcommand: one _add_<name>_parser(sub) line here
+    _add_race_parser(sub)
+    _add_solve_parser(sub)  # each further subcommand: one _add_<name>_parser(sub) line here
     return parser
 
 
