@@ -1,0 +1,25 @@
+"""Planning: the exact MDP of one robot and dynamic programming on it.
+
+>>> from babyrobot_marl.planning import model, value_iteration
+>>> sol = value_iteration(model("walls"))
+>>> sol.value_grid, sol.policy_grid, sol.best_actions  # draw with env.unwrapped.set_overlay(...)
+
+``model`` reads the same compiled tables the simulator steps with; ``policy_evaluation``,
+``policy_iteration`` and ``value_iteration`` are vectorised numpy over its sparse arrays.
+"""
+
+from .dp import Solution, policy_evaluation, policy_iteration, q_values, value_iteration
+from .mdp import Model, model
+from .text import policy_text, value_text
+
+__all__ = [
+    "Model",
+    "Solution",
+    "model",
+    "policy_evaluation",
+    "policy_iteration",
+    "policy_text",
+    "q_values",
+    "value_iteration",
+    "value_text",
+]
