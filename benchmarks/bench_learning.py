@@ -28,7 +28,8 @@ def single(level: str, budget: int, every: int, seed: int) -> None:
     target = optimum - 0.05 * abs(optimum)
     cb = target_callback(lambda m: evaluate_single(m, env, episodes=5, seed=seed).mean, target, every=every)
     t0 = time.perf_counter()
-    agent = train_single(level, "ppo", steps=budget, seed=seed, callback=cb)
+    # exploring starts: training episodes begin on random free cells; evaluation from the level start
+    agent = train_single(level, "ppo", steps=budget, seed=seed, callback=cb, env_kwargs={"start": "random"})
     total = time.perf_counter() - t0
     final = evaluate_single(agent, env, episodes=20, seed=seed + 1000)
     print(f"single robot, PPO, {level}: optimal return {optimum:g}, target (95%) {target:g}")

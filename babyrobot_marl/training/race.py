@@ -31,6 +31,7 @@ from typing import Any
 import numpy as np
 
 from .. import policies
+from ..core.level import Level
 from ..envs.race import RaceEnv
 from .deps import require_train
 from .single import make_algo
@@ -86,7 +87,7 @@ def _sb3_wrapper_class() -> type:
 
 
 def make_race_vec_env(
-    level: str = DEFAULT_RACE_LEVEL, n_robots: int = 4, n_envs: int = 4, seed: int | None = 0, backend: str = "supersuit",
+    level: str | Level = DEFAULT_RACE_LEVEL, n_robots: int = 4, n_envs: int = 4, seed: int | None = 0, backend: str = "supersuit",
     **race_kwargs: Any,
 ) -> Any:
     """An SB3 ``VecEnv`` of ``n_envs`` races of ``n_robots`` robots (``n_envs * n_robots`` slots,
@@ -109,7 +110,7 @@ def make_race_vec_env(
 
 
 def train_race(
-    level: str = DEFAULT_RACE_LEVEL,
+    level: str | Level = DEFAULT_RACE_LEVEL,
     n_robots: int = 4,
     steps: int = 300_000,
     seed: int = 0,
@@ -147,7 +148,12 @@ class RaceResult:
 
 
 def evaluate_race(
-    agent: Any, level: str = DEFAULT_RACE_LEVEL, n_robots: int = 4, opponent: str = "random", races: int = 100, seed: int = 0,
+    agent: Any,
+    level: str | Level = DEFAULT_RACE_LEVEL,
+    n_robots: int = 4,
+    opponent: str = "random",
+    races: int = 100,
+    seed: int = 0,
     **race_kwargs: Any,
 ) -> RaceResult:
     """``races`` races (seeds ``seed + i``): robot_0 acts with ``agent.predict`` (deterministic),

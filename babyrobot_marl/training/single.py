@@ -11,6 +11,7 @@ from typing import Any
 
 import numpy as np
 
+from ..core.level import Level
 from ..envs.single import BabyRobotEnv
 from ..planning import model, value_iteration
 from .deps import require_train
@@ -64,7 +65,7 @@ def make_algo(algo: str, venv: Any, seed: int, verbose: int = 0, **overrides: An
 
 
 def train_single(
-    level: str = DEFAULT_LEVEL,
+    level: str | Level = DEFAULT_LEVEL,
     algo: str = "ppo",
     steps: int = 100_000,
     seed: int = 0,
