@@ -7,6 +7,8 @@
     babyrobot-marl play --level walls --policy shortest --seed 0
     babyrobot-marl race --level race-4 --robots 4 --policies shortest,shortest,random,random
     python -m babyrobot_marl play --level default --policy random --no-delay
+    babyrobot-marl solve --level puddles       # value iteration: the value grid and the policy arrows
+    babyrobot-marl train --level maze-8x8 --steps 50000    # PPO (needs the 'train' extra)
 
 Each subcommand is a ``_add_<name>_parser`` function that registers its arguments and a
 ``_cmd_<name>(args, out)`` handler; the shared pieces (``--level``, ``--seed``, the display
@@ -27,9 +29,7 @@ import time
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, NoReturn, TextIO
-
-import numpy as np
+from typing import NoReturn, TextIO
 
 from . import __version__, levels, policies
 from .core.actions import Action
@@ -418,50 +418,128 @@ def _probability(text: str) -> float:
     try:
         value = float(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number in [0, 1], got {text!r}") from None
-    if not 0.0 <= value <= 1.0:
-        raise argparse.ArgumentTypeError(f"expected a number in [0, 1], got {text}")
+        value = math.nan
+    if not 0.0 < value <= 1.0:
+        raise argparse.ArgumentTypeError(f"must be a number in (0, 1], got {text!r}")
+    return value
+
+
+def _positive_float(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not 0.0 < value < math.inf:
+        raise argparse.ArgumentTypeError(f"must be a number > 0, got {text!r}")
     return value
 
 
 def _add_solve_parser(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "solve",
-        help="value iteration on a level: print the values and the policy",
-        description="Solve a level exactly (value iteration on the model the simulator steps with) and print "
-        "the value of each cell and the optimal action as arrows.",
+        help="solve a level exactly (value or policy iteration) and print values and policy",
+        description="Dynamic programming on the exact model of one robot: prints the value grid and the greedy policy "
+        "as arrows (o: STAY, E: exit, #: blocked, .: no exit reachable).",
     )
     _add_level_arg(p)
-    p.add_argument("--gamma", type=_probability, default=1.0, help="discount in [0, 1] (default 1: the undiscounted episode)")
-    p.add_argument("--theta", type=float, default=1e-9, help="stop when no value changes by this much (default 1e-9)")
+    p.add_argument("--method", choices=("value", "policy"), default="value", help="value or policy iteration (default: value)")
+    p.add_argument("--gamma", type=_probability, default=1.0, metavar="G", help="discount in (0, 1] (default: 1)")
+    p.add_argument(
+        "--theta", type=_positive_float, default=1e-9, metavar="T", help="stop when no value moves by T (default: 1e-9)"
+    )
+    p.add_argument("--decimals", type=_int_at_least(0), default=1, metavar="N", help="decimals of the values (default: 1)")
     p.set_defaults(func=_cmd_solve)
 
 
-def solution_text(sol: Any) -> str:
-    """The value grid and the policy arrows of a ``planning.Solution``, as text."""
-    from .core.actions import ARROWS
-
-    values, policy = sol.value_grid, sol.policy_grid
-    cells = [[("#" if np.isnan(v) else f"{v:.2f}") for v in row] for row in values]
-    width = max(len(c) for row in cells for c in row)
-    lines = ["values:"] + ["  " + " ".join(c.rjust(width) for c in row) for row in cells]
-    exits = sol.model.table.is_exit.reshape(values.shape)
-    lines.append("policy (E exit, # blocked):")
-    for y, row in enumerate(policy):
-        marks = ["E" if exits[y, x] else "#" if a < 0 else ARROWS[a] for x, a in enumerate(row)]
-        lines.append("  " + " ".join(marks))
-    lines.append(f"gamma {sol.gamma:g}, {sol.iterations} sweeps")
-    return "\n".join(lines) + "\n"
-
-
 def _cmd_solve(args: argparse.Namespace, out: TextIO) -> int:
-    from .planning import model, value_iteration
+    from .planning import model, policy_iteration, policy_text, value_iteration, value_text
 
-    if not args.theta > 0:
-        raise ValueError(f"--theta: must be a positive number, got {args.theta}")
-    sol = value_iteration(model(load_level(args.level)), gamma=args.gamma, theta=args.theta)
-    out.write(solution_text(sol))
+    level = load_level(args.level)
+    m = model(level)
+    solve = value_iteration if args.method == "value" else policy_iteration
+    sol = solve(m, gamma=args.gamma, theta=args.theta)
+    unit = "sweeps" if args.method == "value" else "improvement rounds"
+    out.write(f"{args.method} iteration on {level.name or args.level} ({level.width}x{level.height}), "
+              f"gamma {args.gamma:g}, theta {args.theta:g}: {sol.iterations} {unit}\n\n")
+    out.write("values\n" + value_text(sol, args.decimals) + "\n\npolicy\n" + policy_text(sol) + "\n")
+    if level.starts:
+        start = m.table.cell_id(level.starts[0])
+        out.write(f"\noptimal return from the start {level.starts[0]}: {sol.values[start]:.{args.decimals}f}\n")
     return 0
+
+
+# ------------------------------------------------------------------------ train
+def _add_train_parser(sub: argparse._SubParsersAction) -> None:
+    p = sub.add_parser(
+        "train",
+        help="train a PPO (or DQN) agent, evaluate it against the optimum or scripted opponents (needs the 'train' extra)",
+        description="One robot (--robots 1): PPO or DQN on BabyRobot-v0, then its mean return against value iteration's "
+        "optimum. Several robots: one shared PPO policy through SuperSuit, then its win rate against 'random' and "
+        "'shortest' opponents. Needs the 'train' extra: pip install 'babyrobot_marl[train]'.",
+    )
+    _add_level_arg(p, default="maze-8x8")
+    p.add_argument("--robots", type=_positive_int, default=1, metavar="N", help="1: single robot; more: a race (default: 1)")
+    p.add_argument("--steps", type=_positive_int, required=True, metavar="N", help="training timesteps")
+    p.add_argument("--algo", choices=("ppo", "dqn"), default="ppo", help="single robot only (default: ppo)")
+    p.add_argument("--seed", type=_non_negative_int, default=0, metavar="N", help="seed of training and evaluation (default: 0)")
+    p.add_argument("--episodes", type=_positive_int, default=20, metavar="N", help="evaluation episodes or races (default: 20)")
+    p.add_argument("--save", metavar="PATH", help="save the trained model here (SB3 .zip)")
+    p.add_argument("--gif", metavar="PATH", help="single robot: write a GIF of the learnt policy here")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.set_defaults(func=_cmd_train)
+
+
+def _cmd_train(args: argparse.Namespace, out: TextIO) -> int:
+    from .training import MissingTrainExtraError, require_train
+
+    try:
+        require_train()
+    except MissingTrainExtraError as err:
+        print(f"{PROG}: error: {err}", file=sys.stderr)
+        return 1
+    level = load_level(args.level)
+    progress = not args.no_progress and _isatty(sys.stderr)
+    if args.robots == 1:
+        agent = _train_single(args, level, progress, out)
+    else:
+        if args.algo != "ppo" or args.gif:
+            raise ValueError("train: a race (--robots > 1) trains PPO and writes no GIF; drop --algo/--gif")
+        agent = _train_race(args, level, progress, out)
+    if args.save:
+        agent.save(args.save)
+        out.write(f"model saved to {args.save}\n")
+    return 0
+
+
+def _train_single(args: argparse.Namespace, level: Level, progress: bool, out: TextIO):
+    from .training.gif import episode_frames, write_gif
+    from .training.single import evaluate_single, optimal_return, train_single, within
+
+    agent = train_single(level, args.algo, steps=args.steps, seed=args.seed, progress_bar=progress,
+                         env_kwargs={"start": "random"})
+    env = BabyRobotEnv(level=level)
+    ev = evaluate_single(agent, env, episodes=args.episodes, seed=args.seed + 1_000_000)
+    optimum = optimal_return(env)
+    out.write(f"{args.algo.upper()} on {level.name or args.level}, {args.steps} steps: learnt return {ev.mean:g} "
+              f"(+- {ev.std:g}, {ev.reached_exit}/{ev.episodes} reached the exit), optimal {optimum:g}, "
+              f"within 95%: {'yes' if within(ev.mean, optimum) else 'no'}\n")
+    if args.gif:
+        genv = BabyRobotEnv(level=level, render_mode="rgb_array")
+        frames = episode_frames(genv, lambda obs: int(agent.predict(obs, deterministic=True)[0]), seed=args.seed)
+        out.write(f"GIF of the learnt policy: {write_gif(frames, args.gif)}\n")
+    return agent
+
+
+def _train_race(args: argparse.Namespace, level: Level, progress: bool, out: TextIO):
+    from .training.race import evaluate_race, train_race
+
+    agent = train_race(level, n_robots=args.robots, steps=args.steps, seed=args.seed, progress_bar=progress)
+    out.write(f"shared PPO, race on {level.name or args.level}, {args.robots} robots, {args.steps} steps\n")
+    for opponent in ("random", "shortest"):
+        res = evaluate_race(agent, level, n_robots=args.robots, opponent=opponent, races=args.episodes, seed=args.seed + 1)
+        out.write(f"  vs {opponent}: win rate {res.win_rate:.2f} ({res.wins}/{res.races}), "
+                  f"mean finishing steps {res.mean_steps:.1f} (opponents {res.opponent_mean_steps:.1f})\n")
+    return agent
 
 
 # ------------------------------------------------------------------------ entry point
@@ -473,7 +551,8 @@ def build_parser() -> argparse.ArgumentParser:
     _add_levels_parser(sub)
     _add_play_parser(sub)
     _add_race_parser(sub)
-    _add_solve_parser(sub)  # each further subcommand: one _add_<name>_parser(sub) line here
+    _add_solve_parser(sub)
+    _add_train_parser(sub)  # each further subcommand: one _add_<name>_parser(sub) line here
     return parser
 
 

@@ -3,7 +3,7 @@
 from .actions import DELTAS, N_ACTIONS, Action
 from .engine import OUTCOMES, move, move_array
 from .level import Cell, Edge, Level
-from .model import frozenlake_P, outcomes, transition_arrays
+from .model import frozenlake_P, outcomes, sparse_arrays, transition_arrays
 from .rules import COLLISION_MODES, Rules
 from .table import Table, compile_level
 
@@ -23,5 +23,6 @@ __all__ = [
     "move",
     "move_array",
     "outcomes",
+    "sparse_arrays",
     "transition_arrays",
 ]

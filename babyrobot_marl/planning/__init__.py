@@ -1,24 +1,25 @@
-"""Planning on the model of one robot: ``p(s', r | s, a)`` from the simulator's own tables,
-policy evaluation, policy iteration and value iteration (vectorised numpy), tabular learning.
+"""Planning: the exact MDP of one robot and dynamic programming on it.
 
-    from babyrobot_marl.planning import model, value_iteration
-    sol = value_iteration(model("maze-8x8"), gamma=1.0)
-    sol.value_grid, sol.policy_grid, sol.best_actions   # draw them: env.unwrapped.set_overlay(...)
+>>> from babyrobot_marl.planning import model, value_iteration
+>>> sol = value_iteration(model("walls"))
+>>> sol.value_grid, sol.policy_grid, sol.best_actions  # draw with env.unwrapped.set_overlay(...)
+
+``model`` reads the same compiled tables the simulator steps with; ``policy_evaluation``,
+``policy_iteration`` and ``value_iteration`` are vectorised numpy over its sparse arrays.
 """
 
-from .dp import Solution, policy_evaluation, policy_iteration, q_from_values, value_iteration
-from .model import Model, from_table, model
-from .tabular import q_learning, sarsa
+from .dp import Solution, policy_evaluation, policy_iteration, q_values, value_iteration
+from .mdp import Model, model
+from .text import policy_text, value_text
 
 __all__ = [
     "Model",
     "Solution",
-    "from_table",
     "model",
     "policy_evaluation",
     "policy_iteration",
-    "q_from_values",
-    "q_learning",
-    "sarsa",
+    "policy_text",
+    "q_values",
     "value_iteration",
+    "value_text",
 ]

@@ -1,0 +1,82 @@
+"""Single-robot deep RL: short seeded PPO/DQN runs end to end, the optimum they are judged against,
+the GIF of a policy, and the message when the train extra is missing."""
+
+from __future__ import annotations
+
+import builtins
+
+import numpy as np
+import pytest
+
+pytest.importorskip("stable_baselines3", reason="the train extra is not installed")  # CI installs it (test extra)
+
+from babyrobot_marl import BabyRobotEnv, levels  # noqa: E402
+from babyrobot_marl.policies import make  # noqa: E402
+from babyrobot_marl.policies.shortest import distances  # noqa: E402
+from babyrobot_marl.training import MissingTrainExtraError, require_train  # noqa: E402
+from babyrobot_marl.training.gif import episode_frames, write_gif  # noqa: E402
+from babyrobot_marl.training.single import evaluate_single, optimal_return, train_single, within  # noqa: E402
+
+
+def test_optimal_return_is_the_shortest_path_on_a_maze_and_the_mean_over_random_starts():
+    env = BabyRobotEnv(level="maze-8x8")
+    d = distances(env.table)[env.table.cell_id(levels.get("maze-8x8").starts[0])]
+    assert optimal_return(env) == -(d - 1)
+    rnd = BabyRobotEnv(level="default", start="random")
+    free = [c for c in range(9) if c not in (8,)]  # every cell but the exit is a free floor cell
+    assert optimal_return(rnd) == pytest.approx(np.mean([-(distances(rnd.table)[c] - 1) for c in free]))
+
+
+def test_within_reads_95_percent_of_a_negative_optimum():
+    assert within(-21.0, -20.0) and not within(-21.5, -20.0) and within(-19.0, -20.0)
+
+
+@pytest.mark.parametrize("algo", ["ppo", "dqn"])
+def test_a_short_seeded_run_trains_and_evaluates(algo):
+    extra = {"n_steps": 64, "batch_size": 128, "n_epochs": 1} if algo == "ppo" else {"learning_starts": 100}
+    agent = train_single("default", algo, steps=512, seed=0, n_envs=2, **extra)
+    assert agent.num_timesteps >= 512
+    ev = evaluate_single(agent, BabyRobotEnv(level="default", max_steps=20), episodes=2)
+    assert ev.episodes == 2 and -20 <= ev.mean <= -3 and 0 <= ev.reached_exit <= 2
+
+
+def test_same_seed_same_policy():
+    a = train_single("default", "ppo", steps=256, seed=3, n_envs=2, n_steps=64, batch_size=128, n_epochs=1)
+    b = train_single("default", "ppo", steps=256, seed=3, n_envs=2, n_steps=64, batch_size=128, n_epochs=1)
+    for pa, pb in zip(a.policy.parameters(), b.policy.parameters()):
+        assert np.array_equal(pa.detach().numpy(), pb.detach().numpy())
+
+
+def test_bad_training_arguments():
+    with pytest.raises(ValueError, match="algo"):
+        train_single("default", "a2c", steps=10)
+    with pytest.raises(ValueError, match="steps"):
+        train_single("default", "ppo", steps=0)
+
+
+def test_gif_of_the_shortest_path_policy_has_one_frame_per_step(tmp_path):
+    iio = pytest.importorskip("imageio.v3", reason="the train extra is not installed")
+    env = BabyRobotEnv(level="walls", render_mode="rgb_array")
+    policy = make("shortest", env.table)
+    frames = episode_frames(env, policy, seed=0)
+    assert len(frames) == env.elapsed_steps + 1 and env.elapsed_steps == 18
+    path = write_gif(frames, tmp_path / "walls.gif", fps=5)
+    back = iio.imread(path)
+    assert back.shape[0] == len(frames) and back.shape[1:3] == frames[0].shape[:2]
+    assert not np.array_equal(back[0], back[-1])  # the robot moved
+    with pytest.raises(ValueError, match="render_mode"):
+        episode_frames(BabyRobotEnv(), policy)
+
+
+def test_missing_train_extra_is_a_clear_error(monkeypatch):
+    real_import = builtins.__import__
+
+    def fake_import(name, *args, **kwargs):
+        if name.startswith("supersuit"):
+            raise ImportError("No module named 'supersuit'")
+        return real_import(name, *args, **kwargs)
+
+    monkeypatch.setattr(builtins, "__import__", fake_import)
+    monkeypatch.delitem(__import__("sys").modules, "supersuit", raising=False)
+    with pytest.raises(MissingTrainExtraError, match=r"supersuit .*pip install 'babyrobot_marl\[train\]'"):
+        require_train("supersuit")
