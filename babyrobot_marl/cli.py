@@ -512,7 +512,7 @@ def _cmd_train(args: argparse.Namespace, out: TextIO) -> int:
 
 
 def _train_single(args: argparse.Namespace, level: Level, progress: bool, out: TextIO):
-    from .training.gif import episode_frames, write_gif
+    from .render.video import episode_frames, save_gif
     from .training.single import evaluate_single, optimal_return, train_single, within
 
     agent = train_single(level, args.algo, steps=args.steps, seed=args.seed, progress_bar=progress,
@@ -526,7 +526,7 @@ def _train_single(args: argparse.Namespace, level: Level, progress: bool, out: T
     if args.gif:
         genv = BabyRobotEnv(level=level, render_mode="rgb_array")
         frames = episode_frames(genv, lambda obs: int(agent.predict(obs, deterministic=True)[0]), seed=args.seed)
-        out.write(f"GIF of the learnt policy: {write_gif(frames, args.gif)}\n")
+        out.write(f"GIF of the learnt policy: {save_gif(frames, args.gif)}\n")
     return agent
 
 

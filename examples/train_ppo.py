@@ -16,7 +16,7 @@ import argparse
 import time
 
 from babyrobot_marl import BabyRobotEnv
-from babyrobot_marl.training.gif import episode_frames, write_gif
+from babyrobot_marl.render.video import episode_frames, save_gif
 from babyrobot_marl.training.single import evaluate_single, optimal_return, train_single, within
 
 
@@ -41,7 +41,7 @@ def main() -> None:
     agent.save(a.save or stem + ".zip")
     frames = episode_frames(BabyRobotEnv(level=a.level, render_mode="rgb_array"),
                             lambda obs: int(agent.predict(obs, deterministic=True)[0]), seed=a.seed)
-    print(f"saved {a.save or stem + '.zip'} and {write_gif(frames, a.gif or stem + '.gif')}")
+    print(f"saved {a.save or stem + '.zip'} and {save_gif(frames, a.gif or stem + '.gif')}")
 
 
 if __name__ == "__main__":

@@ -11,10 +11,8 @@ import pytest
 pytest.importorskip("stable_baselines3", reason="the train extra is not installed")  # CI installs it (test extra)
 
 from babyrobot_marl import BabyRobotEnv, levels  # noqa: E402
-from babyrobot_marl.policies import make  # noqa: E402
 from babyrobot_marl.policies.shortest import distances  # noqa: E402
 from babyrobot_marl.training import MissingTrainExtraError, require_train  # noqa: E402
-from babyrobot_marl.training.gif import episode_frames, write_gif  # noqa: E402
 from babyrobot_marl.training.single import evaluate_single, optimal_return, train_single, within  # noqa: E402
 
 
@@ -52,20 +50,6 @@ def test_bad_training_arguments():
         train_single("default", "a2c", steps=10)
     with pytest.raises(ValueError, match="steps"):
         train_single("default", "ppo", steps=0)
-
-
-def test_gif_of_the_shortest_path_policy_has_one_frame_per_step(tmp_path):
-    iio = pytest.importorskip("imageio.v3", reason="the train extra is not installed")
-    env = BabyRobotEnv(level="walls", render_mode="rgb_array")
-    policy = make("shortest", env.table)
-    frames = episode_frames(env, policy, seed=0)
-    assert len(frames) == env.elapsed_steps + 1 and env.elapsed_steps == 18
-    path = write_gif(frames, tmp_path / "walls.gif", fps=5)
-    back = iio.imread(path)
-    assert back.shape[0] == len(frames) and back.shape[1:3] == frames[0].shape[:2]
-    assert not np.array_equal(back[0], back[-1])  # the robot moved
-    with pytest.raises(ValueError, match="render_mode"):
-        episode_frames(BabyRobotEnv(), policy)
 
 
 def test_missing_train_extra_is_a_clear_error(monkeypatch):
