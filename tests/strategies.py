@@ -21,6 +21,21 @@ DELTAS = ((0, 0), (0, -1), (1, 0), (0, 1), (-1, 0))  # STAY, NORTH, EAST, SOUTH,
 SHORTEST = 5  # an action token meaning "what the shortest-path robot would do": lets robots reach exits
 MAX_SIDE = 32
 
+# An open 5x5 race level: starts 0..5 along the top and the second row, the exit at (4, 4).
+OPEN = """
++-+-+-+-+-+
+|0 1 2 3 4|
++ + + + + +
+|5        |
++ + + + + +
+|         |
++ + + + + +
+|         |
++ + + + + +
+|        E|
++-+-+-+-+-+
+"""
+
 
 def edge(a: Cell, b: Cell) -> tuple[Cell, Cell]:
     return (a, b) if a < b else (b, a)

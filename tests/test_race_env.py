@@ -13,6 +13,7 @@ from gymnasium import spaces
 
 from babyrobot_marl import Action, race_v0
 from babyrobot_marl.envs.race import RaceEnv
+from tests.strategies import OPEN
 
 STAY, NORTH, EAST, SOUTH, WEST = (int(a) for a in (Action.STAY, Action.NORTH, Action.EAST, Action.SOUTH, Action.WEST))
 MODES = ("block", "bounce", "pass")
@@ -22,19 +23,6 @@ CORRIDOR = """
 |0 1 2 3     E|
 +-+-+-+-+-+-+-+
 """  # one row, x = 0..6, exit at x = 6; no puddles or glass: moves are certain
-OPEN = """
-+-+-+-+-+-+
-|0 1 2 3 4|
-+ + + + + +
-|5        |
-+ + + + + +
-|         |
-+ + + + + +
-|         |
-+ + + + + +
-|        E|
-+-+-+-+-+-+
-"""
 TINY = """
 +-+-+-+
 |0   E|

@@ -16,7 +16,7 @@ from babyrobot_marl.core import race as race_core
 from babyrobot_marl.core import rng
 from babyrobot_marl.core.level import Level
 from babyrobot_marl.envs.race import RaceEnv
-from tests.strategies import resolve_all_robots
+from tests.strategies import OPEN, resolve_all_robots
 
 STAY, NORTH, EAST, SOUTH, WEST = (int(a) for a in (Action.STAY, Action.NORTH, Action.EAST, Action.SOUTH, Action.WEST))
 MODES = ("block", "bounce", "pass")
@@ -34,19 +34,6 @@ TWO_EXITS = """
 |E 0 1 2     E|
 +-+-+-+-+-+-+-+
 """  # one row, exits at both ends
-OPEN = """
-+-+-+-+-+-+
-|0 1 2 3 4|
-+ + + + + +
-|5        |
-+ + + + + +
-|         |
-+ + + + + +
-|         |
-+ + + + + +
-|        E|
-+-+-+-+-+-+
-"""  # an open 5x5, exit at (4, 4)
 
 AGENTS = [f"robot_{i}" for i in range(10)]
 
