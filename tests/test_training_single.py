@@ -64,3 +64,35 @@ def test_missing_train_extra_is_a_clear_error(monkeypatch):
     monkeypatch.delitem(__import__("sys").modules, "supersuit", raising=False)
     with pytest.raises(MissingTrainExtraError, match=r"supersuit .*pip install 'babyrobot_marl\[train\]'"):
         require_train("supersuit")
+
+
+def test_cell_features_give_each_cell_its_own_one_hot():
+    """SB3's one-hots of x and y in, one one-hot per cell out: every cell distinct, at y * W + x."""
+    th = pytest.importorskip("torch", reason="the train extra is not installed")
+    from gymnasium import spaces
+
+    from babyrobot_marl.training.single import cell_features_class
+
+    w, h = 5, 3
+    extractor = cell_features_class()(spaces.MultiDiscrete([w, h]), width=w, height=h)
+    xs, ys = np.meshgrid(np.arange(w), np.arange(h))
+    one_hot = th.nn.functional.one_hot
+    obs = th.cat([one_hot(th.as_tensor(xs.ravel()), w), one_hot(th.as_tensor(ys.ravel()), h)], 1)
+    out = extractor(obs.float()).numpy()
+    assert out.shape == (w * h, w * h)
+    assert (out.argmax(axis=1) == ys.ravel() * w + xs.ravel()).all() and (out.sum(axis=1) == 1).all()
+
+
+def test_ppo_with_cell_features_trains_saves_and_loads(tmp_path):
+    pytest.importorskip("stable_baselines3", reason="the train extra is not installed")
+    from stable_baselines3 import PPO
+
+    from babyrobot_marl.training.single import train_single
+
+    agent = train_single("walls", "ppo", steps=512, seed=0, n_envs=2)
+    agent.save(tmp_path / "m.zip")
+    back = PPO.load(tmp_path / "m.zip", device="cpu")
+    obs = np.array([2, 3])
+    assert int(back.predict(obs, deterministic=True)[0]) == int(agent.predict(obs, deterministic=True)[0])
+    with pytest.raises(ValueError, match="^features"):
+        train_single("walls", "ppo", steps=64, features="pixels")

@@ -55,6 +55,33 @@ def within(ret: float, optimum: float, fraction: float = 0.95) -> bool:
     return ret >= optimum - (1.0 - fraction) * abs(optimum)
 
 
+FEATURES = ("cell", "xy")
+
+
+def cell_features_class() -> type:
+    """An SB3 features extractor: the robot's cell as one one-hot of ``width * height``.
+
+    SB3 turns a ``MultiDiscrete([W, H])`` observation into a one-hot of ``x`` beside a one-hot of
+    ``y``; an MLP must then learn each cell as a conjunction of the two. One one-hot per cell
+    makes a maze's policy a table lookup: PPO reaches the optimum of maze-8x8 in 45k-60k
+    timesteps with it, and not within 100k without it (benchmarks/bench_learning.py).
+    """
+    (th,) = require_train("torch")
+    from stable_baselines3.common.torch_layers import BaseFeaturesExtractor
+
+    class CellFeatures(BaseFeaturesExtractor):
+        def __init__(self, observation_space: Any, width: int, height: int):
+            super().__init__(observation_space, features_dim=width * height)
+            self.width, self.height = width, height
+
+        def forward(self, obs: Any) -> Any:
+            x = obs[:, : self.width].argmax(dim=1)
+            y = obs[:, self.width : self.width + self.height].argmax(dim=1)
+            return th.nn.functional.one_hot(y * self.width + x, self.width * self.height).float()
+
+    return CellFeatures
+
+
 def make_algo(algo: str, venv: Any, seed: int, verbose: int = 0, **overrides: Any) -> Any:
     """A Stable-Baselines3 ``PPO`` or ``DQN`` with ``ALGO_KWARGS[algo]`` and ``overrides``."""
     if algo not in ALGOS:
@@ -73,15 +100,26 @@ def train_single(
     progress_bar: bool = False,
     callback: Any = None,
     env_kwargs: dict[str, Any] | None = None,
+    features: str = "cell",
     **algo_kwargs: Any,
 ) -> Any:
     """Train PPO or DQN for ``steps`` timesteps on ``n_envs`` copies of ``BabyRobot-v0`` on ``level``;
-    returns the SB3 model. ``env_kwargs`` go to ``BabyRobotEnv`` (``max_steps``, rules, ...)."""
+    returns the SB3 model. ``env_kwargs`` go to ``BabyRobotEnv`` (``max_steps``, rules, ...).
+    ``features``: ``"cell"`` (one one-hot per cell, ``cell_features_class``) or ``"xy"`` (SB3's
+    own one-hots of ``x`` and ``y``)."""
     from ..envs.vector import sb3_vec_env
 
     if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 1:
         raise ValueError(f"steps: must be an integer >= 1, got {steps!r}")
+    if features not in FEATURES:
+        raise ValueError(f"features: must be one of {', '.join(map(repr, FEATURES))}, got {features!r}")
     venv = sb3_vec_env(level, n_envs=1 if algo == "dqn" else n_envs, **(env_kwargs or {}))
+    if features == "cell" and "policy_kwargs" not in algo_kwargs:
+        w, h = (int(n) for n in venv.observation_space.nvec)
+        algo_kwargs["policy_kwargs"] = {
+            "features_extractor_class": cell_features_class(),
+            "features_extractor_kwargs": {"width": w, "height": h},
+        }
     agent = make_algo(algo, venv, seed, **algo_kwargs)
     agent.learn(total_timesteps=int(steps), progress_bar=progress_bar, callback=callback)
     return agent
