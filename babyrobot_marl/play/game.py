@@ -190,6 +190,7 @@ class RaceGame:
             return False
         n = self.env.n_robots
         self.driven = next(i for k in range(1, n + 1) if (i := (self.driven + k) % n) in racing)
+        self.last = ""  # the last move was another robot's
         self.message = f"you now drive {self.glyph(self.driven)} (robot_{self.driven})"
         return True
 

@@ -74,6 +74,8 @@ class Player:
         self.level: Level = self.game.env.level
         self.canvas = LiveCanvas(RgbRenderer(self.level, cell_size, theme), animation_frames=0, fps=0)
         self.canvas.widget.on_key_down(self._on_key)
+        h, w = self.canvas.renderer.background.shape[:2]
+        self.canvas.widget.layout = Layout(width=f"{w}px", height=f"{h}px")  # its own size, not stretched to the cell
         buttons = []
         specs = list(BUTTONS) + ([("next robot (TAB)", SWITCH, "switch")] if self.is_race else [])
         for label, cmd, name in specs:
@@ -122,18 +124,18 @@ class Player:
 
             overlay = Overlay()
         self.canvas.draw(g.robots, overlay, animate=False)
-        lines = list(g.status())
-        if self.is_race:
-            lines.insert(1, f"you drive {g.glyph(g.driven)} (robot_{g.driven}); the others: "
-                         + ", ".join(f"{g.glyph(i)} {getattr(p, 'name', 'policy')}" for i, p in enumerate(g.policies)
-                                     if i != g.driven))  # fmt: skip
-        lines.append(f"robots at {g.robots}")
-        self.panel.value = "<pre style='margin:0'>" + html.escape("\n".join(lines)) + "</pre>"
+        self.panel.value = "<pre style='margin:0'>" + html.escape(self.text) + "</pre>"
 
     @property
     def text(self) -> str:
-        """The panel as plain text (what the learner reads under the grid)."""
-        return "\n".join([*self.game.status(), f"robots at {self.game.robots}"])
+        """The panel as plain text: steps, returns, the last move, and where the robots are."""
+        g = self.game
+        lines = list(g.status())
+        if self.is_race:
+            others = ", ".join(f"{g.glyph(i)} {getattr(p, 'name', 'policy')}" for i, p in enumerate(g.policies) if i != g.driven)
+            lines.insert(1, f"you drive {g.glyph(g.driven)} (robot_{g.driven}); the others: {others}")
+        lines.append(f"robots at {g.robots}")
+        return "\n".join(lines)
 
 
 # ---------------------------------------------------------------------- the level editor
