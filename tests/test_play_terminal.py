@@ -18,7 +18,7 @@ from pathlib import Path
 
 import pytest
 
-from babyrobot_marl import BabyRobotEnv, race_v0
+from babyrobot_marl import BabyRobotEnv
 from babyrobot_marl.core.actions import Action
 from babyrobot_marl.policies import ShortestPathPolicy
 
@@ -63,7 +63,7 @@ class PtyProgram:
         deadline = time.monotonic() + timeout
         while not re.search(pattern, self.text):
             left = deadline - time.monotonic()
-            if left <= 0 or not self._read(left):
+            if left <= 0 or (not self._read(min(left, 0.2)) and self.proc.poll() is not None and not self._read(0)):
                 raise AssertionError(f"{pattern!r} never showed; the screen so far:\n{self.text[-2500:]}")
         return self.text
 
@@ -196,27 +196,31 @@ def test_without_a_terminal_it_says_so_and_exits_2():
         assert proc.stdout == ""
 
 
-def test_race_human_drives_robot_0_home_then_the_others_are_played_out(program):
-    # race-2 with collisions 'pass': robot_0's shortest path is its own, whatever robot_1 does
-    env = race_v0.parallel_env(level="race-2", n_robots=2, collisions="pass")
-    obs, _ = env.reset(seed=0)
-    policy = ShortestPathPolicy(env.unwrapped.table)
-    moves = []
-    while "robot_0" in env.agents:
-        assert env.unwrapped.robot_cells[0] not in env.unwrapped.level.small_puddles  # no skid: the same path every time
-        moves.append(Action(policy(obs["robot_0"])))
-        obs, *_ = env.step({a: 0 if a != "robot_0" else int(moves[-1]) for a in env.agents})
-    p = program("race", "--level", "race-2", "--robots", "2", "--policies", "random", "--collisions", "pass",
+RACE_LEVEL = """
++-+-+-+-+-+-+
+|0      |  1|
++ +-+-+ + + +
+|      E    |
++-+-+-+-+-+-+
+"""  # no puddle, no glass: robot_0's path home is the same whatever the seed
+RACE_KEYS = [Action.SOUTH, Action.EAST, Action.EAST, Action.EAST]
+
+
+def test_race_human_drives_robot_0_home_then_the_others_are_played_out(program, tmp_path):
+    level = tmp_path / "corridor.txt"
+    level.write_text(RACE_LEVEL)
+    p = program("race", "--level", str(level), "--robots", "2", "--policies", "random", "--collisions", "pass",
                 "--human", "0", "--seed", "3", "--delay", "0")  # fmt: skip
     p.read_until("you are A")
-    for k, a in enumerate(moves):
+    for k, a in enumerate(RACE_KEYS):
         p.type(ARROWS[a])
         p.read_until(rf"step {k + 1}/")
     p.read_until("the race is over")
     p.type("q")
     assert p.wait() == 0
     row = re.search(r"^(\d+|-)\s+A robot_0\s+keys\s+(\d+)\s", p.text, re.M)
-    assert row and row[1] == "1" and int(row[2]) == len(moves), p.text[-1500:]
+    assert row and row[1] == "1" and int(row[2]) == len(RACE_KEYS), p.text[-1500:]
+    assert re.search(r"^(\d+|-)\s+B robot_1\s+random\s+\d+", p.text, re.M)
     assert p.modes_restored()
 
 
@@ -227,3 +231,67 @@ def test_race_human_must_name_a_robot_of_the_race():
         capture_output=True, text=True, timeout=GUARD, env=env,
     )  # fmt: skip
     assert proc.returncode == 2 and "--human: must be a robot number in 0..1" in proc.stderr
+
+
+# ------------------------------------------------------------------------ in a shell with job control (tmux)
+IN_CI = os.environ.get("CI", "").lower() in ("1", "true", "yes")
+
+
+class Tmux:
+    """A bash in a detached tmux session on a private server socket: keys in, the screen out."""
+
+    def __init__(self, name: str):
+        self.base = ["tmux", "-L", name]
+        env = f"PYTHONPATH={REPO}{os.pathsep}{os.environ.get('PYTHONPATH', '')}"
+        subprocess.run([*self.base, "-f", "/dev/null", "new-session", "-d", "-s", "t", "-x", "100", "-y", "40",
+                        f"env {env} TERM=xterm bash --norc --noprofile"], check=True, timeout=GUARD)  # fmt: skip
+
+    def keys(self, *keys: str) -> None:
+        subprocess.run([*self.base, "send-keys", "-t", "t", *keys], check=True, timeout=GUARD)
+
+    def screen(self) -> str:
+        return subprocess.run([*self.base, "capture-pane", "-p", "-t", "t"], capture_output=True, text=True, timeout=GUARD).stdout
+
+    def wait_for(self, pattern: str) -> str:
+        deadline = time.monotonic() + GUARD
+        while not re.search(pattern, text := self.screen()):
+            if time.monotonic() > deadline:
+                raise AssertionError(f"{pattern!r} never showed; the screen:\n{text}")
+            time.sleep(0.1)
+        return text
+
+    def close(self) -> None:
+        subprocess.run([*self.base, "kill-server"], capture_output=True, timeout=GUARD)
+
+
+@pytest.fixture
+def tmux():
+    import shutil
+
+    if shutil.which("tmux") is None:
+        if IN_CI:
+            pytest.fail("CI=true and tmux is missing (.ci/play.sh installs it)")
+        pytest.skip("tmux not installed (apt-get install tmux; .ci/play.sh does it in CI)")
+    t = Tmux(f"babyrobot-test-{os.getpid()}")
+    yield t
+    t.close()
+
+
+def test_in_a_shell_ctrl_z_gives_the_terminal_back_and_fg_resumes_the_game(tmux):
+    modes = "stty -a | tr ' ;' '\\n\\n' | grep -x -e icanon -e -icanon -e echo -e -echo | tr '\\n' ' '; echo '<'MODES'>'"
+    tmux.keys(f"cd {REPO} && {sys.executable} -m babyrobot_marl play --level walls --policy keys --seed 0", "Enter")
+    tmux.wait_for("arrows/WASD move")
+    tmux.keys("Right")
+    tmux.wait_for("step 1/")
+    tmux.keys("C-z")
+    tmux.wait_for(r"Stopped")
+    tmux.keys(modes, "Enter")
+    assert "icanon echo <MODES>" in tmux.wait_for("<MODES>")  # the shell has its terminal back as it was
+    tmux.keys("clear; fg", "Enter")
+    tmux.wait_for(r"step 1/.*\n.*arrows/WASD move")  # redrawn on the cleared screen at once, before any key
+    tmux.keys("Right")
+    tmux.wait_for("step 2/100  return -2  last: EAST -> moved")
+    tmux.keys("q")
+    tmux.wait_for("policy keys, seed 0, episode 1: 2 steps")
+    tmux.keys("clear; " + modes, "Enter")
+    assert "icanon echo <MODES>" in tmux.wait_for("<MODES>")

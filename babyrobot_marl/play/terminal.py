@@ -56,7 +56,7 @@ class Keyboard:
         self._saved: list | None = None
         self._handlers: dict[int, Any] = {}
         self._pending = ""
-        self.resumed = False  # set after Ctrl-Z and fg: the screen needs a full redraw
+        self.redraw: Callable[[], None] | None = None  # called after Ctrl-Z and fg: the screen is the shell's
 
     def __enter__(self) -> Keyboard:
         import termios
@@ -105,7 +105,8 @@ class Keyboard:
         os.kill(os.getpid(), signal.SIGTSTP)  # stops here until SIGCONT
         signal.signal(signal.SIGTSTP, self._suspend)
         self._take()
-        self.resumed = True
+        if self.redraw is not None:
+            self.redraw()
 
     def read(self, timeout: float | None = None) -> list[Command | None]:
         """The keys pressed, waiting up to ``timeout`` seconds (None: until one is pressed); [] if none."""
@@ -156,7 +157,8 @@ def play_keys(env: BabyRobotEnv, seed: int, name: str, colour: bool, out: TextIO
     game = SingleGame(env, seed)
     with Keyboard(fd, out) as kb:
         title = lambda: f"Baby Robot on {name}, seed {seed}, episode {game.episode}"  # noqa: E731
-        draw(out, single_screen(game, title(), colour))
+        kb.redraw = lambda: draw(out, single_screen(game, title(), colour))
+        kb.redraw()
         while True:
             commands = kb.read()
             if QUIT in commands:
@@ -166,9 +168,8 @@ def play_keys(env: BabyRobotEnv, seed: int, name: str, colour: bool, out: TextIO
                 break
             for cmd in commands:
                 game.command(cmd)
-            kb.resumed = False
-            draw(out, single_screen(game, title(), colour))
-        draw(out, single_screen(game, title(), colour))
+            kb.redraw()
+        kb.redraw()
     out.write(f"\nlevel {name}, policy keys, seed {seed}, episode {game.episode}: {game.summary()}\n")
     return 0
 
@@ -203,8 +204,9 @@ def race_keys(
     glyph = game.glyph(human)
     title = lambda: f"race on {env.level.name or 'a level'}: you are {glyph} (robot_{human}), seed {seed}, race {game.episode}"  # noqa: E731
     with Keyboard(fd, out) as kb:
+        kb.redraw = lambda: draw(out, race_screen(game, title(), colour))
         while True:
-            draw(out, race_screen(game, title(), colour))
+            kb.redraw()
             if not game.driven_racing and not game.over:
                 if _play_out(game, kb, out, title(), delay, colour):
                     break  # q while the others ran
