@@ -43,6 +43,12 @@ def test_the_player_takes_an_env_made_by_gymnasium_or_pettingzoo():
     assert isinstance(notebook.play(race).game, RaceGame)
     with pytest.raises(ValueError, match="robots: the env given has 2"):
         notebook.play(race, robots=3)
+    with pytest.raises(ValueError, match="render_mode='human' draws a canvas of its own"):
+        notebook.play(BabyRobotEnv(level="walls", render_mode="human"))
+    with pytest.raises(ValueError, match="robots: must be None"):
+        notebook.play("race-4", robots=0)
+    with pytest.raises(TypeError, match="unexpected keyword argument 'polices'"):
+        notebook.play("race-4", polices="shortest")
 
 
 def test_in_a_race_tab_switches_the_robot_you_drive_and_the_others_follow_their_policy():

@@ -38,7 +38,12 @@ def make_game(
 ) -> SingleGame | RaceGame:
     """A game from an env (``BabyRobotEnv``, ``RaceEnv``, or a wrapper of one) or a level (name, text,
     ``Level``): one robot, or a race of ``robots`` (default: the level's starts, when it has several)."""
+    if robots is not None and (isinstance(robots, bool) or not isinstance(robots, int) or robots < 1):
+        raise ValueError(f"robots: must be None (the level's starts) or an integer >= 1, got {robots!r}")
     env = getattr(env_or_level, "unwrapped", env_or_level)
+    if getattr(env, "render_mode", None) == "human":
+        raise ValueError("env: render_mode='human' draws a canvas of its own at every step; "
+                         "pass an env made without render_mode, or its level, to play it here")
     if not isinstance(env, (BabyRobotEnv, RaceEnv)):
         level = resolve_level(env_or_level)
         n = robots if robots is not None else max(len(level.starts), 1)
