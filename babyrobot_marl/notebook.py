@@ -17,6 +17,15 @@ from typing import TYPE_CHECKING, Any
 if TYPE_CHECKING:
     from .play.notebook import Editor, Player
 
+PLAY_ARGS = ("robots", "policies", "seed", "cell_size", "theme")
+EDIT_ARGS = ("race", "cell_size")
+
+
+def _check_keywords(function: str, given: dict[str, Any], known: tuple[str, ...]) -> None:
+    unknown = [k for k in given if k not in known]
+    if unknown:
+        raise TypeError(f"{function}() got an unexpected keyword argument {unknown[0]!r}; known: {', '.join(known)}")
+
 
 def play(env_or_level: Any = "default", **kwargs: Any) -> Player:
     """Play a level (a name, a level text or a ``Level``) or an env (``BabyRobotEnv``, ``RaceEnv``):
@@ -24,6 +33,7 @@ def play(env_or_level: Any = "default", **kwargs: Any) -> Player:
     of steps and returns. Keywords: ``robots`` (a race of that many; default: the level's starts),
     ``policies`` of the robots you do not drive (``"random"`` or ``"shortest"``, one or one per robot),
     ``seed``, ``cell_size``, ``theme``."""
+    _check_keywords("play", kwargs, PLAY_ARGS)
     from .play.notebook import Player
 
     return Player(env_or_level, **kwargs)
@@ -32,6 +42,7 @@ def play(env_or_level: Any = "default", **kwargs: Any) -> Player:
 def edit(level_or_size: Any = (5, 5), **kwargs: Any) -> Editor:
     """The level editor, on a blank ``(width, height)`` grid or on a level to change. Keywords: ``race``
     (numbered starts), ``cell_size``. ``.level`` and ``.text`` give the result; "play it" plays it."""
+    _check_keywords("edit", kwargs, EDIT_ARGS)
     from .play.notebook import Editor
 
     return Editor(level_or_size, **kwargs)

@@ -50,3 +50,15 @@ def test_ordinals():
     assert [ordinal(k) for k in (1, 2, 3, 4, 11, 12, 13, 21, 22, 101)] == [
         "1st", "2nd", "3rd", "4th", "11th", "12th", "13th", "21st", "22nd", "101st",
     ]  # fmt: skip
+
+
+def test_the_notebook_module_imports_no_widget_library_until_it_is_used():
+    import subprocess
+    import sys
+
+    code = (
+        "import sys, babyrobot_marl, babyrobot_marl.notebook, babyrobot_marl.play.keys, babyrobot_marl.play.editor;"
+        "print(sorted(m for m in ('ipycanvas', 'ipywidgets', 'pygame', 'IPython') if m in sys.modules))"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=True).stdout
+    assert out.strip() == "[]"

@@ -47,8 +47,12 @@ def test_the_player_takes_an_env_made_by_gymnasium_or_pettingzoo():
         notebook.play(BabyRobotEnv(level="walls", render_mode="human"))
     with pytest.raises(ValueError, match="robots: must be None"):
         notebook.play("race-4", robots=0)
-    with pytest.raises(TypeError, match="unexpected keyword argument 'polices'"):
+    with pytest.raises(TypeError, match="play\\(\\) got an unexpected keyword argument 'polices'; known: robots, policies"):
         notebook.play("race-4", polices="shortest")
+    with pytest.raises(TypeError, match="edit\\(\\) got an unexpected keyword argument 'size'; known: race, cell_size"):
+        notebook.edit(size=(3, 3))
+    with pytest.raises(ValueError, match="width: the editor takes an integer in 1..64, got 0"):
+        notebook.edit((0, 3))
 
 
 def test_in_a_race_tab_switches_the_robot_you_drive_and_the_others_follow_their_policy():
