@@ -42,7 +42,7 @@ class BabyRobotRaceEnv(gym.Env):
         start: str = "level",
         rules: Rules | Mapping[str, Any] | None = None,
         render_mode: str | None = None,
-        cell_size: int = 32,
+        cell_size: int | None = None,
         theme: str | Theme = "light",
         **rule_overrides: Any,
     ):

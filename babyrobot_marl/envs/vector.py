@@ -307,7 +307,7 @@ class BabyRobotVectorEnv(_BatchVectorEnv):
         max_steps: int | None = None,
         start: str | None = None,
         render_mode: str | None = None,
-        cell_size: int = 32,
+        cell_size: int | None = None,
         theme: str | Theme = "light",
         **rule_overrides: Any,
     ):
@@ -410,7 +410,7 @@ class RaceVectorEnv(_BatchVectorEnv):
         start: str = "level",
         rules: Rules | Mapping[str, Any] | None = None,
         render_mode: str | None = None,
-        cell_size: int = 32,
+        cell_size: int | None = None,
         theme: str | Theme = "light",
         **rule_overrides: Any,
     ):

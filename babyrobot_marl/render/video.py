@@ -1,8 +1,8 @@
 """Saving episodes: ``rgb_array`` frames to GIF or MP4 with imageio (the ``video`` extra, imported lazily).
 
-    frames = episode_frames(env, policy, seed=0)   # env made with render_mode="rgb_array"
-    save_gif(frames, "episode.gif", fps=4)
-    save_video(frames, "episode.mp4", fps=8)       # needs imageio-ffmpeg
+frames = episode_frames(env, policy, seed=0)   # env made with render_mode="rgb_array"
+save_gif(frames, "episode.gif", fps=4)
+save_video(frames, "episode.mp4", fps=8)       # needs imageio-ffmpeg
 """
 
 from __future__ import annotations
