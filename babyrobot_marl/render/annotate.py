@@ -32,7 +32,6 @@ _TRIANGLES = {  # centre-to-corner triangles, cell units
     Action.WEST: ((0.0, 1.0), (0.0, 0.0), (0.5, 0.5)),
 }
 VALUE_CENTRE = (0.5, 0.33)  # the value box, with values
-ARROW_CENTRE_UNDER = (0.5, 0.7)  # the arrows' centre under a value box
 TEXT_BAND = (0.76, 0.97)  # cell text, at the bottom
 
 
@@ -71,16 +70,21 @@ def ink_ops(overlay: Overlay, cs: int, theme: Theme) -> list[Op]:
     """Arrows, value boxes, action-value numbers and cell text, in that order (all under the robots)."""
     ops: list[Op] = []
     has_values = overlay.values is not None and bool(np.isfinite(overlay.values).any())
+    layout = _box_layout(overlay.values, cs) if has_values else None
     if overlay.arrows is not None:
-        centre, length = (ARROW_CENTRE_UNDER, 0.25) if has_values else ((0.5, 0.5), 0.36)
+        if layout is not None:  # in the space under the value box
+            top, bottom = VALUE_CENTRE[1] * cs + layout[2] / 2 + 1, cs - wall_width(cs) / 2 - 1
+            cy, length = (top + bottom) / 2, (bottom - top) / 2
+        else:
+            cy, length = cs / 2, 0.36 * cs
         for y, x in zip(*np.nonzero(overlay.arrows[:, :, 1:].any(axis=2))):
             for action, (dx, dy) in DIRECTIONS.items():
                 if overlay.arrows[y, x, action]:
-                    ops += arrow((x + centre[0]) * cs, (y + centre[1]) * cs, dx, dy, length * cs, theme)
+                    ops += arrow((x + 0.5) * cs, y * cs + cy, dx, dy, length, theme)
     if overlay.q_values is not None:
         ops += _q_numbers(overlay.q_values, cs, theme)
-    if has_values:
-        ops += _value_boxes(overlay.values, cs, theme)  # type: ignore[arg-type]
+    if layout is not None:
+        ops += _value_boxes(overlay.values, cs, theme, layout)  # type: ignore[arg-type]
     for (x, y), s in overlay.text.items():
         ops += _cell_text(s, x, y, cs, theme)
     return ops
@@ -91,29 +95,37 @@ def arrow(cx: float, cy: float, dx: float, dy: float, length: float, theme: Them
     w = max(1.6, length * 0.2)
     head = max(3.0, length * 0.42)
     start = max(1.0, length * 0.12)
+    edge = max(1.0, length * 0.07)
+    tip = length - edge * 1.6  # the dark edge ends at ``length``
 
     def shape(grow: float) -> Points:
         # along the arrow (a) and across it (b), east-pointing, then turned
-        a0, a1, a2 = start - grow, length - head, length + grow * 1.6
+        a0, a1, a2 = start - grow, tip - head, tip + grow * 1.6
         b1, b2 = w / 2 + grow, head * 0.62 + grow
         pts = np.array([(a0, -b1), (a1, -b1), (a1, -b2), (a2, 0.0), (a1, b2), (a1, b1), (a0, b1)])
         return np.column_stack([cx + pts[:, 0] * dx - pts[:, 1] * dy, cy + pts[:, 0] * dy + pts[:, 1] * dx])
 
-    edge = max(1.0, length * 0.07)
     return [Fill(shape(edge), theme.arrow_edge), Fill(shape(0.0), theme.arrow)]
 
 
-def _value_boxes(values: np.ndarray, cs: int, theme: Theme) -> list[Op]:
-    """One box size for the whole grid (the widest number's), so the picture stays calm."""
-    cells = list(zip(*np.nonzero(np.isfinite(values))))
-    texts = {c: format_value(float(values[c])) for c in cells}
+def _box_layout(values: np.ndarray, cs: int) -> tuple[int, float, float] | None:
+    """``(type size, box width, box height)``: one box size for the whole grid (the widest
+    number's), so the picture stays calm; None where not even the smallest type fits."""
+    texts = [format_value(float(v)) for v in values[np.isfinite(values)]]
     inner = cs - 2 * wall_width(cs)
-    widest = max(texts.values(), key=lambda s: text_width(s, 20))
+    widest = max(texts, key=lambda s: text_width(s, 20))
     size = fit(widest, inner * 0.84, cs * 0.17, largest=28, smallest=7)
     if size is None:
-        return []
+        return None
     cap = cap_height(size)[1]
-    bw, bh = text_width(widest, size) + cap * 0.9, cap * 1.9
+    return size, text_width(widest, size) + cap * 0.9, cap * 1.9
+
+
+def _value_boxes(values: np.ndarray, cs: int, theme: Theme, layout: tuple[int, float, float] | None) -> list[Op]:
+    if layout is None:
+        return []
+    size, bw, bh = layout
+    texts = {c: format_value(float(values[c])) for c in zip(*np.nonzero(np.isfinite(values)))}
     ops: list[Op] = []
     for (y, x), s in texts.items():
         cx, cy = (x + VALUE_CENTRE[0]) * cs, (y + VALUE_CENTRE[1]) * cs

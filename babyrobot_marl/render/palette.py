@@ -98,7 +98,7 @@ THEMES: dict[str, Theme] = {
     ),
     "dark": Theme(
         floor=(36, 40, 50), floor_line=(50, 55, 68), wall=(214, 218, 230),
-        glass=(70, 150, 200), glass_frame=(190, 236, 255), blocked=(96, 100, 116),
+        glass=(40, 110, 160), glass_frame=(190, 236, 255), blocked=(96, 100, 116),
         small_puddle=(38, 96, 150), large_puddle=(20, 56, 128), exit=(36, 116, 60), exit_ink=(180, 240, 190),
         start=(116, 96, 36), start_ink=(255, 226, 140), label_bg=(236, 238, 244), label_text=(20, 22, 30),
         robot_ink=(232, 234, 242), visor=(22, 24, 34), eye=(150, 240, 255), value_box=(12, 14, 20),
@@ -108,8 +108,8 @@ THEMES: dict[str, Theme] = {
     "mono": Theme(
         floor=(255, 255, 255), floor_line=(228, 228, 228), wall=(0, 0, 0),
         glass=(215, 215, 215), glass_frame=(70, 70, 70), blocked=(110, 110, 110),
-        small_puddle=(212, 212, 212), large_puddle=(160, 160, 160), exit=(235, 235, 235), exit_ink=(0, 0, 0),
-        start=(245, 245, 245), start_ink=(0, 0, 0), label_bg=(0, 0, 0), label_text=(255, 255, 255),
+        small_puddle=(205, 205, 205), large_puddle=(150, 150, 150), exit=(185, 185, 185), exit_ink=(0, 0, 0),
+        start=(222, 222, 222), start_ink=(0, 0, 0), label_bg=(0, 0, 0), label_text=(255, 255, 255),
         robot_ink=(0, 0, 0), visor=(20, 20, 20), eye=(255, 255, 255), value_box=(0, 0, 0),
         value_text=(255, 255, 255), arrow=(255, 255, 255), arrow_edge=(0, 0, 0), text=(0, 0, 0),
         panel=(255, 255, 255), mark=(0, 0, 0), colour_map="greys",

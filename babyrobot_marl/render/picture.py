@@ -15,7 +15,8 @@ from .palette import Theme, robot_colour
 
 
 def wall_width(cs: int) -> float:
-    return max(2.0, cs * 0.09)
+    """Walls are an even number of pixels thick, centred on the cell edges: crisp at every size."""
+    return float(max(2, 2 * round(cs * 0.045)))
 
 
 def level_ops(level: Level, cs: int, theme: Theme) -> list[Op]:
@@ -75,8 +76,8 @@ def _edge_rect(a: Cell, b: Cell, cs: int, thickness: float, overhang: float):
 
 def _pane(a: Cell, b: Cell, cs: int, theme: Theme) -> list[Op]:
     """A glass pane: a pale strip wider than a wall, framed, with a glint; it stops short of the corners."""
-    t = max(4.0, cs * 0.15)
-    frame = max(1.0, cs / 36)
+    t = float(max(6, 2 * round(cs * 0.08)))  # wider than a wall, whole pixels: the frame stays crisp
+    frame = float(max(1, round(cs / 32)))
     inset = -wall_width(cs) / 2 - max(1.0, cs * 0.06)
     ops: list[Op] = [Fill(_edge_rect(a, b, cs, t, inset), theme.glass_frame)]
     ops.append(Fill(_edge_rect(a, b, cs, t - 2 * frame, inset - frame), theme.glass))
@@ -158,7 +159,10 @@ def _exit(cell: Cell, cs: int, theme: Theme) -> list[Op]:
     ]
 
 
-LABEL_BAND = (0.02, 0.24)  # the top band of a cell that labels use (cell units)
+def label_band(cs: int) -> tuple[float, float]:
+    """The top band of a cell that labels use (pixels from the cell's top), inside the walls."""
+    top = wall_width(cs) / 2 + 2
+    return top, top + max(11.0, 0.22 * cs)
 
 
 def label_ops(level: Level, cs: int, theme: Theme) -> list[Op]:
@@ -174,16 +178,17 @@ def label_ops(level: Level, cs: int, theme: Theme) -> list[Op]:
 
 
 def _pill(cell: Cell, cs: int, words: tuple[str, ...], bg: Colour, fg: Colour, theme: Theme) -> list[Op]:
-    top, bottom = LABEL_BAND
-    height = (bottom - top) * cs
+    top, bottom = label_band(cs)
+    height = bottom - top
     for word in words:
-        size = fit(word, 0.78 * cs, 0.52 * height, largest=22, smallest=7)
+        size = fit(word, cs - wall_width(cs) - 8, 0.6 * height, largest=22, smallest=7)
         if size is None:
             continue
         if len(word) <= 2 and size < 9:  # a lone digit this small is not worth a pill
             continue
         w = text_width(word, size) + 0.7 * cap_height(size)[1] * 2
-        cx, cy = (cell[0] + 0.5) * cs, cell[1] * cs + (top + bottom) / 2 * cs
+        cx, cy = (cell[0] + 0.5) * cs, cell[1] * cs + (top + bottom) / 2
+        w = min(w, cs - wall_width(cs) - 4)
         ink = theme.robot_ink if bg != theme.label_bg else fg
         text_colour = fg if bg == theme.label_bg else _readable_on(bg)
         return [

@@ -118,10 +118,10 @@ class RgbRenderer:
 
     def static(self, overlay: Overlay | None) -> np.ndarray:
         """The level with ``overlay``'s tints, arrows and numbers, and the labels (read-only; the
-        live canvas's bottom layer). The same overlay object gives the same image object back."""
+        live canvas's bottom layer). The same cell parts give the same image object back."""
         if overlay is None or not overlay.has_cells:
             return self.background
-        if self._static[0] is not overlay:
+        if not _same_cells(self._static[0], overlay):
             cs, th = self.cell_size, self.theme
             lv = self.level
             img = self._draw([*floor_ops(lv, cs, th), *annotate.tint_ops(overlay, cs, th), *feature_ops(lv, cs, th),
@@ -205,6 +205,12 @@ class RgbRenderer:
         sl = (slice(gy0 - y0, gy1 - y0), slice(gx0 - x0, gx1 - x0))
         region = img[gy0:gy1, gx0:gx1]
         region[:] = to_uint8(region * (1.0 - patch.alpha[sl]) + patch.rgb[sl])
+
+
+def _same_cells(a: Overlay | None, b: Overlay) -> bool:
+    """The same cell parts (values, action values, arrows, text): the same objects (an overlay
+    keeps the parts not given to ``set_overlay``)."""
+    return a is not None and all(getattr(a, k) is getattr(b, k) for k in ("values", "q_values", "arrows", "text"))
 
 
 def _moved(op: Op, dx: float, dy: float) -> Op:

@@ -129,8 +129,8 @@ def robot(
     p.stroke(hx, -0.33, ax, -0.46, 0.03, ink)
     glow = (255, 214, 60) if pose == "finished" else light
     if pose == "finished":
-        p.disc(ax, -0.46, 0.085, (255, 236, 140), 0.6)
-    p.disc(ax, -0.46, 0.045, glow)
+        p.disc(ax, -0.46, 0.1, (255, 236, 140), 0.6)
+    p.disc(ax, -0.46, 0.065 if pose == "finished" else 0.045, glow)
     p.box(-0.27 + hx, -0.37 + hy, 0.27 + hx, -0.05 + hy, 0.1, body, ink)
     vx, vy = hx + dx * 0.03, hy + dy * 0.015
     p.box(-0.2 + vx, -0.3 + vy, 0.2 + vx, -0.11 + vy, 0.065, theme.visor)
@@ -139,7 +139,7 @@ def robot(
 
     # marks on top: stars when bumped, a glint on glass, confetti when finished
     if pose == "bumped":
-        for sx, sy, r in ((dx * 0.3 + 0.2, -0.45, 0.07), (dx * 0.3 - 0.16, -0.5, 0.05)):
+        for sx, sy, r in ((dx * 0.26 + 0.22, -0.42, 0.11), (dx * 0.26 - 0.2, -0.47, 0.08)):
             p.fill(star(sx, sy, r, r * 0.45), (255, 200, 40))
             p.fill(star(sx, sy, r * 0.5, r * 0.22), (255, 250, 210))
     elif pose == "glass":
