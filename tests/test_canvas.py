@@ -8,6 +8,7 @@ shows for them is tests/test_browser.py's job.
 from __future__ import annotations
 
 import base64
+import contextlib
 import io
 import numbers
 
@@ -263,10 +264,8 @@ def sent_images(monkeypatch):
 
     def record(command, buffers=()):
         for b in buffers:
-            try:
+            with contextlib.suppress(Exception):  # the polygons' buffers are not images
                 images.append(np.array(Image.open(io.BytesIO(bytes(b)))))
-            except Exception:  # noqa: BLE001  (the polygons' buffers are not images)
-                pass
 
     monkeypatch.setattr(ipc._CANVAS_MANAGER, "_send_custom", record)
     return images

@@ -76,7 +76,10 @@ def test_nan_values_leave_the_cell_as_it_was():
     assert not (cell(img[:grid], 5, 0) == cell(plain, 5, 0)).all()
 
 
-@pytest.mark.parametrize(("action", "u", "v"), [(Action.EAST, 0.78, 0.5), (Action.WEST, 0.22, 0.5), (Action.NORTH, 0.5, 0.22), (Action.SOUTH, 0.5, 0.78)])
+@pytest.mark.parametrize(
+    ("action", "u", "v"),
+    [(Action.EAST, 0.78, 0.5), (Action.WEST, 0.22, 0.5), (Action.NORTH, 0.5, 0.22), (Action.SOUTH, 0.5, 0.78)],
+)
 def test_an_arrow_points_from_the_centre_towards_its_direction(action, u, v):  # fmt: skip
     env = env_with()
     arrows = np.zeros((8, 8), dtype=int)
@@ -244,6 +247,6 @@ def test_value_boxes_leave_the_walls_clear():
         ov = update_overlay(Overlay(), env_with().level, values=np.full((8, 8), -188.8))
         for op in annotate.ink_ops(ov, cs, LIGHT):
             if isinstance(op, Fill):
-                x, y = int(op.points[:, 0].mean() // cs), int(op.points[:, 1].mean() // cs)
+                x, _y = int(op.points[:, 0].mean() // cs), int(op.points[:, 1].mean() // cs)
                 m = wall_width(cs) / 2
                 assert op.points[:, 0].min() >= x * cs + m - 0.5 and op.points[:, 0].max() <= (x + 1) * cs - m + 0.5

@@ -18,7 +18,7 @@ from babyrobot_marl.render.paint import Text, raster
 from babyrobot_marl.render.palette import ROBOT_COLOURS, THEMES, contrast_ratio, delta_e, simulate_cvd
 from babyrobot_marl.render.picture import label_ops
 from babyrobot_marl.render.robot import POSES, robot
-from babyrobot_marl.render.scene import sprite
+from babyrobot_marl.render.sprites import robot_sprite as sprite
 
 SIZES = (32, 48, 64, 96)
 
@@ -68,9 +68,7 @@ def test_action_values_are_printed_inside_their_own_triangle(cs):
         corners = [(u0, v0), (u1, v0), (u0, v1), (u1, v1)]
         # which triangle: the one whose edge is nearest the text's centre
         u, v = (u0 + u1) / 2, (v0 + v1) / 2
-        action = min(
-            [(v, Action.NORTH), (1 - u, Action.EAST), (1 - v, Action.SOUTH), (u, Action.WEST)], key=lambda t: t[0]
-        )[1]
+        action = min([(v, Action.NORTH), (1 - u, Action.EAST), (1 - v, Action.SOUTH), (u, Action.WEST)], key=lambda t: t[0])[1]
         for cu, cv in corners:
             inside = {
                 Action.NORTH: cv <= min(cu, 1 - cu),
@@ -173,7 +171,12 @@ def test_text_is_drawn_with_grey_levels_and_fills_its_measured_width():
     cols = np.nonzero(ink.any(axis=0))[0]
     assert abs((cols.max() - cols.min()) - glyphs.text_width(op.text, 16)) <= 3
     assert len(np.unique(img[:, :, 0])) > 20  # anti-aliased
-    assert glyphs.ink_box(op) == (cols.min(), np.nonzero(ink.any(axis=1))[0].min(), cols.max() + 1, np.nonzero(ink.any(axis=1))[0].max() + 1)
+    assert glyphs.ink_box(op) == (
+        cols.min(),
+        np.nonzero(ink.any(axis=1))[0].min(),
+        cols.max() + 1,
+        np.nonzero(ink.any(axis=1))[0].max() + 1,
+    )
 
 
 def test_characters_outside_the_font_are_drawn_as_question_marks_not_dropped():

@@ -38,6 +38,7 @@ from .overlay import Overlay
 from .paint import Fill, Op, Text
 from .rgb import RgbRenderer
 from .scene import Scene, as_scene, placements, robot_sprites
+from .sprites import Stamp
 
 MAX_ANIMATION_FRAMES = 60
 PIXEL_RATIO = 2
@@ -120,6 +121,7 @@ class LiveCanvas:
         self._panel_key: object = None
         self._due = 0.0  # time.monotonic() at which the next robot frame may be sent
         self._handle: Any = None  # the display handle whose PNG ``snapshot`` refreshes
+        self._styles = _Styles()
         self.widget.on_client_ready(self.redraw)
         self._draw_static()
         self._draw_top()
@@ -177,6 +179,7 @@ class LiveCanvas:
     def redraw(self, *_: Any) -> None:
         """Everything again (a browser connected: it starts from an empty canvas)."""
         self._panel_key = None
+        self._styles.reset()
         self._draw_static()
         self._draw_top()
         self._draw_robots(self.scene)
@@ -224,7 +227,7 @@ class LiveCanvas:
         if key == self._panel_key:
             return
         self._panel_key = key
-        from .panel import panel_ops
+        from .panel import panel_ops, shifted
 
         ops, height = panel_ops(r.width, r.cell_size, r.theme, lines, vr, legend, self.ratio)
         total = r.grid_height + height
@@ -236,11 +239,7 @@ class LiveCanvas:
         layer = self.widget[2]
         with self._hold():
             layer.clear()
-            _send(layer, r.labels)
-            if ops:
-                layer.translate(0.0, float(r.grid_height))
-                _send(layer, ops)
-                layer.translate(0.0, -float(r.grid_height))
+            _send(layer, [*r.labels, *(shifted(op, r.grid_height) for op in ops)], self._styles)
 
     def _draw_robots(self, scene: Scene, at: dict[int, tuple[float, float]] | None = None,
                      poses: dict[int, str] | None = None) -> None:  # fmt: skip
@@ -259,32 +258,51 @@ class LiveCanvas:
             )
             texts = [Text(t.x + x, t.y + y, t.text, t.size, t.colour, t.align, t.baseline, t.alpha)
                      for s, x, y in sprites for t in s.texts]  # fmt: skip
-            _send(layer, texts)
+            _send(layer, texts, self._styles)
 
 
-def _send(layer: Any, ops: Sequence[Op]) -> None:
-    """``ops`` as canvas calls: runs of polygons in one ``fill_styled_polygons`` call, texts one by one."""
-    run: list[Fill] = []
+class _Styles:
+    """The font and fill style each layer was last given: setting an ipycanvas attribute costs
+    tens of microseconds (a traitlet and a command), so unchanged ones are not sent again."""
 
-    def flush() -> None:
-        if run:
-            layer.fill_styled_polygons(
-                np.concatenate([f.points for f in run]),
-                np.array([f.colour for f in run], dtype=np.uint8),
-                np.array([f.alpha for f in run], dtype=np.float64),
-                points_per_polygon=np.array([len(f.points) for f in run]),
-            )
-            run.clear()
+    def __init__(self) -> None:
+        self.last: dict[int, tuple[str, str]] = {}
 
-    font = None
+    def reset(self) -> None:
+        self.last.clear()
+
+    def set(self, layer: Any, font: str, fill: str) -> None:
+        old_font, old_fill = self.last.get(id(layer), ("", ""))
+        if font != old_font:
+            layer.font = font
+            if not old_font:
+                layer.text_align, layer.text_baseline = "left", "alphabetic"
+        if fill != old_fill:
+            layer.fill_style = fill
+        self.last[id(layer)] = (font, fill)
+
+
+def _send(layer: Any, ops: Sequence[Op], styles: _Styles) -> None:
+    """``ops`` as canvas calls: all polygons in one ``fill_styled_polygons`` call (in order), then
+    the texts (each element's text lies over its own shapes; elements do not overlap)."""
+    fills: list[Fill] = []
+    texts: list[Text] = []
     for op in ops:
-        if isinstance(op, Fill):
-            run.append(op)
-            continue
-        flush()
-        if css_font(op.size) != font:
-            font = layer.font = css_font(op.size)
-            layer.text_align, layer.text_baseline = "left", "alphabetic"
-        layer.fill_style = _css(op.colour, op.alpha)
-        layer.fill_text(op.text, float(origin(op)[0]), float(baseline_y(op)))
-    flush()
+        if isinstance(op, Stamp):
+            for part in op.sprite.ops(op.x, op.y):
+                (fills if isinstance(part, Fill) else texts).append(part)  # type: ignore[arg-type]
+        elif isinstance(op, Fill):
+            fills.append(op)
+        else:
+            texts.append(op)
+    if fills:
+        layer.fill_styled_polygons(
+            np.concatenate([f.points for f in fills]),
+            np.array([f.colour for f in fills], dtype=np.uint8),
+            np.array([f.alpha for f in fills], dtype=np.float64),
+            points_per_polygon=np.array([len(f.points) for f in fills]),
+        )
+    for t in texts:
+        styles.set(layer, css_font(t.size), _css(t.colour, t.alpha))
+        layer.fill_text(t.text, float(origin(t)[0]), float(baseline_y(t)))
+

@@ -89,20 +89,27 @@ def baseline_y(op: Text) -> float:
 
 def text_coverage(op: Text) -> tuple[np.ndarray, int, int] | None:
     """``(coverage float32[h, w], x, y)``: the pixels ``op`` covers, at whole-pixel ``(x, y)``."""
+    run = _run(op.text, op.size)
+    if run is None:
+        return None
+    cov, left, top = run
+    x, y = origin(op)
+    return cov, int(round(x)) + left, int(round(y)) + top
+
+
+@lru_cache(maxsize=2048)
+def _run(text: str, size: int) -> tuple[np.ndarray, int, int] | None:
+    """A line's coverage and its offset from the line's top-left corner (the same wherever it goes)."""
     _, glyphs, bitmaps = _atlas()
-    text = _clean(op.text)
+    text = _clean(text)
     if not text.strip():
         return None
-    x, y = origin(op)
-    ox, oy = int(round(x)), int(round(y))
     parts, pen = [], 0.0
     for c in text:
-        x0, y0, w, h, off, adv = glyphs[(op.size, ord(c))]
+        x0, y0, w, h, off, adv = glyphs[(size, ord(c))]
         if w:
             parts.append((int(round(pen)) + x0, y0, w, h, off))
         pen += adv / 64.0
-    if not parts:
-        return None
     left = min(p[0] for p in parts)
     top = min(p[1] for p in parts)
     right = max(p[0] + p[2] for p in parts)
@@ -112,7 +119,8 @@ def text_coverage(op: Text) -> tuple[np.ndarray, int, int] | None:
         g = bitmaps[off : off + w * h].reshape(h, w)
         region = cov[gy - top : gy - top + h, gx - left : gx - left + w]
         np.maximum(region, g * np.float32(1 / 255), out=region)
-    return cov, ox + left, oy + top
+    cov.setflags(write=False)
+    return cov, left, top
 
 
 def ink_box(op: Text) -> tuple[int, int, int, int] | None:

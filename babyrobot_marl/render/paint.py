@@ -112,6 +112,11 @@ def turned(points: Points, degrees: float, cx: float, cy: float) -> Points:
 # ---------------------------------------------------------------------- rasteriser
 def coverage(points: Points, x0: int, y0: int, w: int, h: int) -> np.ndarray:
     """``float32[h, w]``: how much of each pixel of the box at ``(x0, y0)`` the polygon covers."""
+    if len(points) == 4 and _axis_aligned(points):  # rectangles (walls, lines, bars): exact, separable
+        (ax, ay), (bx, by) = points.min(axis=0), points.max(axis=0)
+        cx = np.clip(np.minimum(bx, np.arange(x0 + 1, x0 + w + 1)) - np.maximum(ax, np.arange(x0, x0 + w)), 0.0, 1.0)
+        cy = np.clip(np.minimum(by, np.arange(y0 + 1, y0 + h + 1)) - np.maximum(ay, np.arange(y0, y0 + h)), 0.0, 1.0)
+        return (cy[:, None] * cx[None, :]).astype(np.float32)
     px = (np.arange(x0, x0 + w, dtype=np.float32) + 0.5)[None, :]
     py = (np.arange(y0, y0 + h, dtype=np.float32) + 0.5)[:, None]
     pts = points.astype(np.float32)
@@ -134,6 +139,13 @@ def coverage(points: Points, x0: int, y0: int, w: int, h: int) -> np.ndarray:
     return np.clip(np.where(inside, d + 0.5, 0.5 - d), 0.0, 1.0)
 
 
+def _axis_aligned(points: Points) -> bool:
+    xs, ys = points[:, 0], points[:, 1]
+    return (xs[0] == xs[3] and xs[1] == xs[2] and ys[0] == ys[1] and ys[2] == ys[3]) or (
+        xs[0] == xs[1] and xs[2] == xs[3] and ys[0] == ys[3] and ys[1] == ys[2]
+    )
+
+
 def paint(img: np.ndarray, ops: Iterable[Op], alpha: np.ndarray | None = None) -> None:
     """Draw ``ops`` in order onto ``img`` (``float32[H, W, 3]``, 0..255, in place).
 
@@ -141,9 +153,18 @@ def paint(img: np.ndarray, ops: Iterable[Op], alpha: np.ndarray | None = None) -
     are kept premultiplied and ``alpha`` accumulates, so the layer can be composited later.
     """
     from .glyphs import text_coverage
+    from .sprites import Stamp, blend, patch
 
     h, w = img.shape[:2]
     for op in ops:
+        if isinstance(op, Stamp):
+            p = patch(op.sprite, op.x, op.y)
+            blend(img, p, op.x, op.y)
+            if alpha is not None:  # the stamp's coverage joins the layer's
+                a = np.zeros(img.shape[:2] + (1,), dtype=np.float32)
+                blend(a, type(p)(p.alpha, p.alpha, p.dx, p.dy), op.x, op.y)
+                alpha[:] = alpha + a[..., 0] * (1.0 - alpha)
+            continue
         if isinstance(op, Text):
             box = text_coverage(op)
             if box is None:
@@ -162,12 +183,12 @@ def paint(img: np.ndarray, ops: Iterable[Op], alpha: np.ndarray | None = None) -
             cov = coverage(op.points, bx, by, ex - bx, ey - by) * op.alpha
         ch, cw = cov.shape
         ex, ey = min(w, bx + cw), min(h, by + ch)
+        if ex <= max(bx, 0) or ey <= max(by, 0):  # wholly outside the image
+            continue
         if bx < 0 or by < 0:  # text may start left of or above the image: crop it
             cov = cov[max(0, -by) :, max(0, -bx) :]
             bx, by = max(0, bx), max(0, by)
         cov = cov[: ey - by, : ex - bx]
-        if not cov.size:
-            continue
         region = img[by:ey, bx:ex]
         a = cov[..., None]
         region *= 1.0 - a

@@ -7,15 +7,16 @@ panel's height; the panel's own top is y = 0.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-from dataclasses import dataclass
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, replace
+from functools import lru_cache
 
 import numpy as np
 
 from .glyphs import cap_height, fit, text_width
-from .paint import Fill, Op, Text, circle, rect, round_rect
-from .palette import Theme, colour_map, robot_colour
-from .robot import robot
+from .paint import Colour, Fill, Op, Text, rect, round_rect
+from .palette import Theme, colour_map
+from .sprites import MEDALS, OTHER_RANK, Sprite, Stamp, flatten, robot_sprite
 
 
 @dataclass(frozen=True)
@@ -60,6 +61,68 @@ def wrap(line: str, width: float, size: int) -> list[str]:
     return out
 
 
+@dataclass(frozen=True, eq=False)
+class Section:
+    """A horizontal strip of the panel, ``height`` whole pixels tall: ``build()`` gives its
+    operations from its own top. The same ``key`` always builds the same strip (rgb_array
+    caches strips by key: a legend row is drawn again only when its robot's row changes)."""
+
+    key: tuple
+    height: int
+    background: Colour
+    build: Callable[[], list[Op]]  # the operations over the background
+    # or side by side pieces (x0, x1, key, build), each cached on its own (a legend row: its
+    # robot and name, its return, its rank); ``build`` then draws them all
+    parts: tuple[tuple[int, int, tuple, Callable[[], list[Op]]], ...] = ()
+
+
+def panel_sections(
+    width: int,
+    cs: int,
+    theme: Theme,
+    lines: Sequence[str] = (),
+    value_range: tuple[float, float] | None = None,
+    legend: Sequence[LegendRow] = (),
+    ratio: int = 1,
+) -> list[Section]:
+    """The panel's strips, top to bottom (none: no panel); ``ratio``: device pixels per CSS
+    pixel (the canvas draws at 2: ``cs`` is then twice the cell size and so is the type)."""
+    if not lines and value_range is None and not legend:
+        return []
+    size = text_size(cs // ratio) * ratio
+    cap = cap_height(size)[1]
+    pad = max(4, size // 2)
+    line_h = int(round(cap * 2.0))
+    bg = theme.panel
+    out: list[Section] = []
+    if lines:
+        parts = [part for line in lines for part in wrap(line, width - 2 * pad, size)]
+
+        def text_lines() -> list[Op]:
+            return [Text(pad, pad + (k + 0.5) * line_h, part, size, theme.text, align="left") for k, part in enumerate(parts)]
+
+        out.append(_section(("lines", tuple(parts)), pad + len(parts) * line_h, width, bg, text_lines))
+    else:
+        out.append(_section(("top",), pad, width, bg, list))
+    if value_range is not None:
+        h = int(round(cap * 2.2))
+        out.append(_section(("bar", value_range), h, width, bg, lambda: _colour_bar(width, h, size, value_range, theme)))
+    if legend:
+        rh = int(round(max(cap * 2.6, 20.0 * ratio)))
+        head = int(round(cap * 2.2))
+        cols = _columns(width, size, rh)
+        out.append(_section(("legend",), head, width, bg, lambda: _legend_head(cols, head, size, theme)))
+        for row in legend:
+            out.append(_legend_row(cols, width, rh, size, row, theme))
+    total = sum(sec.height for sec in out) + pad
+    out.append(_section(("bottom", pad + (-total) % ratio), pad + (-total) % ratio, width, bg, list))  # whole CSS pixels
+    return out
+
+
+def _section(key: tuple, height: int, width: int, bg: Colour, build: Callable[[], list[Op]]) -> Section:
+    return Section(key, height, bg, build)
+
+
 def panel_ops(
     width: int,
     cs: int,
@@ -69,45 +132,40 @@ def panel_ops(
     legend: Sequence[LegendRow] = (),
     ratio: int = 1,
 ) -> tuple[list[Op], int]:
-    """The panel's operations and height in pixels (0: no panel); ``ratio``: device pixels per
-    CSS pixel (the canvas draws at 2: ``cs`` is then twice the cell size and so is the type)."""
-    if not lines and value_range is None and not legend:
-        return [], 0
-    size = text_size(cs // ratio) * ratio
-    cap = cap_height(size)[1]
-    pad = max(4, size // 2)
-    line_h = int(round(cap * 2.0))
+    """The whole panel's operations (from its top) and its height in pixels (0: no panel)."""
     ops: list[Op] = []
-    y = pad
-    for line in lines:
-        for part in wrap(line, width - 2 * pad, size):
-            ops.append(Text(pad, y + line_h / 2, part, size, theme.text, align="left"))
-            y += line_h
-    if value_range is not None:
-        y += _colour_bar(ops, width, y, size, value_range, theme)
-    if legend:
-        y += _legend(ops, width, y, size, legend, theme, ratio)
-    height = int(y + pad)
-    height += (-height) % ratio  # whole CSS pixels
-    return [Fill(rect(0, 0, width, height), theme.panel), *ops], height
+    y = 0
+    for sec in panel_sections(width, cs, theme, lines, value_range, legend, ratio):
+        ops.append(Fill(rect(0, y, width, y + sec.height), sec.background))
+        ops += [shifted(op, y) for op in sec.build()]
+        y += sec.height
+    return ops, y
 
 
-def _colour_bar(ops: list[Op], width: int, y: float, size: int, vr: tuple[float, float], theme: Theme) -> float:
+def shifted(op: Op, dy: float) -> Op:
+    """``op`` moved down by ``dy`` pixels."""
+    if isinstance(op, Fill):
+        return Fill(op.points + (0.0, dy), op.colour, op.alpha)
+    if isinstance(op, Stamp):
+        return Stamp(op.sprite, op.x, op.y + dy)
+    return replace(op, y=op.y + dy)
+
+
+def _colour_bar(width: int, h: int, size: int, vr: tuple[float, float], theme: Theme) -> list[Op]:
     from .overlay import format_value
 
     lo, hi = vr
     cap = cap_height(size)[1]
-    h = cap * 2.2
     pad = max(4, size // 2)
     left, right = f"{format_value(lo)}", f"{format_value(hi)}"
     title = "value"
     x0 = pad + text_width(title, size) + pad + text_width(left, size) + pad
     x1 = width - pad - text_width(right, size) - pad
-    cy = y + h / 2
-    ops.append(Text(pad, cy, title, size, theme.text, align="left"))
+    cy = h / 2
+    ops: list[Op] = [Text(pad, cy, title, size, theme.text, align="left")]
     if x1 - x0 < 20:  # too narrow for a bar: the range in words
         ops.append(Text(x0 - pad, cy, f"{left} .. {right}", size, theme.text, align="left"))
-        return h
+        return ops
     ops.append(Text(x0 - pad / 2, cy, left, size, theme.text, align="right"))
     ops.append(Text(x1 + pad / 2, cy, right, size, theme.text, align="left"))
     n = 48
@@ -119,63 +177,70 @@ def _colour_bar(ops: list[Op], width: int, y: float, size: int, vr: tuple[float,
         ops.append(
             Fill(rect(x0 + k * step, cy - bar_h / 2, x0 + (k + 1) * step + 0.6, cy + bar_h / 2), tuple(colours[k].tolist()))
         )
-    return h
+    return ops
 
 
-def _legend(ops: list[Op], width: int, y: float, size: int, rows: Sequence[LegendRow], theme: Theme, ratio: int) -> float:
-    cap = cap_height(size)[1]
-    rh = max(cap * 2.6, 20.0 * ratio)
+def _columns(width: int, size: int, rh: int) -> tuple[float, float, float, float]:
+    """x of the robot icon's centre, the name (left), the return and the rank (right edges)."""
     pad = max(4, size // 2)
     x_rank = width - pad
     x_ret = width - pad - max(text_width("racing", size), text_width("10th", size)) - 2 * pad
-    x_name = pad + rh + pad
-    ops.append(Text(x_name, y + cap, "robot", size, theme.text, align="left", baseline="middle", alpha=0.7))
-    ops.append(Text(x_ret, y + cap, "return", size, theme.text, align="right", alpha=0.7))
-    ops.append(Text(x_rank, y + cap, "rank", size, theme.text, align="right", alpha=0.7))
-    header = cap * 2.2
-    y += header
-    for k, row in enumerate(rows):
-        cy = y + (k + 0.5) * rh
-        colour = robot_colour(theme, row.number)
-        ops.extend(robot(pad + rh / 2, cy, rh * 1.05, theme, colour, 0, "finished" if row.rank else "idle", row.number))
-        name = f"{row.number} {row.name}" if row.name else f"robot {row.number}"
-        room = x_ret - text_width("-000", size) - pad - x_name
-        s = fit(name, room, cap, largest=size, smallest=7) or 7
-        ops.append(Text(x_name, cy, name, s, theme.text, align="left"))
-        ops.append(Text(x_ret, cy, f"{row.ret + 0.0:g}", size, theme.text, align="right"))
+    return pad + rh / 2, pad + rh + pad, x_ret, x_rank
+
+
+def _legend_head(cols: tuple[float, float, float, float], h: int, size: int, theme: Theme) -> list[Op]:
+    _, x_name, x_ret, x_rank = cols
+    return [
+        Text(x_name, h / 2, "robot", size, theme.text, align="left", alpha=0.7),
+        Text(x_ret, h / 2, "return", size, theme.text, align="right", alpha=0.7),
+        Text(x_rank, h / 2, "rank", size, theme.text, align="right", alpha=0.7),
+    ]
+
+
+def _legend_row(cols: tuple[float, float, float, float], width: int, rh: int, size: int, row: LegendRow, theme: Theme) -> Section:
+    """A robot's row: icon and name, return, rank (three pieces: the return changes every step)."""
+    x_icon, x_name, x_ret, x_rank = cols
+    cap = cap_height(size)[1]
+    cy = rh / 2
+    pad = max(4, size // 2)
+    split_ret = int(x_ret - text_width("-0000", size) - pad)  # the name ends before; returns start after
+    split_rank = int(x_ret + 2)
+    name = f"{row.number} {row.name}" if row.name else f"robot {row.number}"
+    pose = "finished" if row.rank else "idle"
+    ret = f"{row.ret + 0.0:g}"
+
+    def who() -> list[Op]:
+        s = fit(name, split_ret - x_name - 2, cap, largest=size, smallest=7) or 7
+        icon = robot_sprite(theme, row.number, 0, pose, True, round(rh * 1.05, 2))
+        return [Stamp(icon, x_icon, cy), Text(x_name, cy, name, s, theme.text, align="left")]
+
+    def score() -> list[Op]:
+        return [Text(x_ret, cy, ret, size, theme.text, align="right")]
+
+    def rank() -> list[Op]:
         if row.rank:
-            ops += _badge(x_rank - text_width("10th", size) / 2, cy, size, row.rank, theme)
-        else:
-            ops.append(Text(x_rank, cy, "racing" if row.racing else "-", size, theme.text, align="right", alpha=0.7))
-    return header + len(rows) * rh
+            return [Stamp(_badge(size, row.rank, theme), x_rank - text_width("10th", size) / 2, cy)]
+        return [Text(x_rank, cy, "racing" if row.racing else "-", size, theme.text, align="right", alpha=0.7)]
+
+    parts = (
+        (0, split_ret, ("who", row.number, name, pose), who),
+        (split_ret, split_rank, ("return", ret), score),
+        (split_rank, width, ("rank", row.rank, row.racing), rank),
+    )
+    return Section(("row", row), rh, theme.panel, lambda: [*who(), *score(), *rank()], parts)
 
 
-MEDALS = {1: (240, 190, 40), 2: (190, 196, 206), 3: (205, 130, 70)}
-
-
-def _badge(cx: float, cy: float, size: int, rank: int, theme: Theme) -> list[Op]:
+@lru_cache(maxsize=128)
+def _badge(size: int, rank: int, theme: Theme) -> Sprite:
     """A rank in a rounded badge: gold, silver, bronze, then grey."""
     label = ordinal(rank)
     cap = cap_height(size)[1]
     w, h = text_width(label, size) + cap * 1.2, cap * 1.9
-    fill = MEDALS.get(rank, (150, 154, 166))
-    return [
-        Fill(round_rect(cx - w / 2 - 1, cy - h / 2 - 1, cx + w / 2 + 1, cy + h / 2 + 1, h / 2), theme.robot_ink),
-        Fill(round_rect(cx - w / 2, cy - h / 2, cx + w / 2, cy + h / 2, h / 2), fill),
-        Text(cx, cy, label, size, (20, 20, 24)),
-    ]
-
-
-def rank_badge(cx: float, cy: float, r: float, rank: int, theme: Theme) -> list[Op]:
-    """The round rank badge pinned to a finished robot on the board."""
-    fill = MEDALS.get(rank, (150, 154, 166))
-    ops: list[Op] = [Fill(circle(cx, cy, r + max(1.0, r * 0.15)), theme.robot_ink), Fill(circle(cx, cy, r), fill)]
-    s = fit(str(rank), r * 1.5, r * 1.1, largest=30, smallest=6)
-    if s is not None:
-        ops.append(Text(cx, cy, str(rank), s, (20, 20, 24)))
-    return ops
-
-
-def swatch(cx: float, cy: float, r: float, number: int, theme: Theme) -> list[Op]:
-    colour = robot_colour(theme, number)
-    return [Fill(round_rect(cx - r, cy - r, cx + r, cy + r, r * 0.3), theme.robot_ink), Fill(circle(cx, cy, r * 0.8), colour)]
+    fill = MEDALS.get(rank, OTHER_RANK)
+    return flatten(
+        [
+            Fill(round_rect(-w / 2 - 1, -h / 2 - 1, w / 2 + 1, h / 2 + 1, h / 2), theme.robot_ink),
+            Fill(round_rect(-w / 2, -h / 2, w / 2, h / 2, h / 2), fill),
+            Text(0.0, 0.0, label, size, (20, 20, 24)),
+        ]
+    )

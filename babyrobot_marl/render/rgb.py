@@ -18,7 +18,6 @@ from __future__ import annotations
 import math
 from collections import OrderedDict
 from collections.abc import Sequence
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -27,9 +26,10 @@ from . import annotate
 from .overlay import Overlay
 from .paint import Op, paint, to_uint8
 from .palette import THEMES, Theme, resolve_theme
-from .panel import panel_ops
+from .panel import panel_sections
 from .picture import feature_ops, floor_ops, label_ops, level_ops
-from .scene import Scene, Sprite, as_scene, robot_sprites
+from .scene import Scene, as_scene, robot_sprites
+from .sprites import Patch, blend, patch
 
 __all__ = ["MAX_CELL_SIZE", "MAX_FRAME_PIXELS", "MIN_CELL_SIZE", "THEMES", "RgbRenderer", "Theme", "resolve_theme"]
 
@@ -71,16 +71,6 @@ def check_frame_size(level: Level, cs: int) -> None:
         )
 
 
-@dataclass(frozen=True, eq=False)
-class _Patch:
-    """A rasterised sprite: premultiplied colour and coverage, and its offset from the sprite's centre."""
-
-    rgb: np.ndarray  # float32[h, w, 3]
-    alpha: np.ndarray  # float32[h, w, 1]
-    dx: int
-    dy: int
-
-
 class RgbRenderer:
     """Draws one level at one cell size and theme; ``frame(scene_or_robots, overlay)`` returns a fresh image."""
 
@@ -94,7 +84,6 @@ class RgbRenderer:
         self._label_patches = self._patches(self.labels)
         self._static: tuple[Overlay | None, np.ndarray] = (None, self.background)
         self._panels: OrderedDict[object, np.ndarray] = OrderedDict()
-        self._sprites: OrderedDict[tuple[int, int, int], _Patch] = OrderedDict()
 
     @property
     def shape(self) -> tuple[int, int, int]:
@@ -105,16 +94,22 @@ class RgbRenderer:
         """The level with the scene's robots (or robot ``i`` at ``robots[i]``; None: not drawn),
         under the overlay's labels and over its tints, and the panel below when there is one."""
         scene = as_scene(robots)
-        img = self.static(overlay).copy()
+        panel = self.panel(overlay, scene)
+        static = self.static(overlay)
+        if panel is None:
+            img = static.copy()
+        else:  # one allocation for grid and panel
+            img = np.empty((static.shape[0] + panel.shape[0], self.width, 3), dtype=np.uint8)
+            img[: static.shape[0]] = static
+            img[static.shape[0] :] = panel
+        grid = img[: static.shape[0]]
         drawn = robot_sprites(scene, self.cell_size, self.theme)
         for sprite, cx, cy in drawn:
-            self._blend(img, self._patch(sprite, cx, cy), cx, cy)
+            blend(grid, patch(sprite, cx, cy), cx, cy)
         if drawn:  # labels stay on top
-            for y0, x0, patch in self._label_patches:
-                region = img[y0 : y0 + patch.rgb.shape[0], x0 : x0 + patch.rgb.shape[1]]
-                region[:] = to_uint8(region * (1.0 - patch.alpha) + patch.rgb)
-        panel = self.panel(overlay, scene)
-        return img if panel is None else np.concatenate([img, panel], axis=0)
+            for y0, x0, label in self._label_patches:
+                blend(grid, label, x0, y0)
+        return img
 
     def static(self, overlay: Overlay | None) -> np.ndarray:
         """The level with ``overlay``'s tints, arrows and numbers, and the labels (read-only; the
@@ -130,20 +125,37 @@ class RgbRenderer:
         return self._static[1]
 
     def panel(self, overlay: Overlay | None, scene: Scene) -> np.ndarray | None:
-        """The panel image under the grid, or None (cached by content)."""
+        """The panel image under the grid, or None; its strips are cached by content."""
         lines = overlay.panel if overlay is not None else ()
         vr = annotate.value_range(overlay) if overlay is not None else None
-        if not lines and vr is None and not scene.legend:
+        sections = panel_sections(self.width, self.cell_size, self.theme, lines, vr, scene.legend)
+        if not sections:
             return None
-        key = (lines, vr, scene.legend)
-        if key not in self._panels:
-            ops, height = panel_ops(self.width, self.cell_size, self.theme, lines, vr, scene.legend)
-            img = np.zeros((height, self.width, 3), dtype=np.float32)
-            paint(img, ops)
-            self._panels[key] = to_uint8(img)
-            if len(self._panels) > 64:
-                self._panels.popitem(last=False)
-        return self._panels[key]
+        strips = []
+        for sec in sections:
+            if sec.parts:
+                strip = np.empty((sec.height, self.width, 3), dtype=np.uint8)
+                for x0, x1, key, build in sec.parts:
+                    strip[:, x0:x1] = self._strip((sec.height, *key), sec.height, x1 - x0, sec.background, build, x0)
+                strips.append(strip)
+            else:
+                strips.append(self._strip(sec.key, sec.height, self.width, sec.background, sec.build))
+        return np.concatenate(strips, axis=0)
+
+    def _strip(self, key: tuple, height: int, width: int, bg: tuple, build, x0: int = 0) -> np.ndarray:
+        """A piece of the panel drawn from ``build()`` (operations from ``x0``), cached by ``key``."""
+        img = self._panels.get(key)
+        if img is not None:
+            self._panels.move_to_end(key)
+            return img
+        buf = np.empty((height, width, 3), dtype=np.float32)
+        buf[:] = bg
+        ops = build()
+        paint(buf, [shifted_x(op, -x0) for op in ops] if x0 else ops)
+        img = self._panels[key] = to_uint8(buf)
+        if len(self._panels) > 512:
+            self._panels.popitem(last=False)
+        return img
 
     # ------------------------------------------------------------------ helpers
     def _draw(self, ops: Sequence[Op]) -> np.ndarray:
@@ -154,7 +166,7 @@ class RgbRenderer:
         out.setflags(write=False)
         return out
 
-    def _patches(self, ops: Sequence[Op]) -> list[tuple[int, int, _Patch]]:
+    def _patches(self, ops: Sequence[Op]) -> list[tuple[int, int, Patch]]:
         """Each label's pixels as a premultiplied patch (labels come as 3 ops: edge, pill, word)."""
         out = []
         cs = self.cell_size
@@ -167,44 +179,9 @@ class RgbRenderer:
             rgb = np.zeros((h, w, 3), dtype=np.float32)
             alpha = np.zeros((h, w), dtype=np.float32)
             paint(rgb, [_moved(op, -x0, -y0) for op in group], alpha)
-            out.append((y0, x0, _Patch(rgb, alpha[..., None], 0, 0)))
+            out.append((y0, x0, Patch(rgb, alpha[..., None], 0, 0)))
         return out
 
-    def _patch(self, sprite: Sprite, cx: float, cy: float) -> _Patch:
-        """The sprite rasterised at the sub-pixel offset of ``(cx, cy)`` (a quarter pixel), cached."""
-        fx, fy = int(round((cx % 1) * 4)) % 4, int(round((cy % 1) * 4)) % 4
-        key = (id(sprite), fx, fy)
-        patch = self._sprites.get(key)
-        if patch is not None and patch.rgb is not None:
-            self._sprites.move_to_end(key)
-            return patch
-        pts = sprite.points
-        m = 3 + max((t.size for t in sprite.texts), default=0) // 2
-        lo = np.floor(pts.min(axis=0)).astype(int) - m if len(pts) else np.array([-m, -m])
-        hi = np.ceil(pts.max(axis=0)).astype(int) + m if len(pts) else np.array([m, m])
-        w, h = int(hi[0] - lo[0]), int(hi[1] - lo[1])
-        rgb = np.zeros((h, w, 3), dtype=np.float32)
-        alpha = np.zeros((h, w), dtype=np.float32)
-        paint(rgb, sprite.ops(-lo[0] + fx / 4, -lo[1] + fy / 4), alpha)
-        patch = _Patch(rgb, alpha[..., None], int(lo[0]), int(lo[1]))
-        self._sprites[key] = patch
-        self._sprite_refs = getattr(self, "_sprite_refs", {})
-        self._sprite_refs[key] = sprite  # keep the sprite alive while its id is a key
-        if len(self._sprites) > 512:
-            old, _ = self._sprites.popitem(last=False)
-            self._sprite_refs.pop(old, None)
-        return patch
-
-    def _blend(self, img: np.ndarray, patch: _Patch, cx: float, cy: float) -> None:
-        x0, y0 = int(math.floor(cx + 1e-9)) + patch.dx, int(math.floor(cy + 1e-9)) + patch.dy
-        h, w = patch.rgb.shape[:2]
-        gx0, gy0 = max(0, x0), max(0, y0)
-        gx1, gy1 = min(self.width, x0 + w), min(self.grid_height, y0 + h)
-        if gx1 <= gx0 or gy1 <= gy0:
-            return
-        sl = (slice(gy0 - y0, gy1 - y0), slice(gx0 - x0, gx1 - x0))
-        region = img[gy0:gy1, gx0:gx1]
-        region[:] = to_uint8(region * (1.0 - patch.alpha[sl]) + patch.rgb[sl])
 
 
 def _same_cells(a: Overlay | None, b: Overlay) -> bool:
@@ -213,11 +190,18 @@ def _same_cells(a: Overlay | None, b: Overlay) -> bool:
     return a is not None and all(getattr(a, k) is getattr(b, k) for k in ("values", "q_values", "arrows", "text"))
 
 
+def shifted_x(op: Op, dx: float) -> Op:
+    return _moved(op, dx, 0.0)
+
+
 def _moved(op: Op, dx: float, dy: float) -> Op:
     from dataclasses import replace
 
     from .paint import Fill
+    from .sprites import Stamp
 
     if isinstance(op, Fill):
         return Fill(op.points + (dx, dy), op.colour, op.alpha)
+    if isinstance(op, Stamp):
+        return Stamp(op.sprite, op.x + dx, op.y + dy)
     return replace(op, x=op.x + dx, y=op.y + dy)

@@ -15,15 +15,13 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
-from functools import lru_cache
-
-import numpy as np
 
 from ..core.level import Cell
-from .paint import Colour, Fill, Op, Text, star
+from .paint import Colour
 from .palette import Theme, robot_colour
-from .panel import LegendRow, rank_badge
-from .robot import icon_scale, robot
+from .panel import LegendRow
+from .robot import icon_scale
+from .sprites import Sprite, badge, burst, robot_sprite
 
 POSE_OF_OUTCOME = ("moving", "idle", "bumped", "skidding", "glass")  # by core.engine outcome code
 
@@ -82,66 +80,6 @@ def placements(scene: Scene) -> list[Placement]:
     return out
 
 
-# ---------------------------------------------------------------------- robot shapes, cached flat
-@dataclass(frozen=True, eq=False)
-class Sprite:
-    """A robot's operations about its centre at one pixel size, flattened for fast drawing:
-    ``points`` float64[N, 2], ``counts`` (points per polygon), ``colours`` uint8[P, 3], ``alphas``,
-    and ``texts`` (Text ops about the centre)."""
-
-    points: np.ndarray
-    counts: np.ndarray
-    colours: np.ndarray
-    alphas: np.ndarray
-    texts: tuple[Text, ...]
-
-    def ops(self, cx: float, cy: float) -> list[Op]:
-        """The operations at ``(cx, cy)`` (pixels), in drawing order (texts last)."""
-        out: list[Op] = []
-        start = 0
-        for k, n in enumerate(self.counts):
-            out.append(Fill(self.points[start : start + n] + (cx, cy), tuple(self.colours[k].tolist()), float(self.alphas[k])))
-            start += n
-        out += [Text(t.x + cx, t.y + cy, t.text, t.size, t.colour, t.align, t.baseline, t.alpha) for t in self.texts]
-        return out
-
-
-@lru_cache(maxsize=1024)
-def sprite(theme: Theme, number: int, heading: int, pose: str, numbered: bool, size: float) -> Sprite:
-    colour = robot_colour(theme, number)
-    ops = robot(0.0, 0.0, size, theme, colour, heading, pose, number if numbered else None)
-    return _flatten(ops)
-
-
-@lru_cache(maxsize=256)
-def badge(theme: Theme, rank: int, r: float) -> Sprite:
-    return _flatten(rank_badge(0.0, 0.0, r, rank, theme))
-
-
-@lru_cache(maxsize=64)
-def burst(theme: Theme, size: float) -> Sprite:
-    r = size
-    return _flatten(
-        [
-            Fill(star(0.0, 0.0, r * 1.12, r * 0.58, 8, -90 + 22.5), theme.robot_ink),
-            Fill(star(0.0, 0.0, r, r * 0.48, 8, -90 + 22.5), theme.mark),
-            Fill(star(0.0, 0.0, r * 0.5, r * 0.26, 8, -90), (255, 226, 90)),
-        ]
-    )
-
-
-def _flatten(ops: Sequence[Op]) -> Sprite:
-    fills = [op for op in ops if isinstance(op, Fill)]
-    texts = tuple(op for op in ops if isinstance(op, Text))
-    return Sprite(
-        np.concatenate([f.points for f in fills]) if fills else np.zeros((0, 2)),
-        np.array([len(f.points) for f in fills], dtype=np.int64),
-        np.array([f.colour for f in fills], dtype=np.uint8).reshape(-1, 3),
-        np.array([f.alpha for f in fills], dtype=np.float64),
-        texts,
-    )
-
-
 def robot_sprites(scene: Scene, cs: float, theme: Theme, pose_override: dict[int, str] | None = None,
                   at: dict[int, tuple[float, float]] | None = None) -> list[tuple[Sprite, float, float]]:  # fmt: skip
     """The sprites of a scene's robots, marks and badges with their centres in pixels, in drawing order.
@@ -155,7 +93,7 @@ def robot_sprites(scene: Scene, cs: float, theme: Theme, pose_override: dict[int
         v = p.view
         pose = (pose_override or {}).get(v.number, v.pose)
         cx, cy = (at or {}).get(v.number, (p.cx, p.cy))
-        out.append((sprite(theme, v.number, v.heading, pose, v.numbered, round(cs * p.scale, 2)), cx * cs, cy * cs))
+        out.append((robot_sprite(theme, v.number, v.heading, pose, v.numbered, round(cs * p.scale, 2)), cx * cs, cy * cs))
         if v.rank:
             r = max(4.0, cs * 0.13 * max(p.scale, 0.55))
             badges.append((badge(theme, v.rank, round(r, 2)), (cx + 0.36 * p.scale) * cs, (cy - 0.36 * p.scale) * cs))
