@@ -15,8 +15,9 @@ size so it is crisp on HiDPI screens:
 
 Both renderers draw the same operations (``paint``), so the canvas and ``rgb_array`` show the
 same picture. The output also carries a PNG of the latest frame (``rgb_array``'s), refreshed
-when an episode ends and when the env closes (``snapshot``): a notebook saved and reopened
-without a kernel, or shown on GitHub or nbviewer, still shows the picture.
+when an episode ends, when the env closes and after every notebook cell that changed it
+(``snapshot``): a notebook saved and reopened without a kernel, or shown on GitHub or
+nbviewer, still shows the picture.
 
 ``on_client_ready`` redraws everything when a browser (re)connects. Needs the ``notebook``
 extra (ipycanvas, ipywidgets, orjson); imported lazily. Every number sent is a Python number.
@@ -27,6 +28,7 @@ from __future__ import annotations
 import base64
 import time
 import zlib
+from collections import deque
 from collections.abc import Sequence
 from typing import Any
 
@@ -42,6 +44,32 @@ from .sprites import Stamp
 
 MAX_ANIMATION_FRAMES = 60
 PIXEL_RATIO = 2
+MAX_TRACKED = 16  # canvases whose saved PNG is refreshed after each cell (the most recent ones)
+_shown: deque[LiveCanvas] = deque(maxlen=MAX_TRACKED)
+_hooked = False
+
+
+def shown_canvases() -> list[LiveCanvas]:
+    """The canvases shown in this kernel (the most recent ``MAX_TRACKED``), oldest first."""
+    return list(_shown)
+
+
+def _after_cell(*_: Any) -> None:
+    """IPython's ``post_run_cell``: each shown canvas's PNG brought up to its latest frame."""
+    for c in list(_shown):
+        c.snapshot(only_if_changed=True)
+
+
+def _track(c: LiveCanvas) -> None:
+    global _hooked
+    _shown.append(c)
+    if not _hooked:
+        from IPython import get_ipython
+
+        shell = get_ipython()
+        if shell is not None:
+            shell.events.register("post_run_cell", _after_cell)
+            _hooked = True
 
 
 def notebook_available() -> bool:
@@ -122,6 +150,7 @@ class LiveCanvas:
         self._due = 0.0  # time.monotonic() at which the next robot frame may be sent
         self._handle: Any = None  # the display handle whose PNG ``snapshot`` refreshes
         self._styles = _Styles()
+        self._snapped: tuple[Scene, Overlay] | None = None  # what the output's PNG shows
         self.widget.on_client_ready(self.redraw)
         self._draw_static()
         self._draw_top()
@@ -132,11 +161,14 @@ class LiveCanvas:
         from IPython.display import display
 
         self._handle = display(self._bundle(), raw=True, display_id=True)
+        _track(self)
 
-    def snapshot(self) -> None:
-        """Refresh the PNG that the output carries (the frame ``rgb_array`` gives for the same state)."""
-        if self._handle is not None:
-            self._handle.update(self._bundle(), raw=True)
+    def snapshot(self, only_if_changed: bool = False) -> None:
+        """Refresh the PNG that the output carries (the frame ``rgb_array`` gives for the same
+        state); done when an episode ends, when the env closes and after each notebook cell."""
+        if self._handle is None or (only_if_changed and self._snapped == (self.scene, self.overlay)):
+            return
+        self._handle.update(self._bundle(), raw=True)
 
     def frame(self) -> np.ndarray:
         """The ``rgb_array`` frame of what the canvas shows."""
@@ -186,6 +218,7 @@ class LiveCanvas:
 
     # ------------------------------------------------------------------ layers
     def _bundle(self) -> dict[str, Any]:
+        self._snapped = (self.scene, self.overlay)
         data = dict(self.widget._repr_mimebundle_())  # the widget view and its text
         data["image/png"] = base64.b64encode(png_bytes(self.frame())).decode("ascii")
         return data
