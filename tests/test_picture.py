@@ -198,3 +198,27 @@ def test_text_measures_and_sprites_are_cached_in_bounded_caches():
         glyphs.text_width(f"panel line {i}", 12)
     assert glyphs.text_width.cache_info().currsize <= glyphs.text_width.cache_info().maxsize == 4096
     assert sprite.cache_info().maxsize is not None
+
+
+@pytest.mark.parametrize("cs", SIZES)
+def test_start_and_exit_labels_cover_no_value_box(cs):
+    from babyrobot_marl.render.paint import Fill
+    from babyrobot_marl.render.rgb import RgbRenderer
+
+    level = levels.get("mixed-8x8")
+    ov = update_overlay(Overlay(), level, values=np.full((8, 8), -12.5), arrows=np.ones((8, 8, 5), dtype=bool))
+    r = RgbRenderer(level, cs)
+    pills = [op for op in r.labels if isinstance(op, Fill)]
+    boxes = [op for op in annotate.ink_ops(ov, cs, THEMES["light"], r.labelled) if isinstance(op, Fill) and len(op.points) != 7]
+    assert pills and r.labelled == {level.starts[0], *level.exits} or cs == 32
+    def cell_of_fill(f):
+        return tuple((f.points.mean(axis=0) // cs).astype(int))
+
+    for pill in pills:
+        for box in (b for b in boxes if cell_of_fill(b) == cell_of_fill(pill)):
+            apart = (
+                pill.points[:, 1].max() <= box.points[:, 1].min() + 0.5
+                or pill.points[:, 0].max() <= box.points[:, 0].min()
+                or box.points[:, 0].max() <= pill.points[:, 0].min()
+            )
+            assert apart, (cs, pill.points.mean(axis=0), box.points.mean(axis=0))

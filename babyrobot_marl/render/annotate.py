@@ -66,25 +66,30 @@ def tint_ops(overlay: Overlay, cs: int, theme: Theme) -> list[Op]:
     return ops
 
 
-def ink_ops(overlay: Overlay, cs: int, theme: Theme) -> list[Op]:
-    """Arrows, value boxes, action-value numbers and cell text, in that order (all under the robots)."""
+def ink_ops(overlay: Overlay, cs: int, theme: Theme, labelled: frozenset = frozenset()) -> list[Op]:
+    """Arrows, value boxes, action-value numbers and cell text, in that order (all under the robots).
+
+    ``labelled``: the cells whose top band holds a START / EXIT label; their value box goes
+    below it, so the label covers no number.
+    """
     ops: list[Op] = []
     has_values = overlay.values is not None and bool(np.isfinite(overlay.values).any())
     layout = _box_layout(overlay.values, cs) if has_values else None
     if overlay.arrows is not None:
-        if layout is not None:  # in the space under the value box
-            top, bottom = VALUE_CENTRE[1] * cs + layout[2] / 2 + 1, cs - wall_width(cs) / 2 - 1
-            cy, length = (top + bottom) / 2, (bottom - top) / 2
-        else:
-            cy, length = cs / 2, 0.36 * cs
+        bottom = cs - wall_width(cs) / 2 - 1
         for y, x in zip(*np.nonzero(overlay.arrows[:, :, 1:].any(axis=2))):
+            if layout is not None:  # in the space under the value box
+                top = box_centre(cs, layout, (int(x), int(y)) in labelled) + layout[2] / 2 + 1
+                cy, length = (top + bottom) / 2, max(2.0, (bottom - top) / 2)
+            else:
+                cy, length = cs / 2, 0.36 * cs
             for action, (dx, dy) in DIRECTIONS.items():
                 if overlay.arrows[y, x, action]:
                     ops += arrow((x + 0.5) * cs, y * cs + cy, dx, dy, length, theme)
     if overlay.q_values is not None:
         ops += _q_numbers(overlay.q_values, cs, theme)
     if layout is not None:
-        ops += _value_boxes(overlay.values, cs, theme, layout)  # type: ignore[arg-type]
+        ops += _value_boxes(overlay.values, cs, theme, layout, labelled)  # type: ignore[arg-type]
     for (x, y), s in overlay.text.items():
         ops += _cell_text(s, x, y, cs, theme)
     return ops
@@ -121,14 +126,23 @@ def _box_layout(values: np.ndarray, cs: int) -> tuple[int, float, float] | None:
     return size, text_width(widest, size) + cap * 0.9, cap * 1.9
 
 
-def _value_boxes(values: np.ndarray, cs: int, theme: Theme, layout: tuple[int, float, float] | None) -> list[Op]:
+def box_centre(cs: int, layout: tuple[int, float, float], labelled: bool) -> float:
+    """The y of a value box's centre in its cell (pixels from the cell's top)."""
+    from .picture import label_band
+
+    y = VALUE_CENTRE[1] * cs
+    return max(y, label_band(cs)[1] + 1 + layout[2] / 2) if labelled else y
+
+
+def _value_boxes(values: np.ndarray, cs: int, theme: Theme, layout: tuple[int, float, float] | None,
+                 labelled: frozenset = frozenset()) -> list[Op]:  # fmt: skip
     if layout is None:
         return []
     size, bw, bh = layout
     texts = {c: format_value(float(values[c])) for c in zip(*np.nonzero(np.isfinite(values)))}
     ops: list[Op] = []
     for (y, x), s in texts.items():
-        cx, cy = (x + VALUE_CENTRE[0]) * cs, (y + VALUE_CENTRE[1]) * cs
+        cx, cy = (x + VALUE_CENTRE[0]) * cs, y * cs + box_centre(cs, layout, (int(x), int(y)) in labelled)
         ops.append(Fill(round_rect(cx - bw / 2, cy - bh / 2, cx + bw / 2, cy + bh / 2, bh * 0.3), theme.value_box, 0.86))
         ops.append(Text(cx, cy, s, size, theme.value_text))
     return ops

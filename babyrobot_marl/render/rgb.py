@@ -24,7 +24,7 @@ import numpy as np
 from ..core.level import Cell, Level
 from . import annotate
 from .overlay import Overlay
-from .paint import Op, paint, to_uint8
+from .paint import Op, Text, paint, to_uint8
 from .palette import THEMES, Theme, resolve_theme
 from .panel import panel_sections
 from .picture import feature_ops, floor_ops, label_ops, level_ops
@@ -80,6 +80,7 @@ class RgbRenderer:
         self.theme = resolve_theme(theme)
         self.width, self.grid_height = level.width * cs, level.height * cs
         self.labels: list[Op] = label_ops(level, cs, self.theme)
+        self.labelled = frozenset((int(op.x // cs), int(op.y // cs)) for op in self.labels if isinstance(op, Text))
         self.background = self._draw([*level_ops(level, cs, self.theme), *self.labels])
         self._label_patches = self._patches(self.labels)
         self._static: tuple[Overlay | None, np.ndarray] = (None, self.background)
@@ -120,7 +121,7 @@ class RgbRenderer:
             cs, th = self.cell_size, self.theme
             lv = self.level
             img = self._draw([*floor_ops(lv, cs, th), *annotate.tint_ops(overlay, cs, th), *feature_ops(lv, cs, th),
-                              *annotate.ink_ops(overlay, cs, th), *self.labels])  # fmt: skip
+                              *annotate.ink_ops(overlay, cs, th, self.labelled), *self.labels])  # fmt: skip
             self._static = (overlay, img)
         return self._static[1]
 
