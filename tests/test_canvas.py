@@ -110,7 +110,8 @@ def test_robots_glide_through_the_points_between_cells(monkeypatch):
 
     monkeypatch.setattr(live, "robot_sprites", spy)
     c.draw(Scene((RobotView(0, (3, 1), 2, "finished", (1, 1)),)))
-    assert [a[0][0] for a, _ in [(s[0], s[1]) for s in seen]] == pytest.approx([(1.5 + 0.5 * k) for k in range(1, 5)])
+    xs = [at.get(0, (3.5, 1.5))[0] for at, _ in seen]  # the last frame: the robot's own placement
+    assert xs == pytest.approx([(1.5 + 0.5 * k) for k in range(1, 5)])
     assert [p for _, p in seen[:-1]] == [{0: "moving"}] * 3 and seen[-1][1] == {}  # it celebrates on arrival
 
 
@@ -141,9 +142,14 @@ def test_a_client_connecting_gets_everything_redrawn(sent):
     c = make(animation_frames=0)
     c.draw([(4, 4)], update_overlay(Overlay(), levels.get("maze-8x8"), text={(0, 0): "A"}, panel="p"))
     sent.clear()
-    c.widget[2]._handle_frontend_event(None, {"event": "client_ready"}, [])  # what a browser sends
+    for layer in c.widget._canvases:  # what a browser sends, for each layer once its view is ready
+        layer._handle_frontend_event(None, {"event": "client_ready"}, [])
     all_names = [n for m in sent for n in names(m)]
     assert "putImageData" in all_names and "fillText" in all_names and "fillStyledPolygons" in all_names
+    sent.clear()
+    c.widget[1]._handle_frontend_event(None, {"event": "client_ready"}, [])  # the robots' layer alone
+    assert [n for m in sent for n in names(m) if n == "putImageData"] == []
+    assert "fillStyledPolygons" in [n for m in sent for n in names(m)]
 
 
 def test_a_panel_or_a_legend_makes_the_canvas_taller_in_whole_css_pixels():

@@ -222,3 +222,17 @@ def test_start_and_exit_labels_cover_no_value_box(cs):
                 or box.points[:, 0].max() <= pill.points[:, 0].min()
             )
             assert apart, (cs, pill.points.mean(axis=0), box.points.mean(axis=0))
+
+
+@pytest.mark.parametrize("cs", SIZES)
+def test_start_and_exit_labels_cover_no_action_value(cs):
+    from babyrobot_marl.render.paint import Fill
+    from babyrobot_marl.render.rgb import RgbRenderer
+
+    level = levels.get("walls")
+    r = RgbRenderer(level, cs)
+    ov = full_overlay(level)
+    pills = {tuple((op.points.mean(axis=0) // cs).astype(int)): op for op in r.labels if isinstance(op, Fill)}
+    for op in annotate._q_numbers(ov.q_values, cs, THEMES["light"], r.labelled):
+        if isinstance(op, Text) and cell_of(op, cs) in pills:
+            assert glyphs.ink_box(op)[1] >= pills[cell_of(op, cs)].points[:, 1].max(), (cs, op.text)

@@ -87,7 +87,7 @@ def ink_ops(overlay: Overlay, cs: int, theme: Theme, labelled: frozenset = froze
                 if overlay.arrows[y, x, action]:
                     ops += arrow((x + 0.5) * cs, y * cs + cy, dx, dy, length, theme)
     if overlay.q_values is not None:
-        ops += _q_numbers(overlay.q_values, cs, theme)
+        ops += _q_numbers(overlay.q_values, cs, theme, labelled)
     if layout is not None:
         ops += _value_boxes(overlay.values, cs, theme, layout, labelled)  # type: ignore[arg-type]
     for (x, y), s in overlay.text.items():
@@ -148,15 +148,17 @@ def _value_boxes(values: np.ndarray, cs: int, theme: Theme, layout: tuple[int, f
     return ops
 
 
-def q_label_position(action: int, x: int, y: int, cs: int, w: float, h: float) -> tuple[float, float] | None:
-    """Where an action value's number of ``w`` x ``h`` pixels sits inside its triangle, or None if it cannot."""
+def q_label_position(action: int, x: int, y: int, cs: int, w: float, h: float, top: float = 0.0) -> tuple[float, float] | None:
+    """Where an action value's number of ``w`` x ``h`` pixels sits inside its triangle, or None if
+    it cannot; ``top``: pixels at the top of the cell to keep clear (a START / EXIT label)."""
     m = wall_width(cs) / 2 + 1
     if action in (Action.NORTH, Action.SOUTH):
         # the triangle at depth d from its edge is (cs - 2 d) wide: the text's inner side must fit
-        d = m + h  # the inner side of the text
+        outer = max(m, top) if action == Action.NORTH else m
+        d = outer + h  # the inner side of the text
         if w > cs - 2 * d - 2:
             return None
-        cy = y * cs + m + h / 2 if action == Action.NORTH else (y + 1) * cs - m - h / 2
+        cy = y * cs + outer + h / 2 if action == Action.NORTH else (y + 1) * cs - m - h / 2
         return (x + 0.5) * cs, cy
     d = m + w
     if h > cs - 2 * d - 2:
@@ -165,15 +167,19 @@ def q_label_position(action: int, x: int, y: int, cs: int, w: float, h: float) -
     return cx, (y + 0.5) * cs
 
 
-def _q_numbers(q: np.ndarray, cs: int, theme: Theme) -> list[Op]:
+def _q_numbers(q: np.ndarray, cs: int, theme: Theme, labelled: frozenset = frozenset()) -> list[Op]:
+    from .picture import label_band
+
+    band = label_band(cs)[1] + 1
     ops: list[Op] = []
     for action in DIRECTIONS:
         for y, x in zip(*np.nonzero(np.isfinite(q[:, :, action]))):
             s = format_value(float(q[y, x, action]))
+            top = band if (int(x), int(y)) in labelled else 0.0
             for size in _sizes_down(min(22, max(7, int(cs * 0.16)))):
                 cap = cap_height(size)[1]
                 w, h = text_width(s, size) + 2, cap + 2
-                at = q_label_position(action, int(x), int(y), cs, w, h)
+                at = q_label_position(action, int(x), int(y), cs, w, h, top)
                 if at is not None:
                     ops.append(
                         Fill(round_rect(at[0] - w / 2, at[1] - h / 2, at[0] + w / 2, at[1] + h / 2, 2), theme.value_box, 0.6)

@@ -39,7 +39,7 @@ from .glyphs import baseline_y, css_font, origin
 from .overlay import Overlay
 from .paint import Fill, Op, Text
 from .rgb import RgbRenderer
-from .scene import Scene, as_scene, placements, robot_sprites
+from .scene import Scene, as_scene, glide, robot_sprites
 from .sprites import Stamp
 
 MAX_ANIMATION_FRAMES = 60
@@ -151,7 +151,11 @@ class LiveCanvas:
         self._handle: Any = None  # the display handle whose PNG ``snapshot`` refreshes
         self._styles = _Styles()
         self._snapped: tuple[Scene, Overlay] | None = None  # what the output's PNG shows
-        self.widget.on_client_ready(self.redraw)
+        # each layer is its own canvas in the browser, ready in its own time: each redraws itself
+        layers = self.widget._canvases
+        layers[0].on_client_ready(lambda *_: self._draw_static())
+        layers[1].on_client_ready(lambda *_: self._draw_robots(self.scene))
+        layers[2].on_client_ready(lambda *_: self._draw_top(force=True))
         self._draw_static()
         self._draw_top()
 
@@ -183,19 +187,14 @@ class LiveCanvas:
         self.scene = scene
         self._draw_top()
         steps = self.animation_frames if animate else 0
-        moving = {v.number for v in scene.robots if v.came_from is not None and v.came_from != v.cell}
-        if steps == 0 or not moving:
+        if steps == 0 or not glide(scene, 0.0)[0]:
             self._pace(1.0 / self.fps if animate and self.fps > 0 else 0.0)
             self._draw_robots(scene)
         else:
-            ends = {p.view.number: (p.cx, p.cy) for p in placements(scene)}
-            starts = {v.number: (v.came_from[0] + 0.5, v.came_from[1] + 0.5) for v in scene.robots if v.number in moving}
-            poses = {v.number: "moving" for v in scene.robots if v.number in moving and v.pose == "finished"}
             for k in range(1, steps + 1):
                 self._pace(1.0 / (self.fps * steps) if self.fps > 0 else 0.0)
-                t = k / steps
-                at = {i: (a[0] + (ends[i][0] - a[0]) * t, a[1] + (ends[i][1] - a[1]) * t) for i, a in starts.items()}
-                self._draw_robots(scene, at, poses if k < steps else None)
+                at, poses = glide(scene, k / steps)
+                self._draw_robots(scene, at, poses)
         if scene.done:
             self.snapshot()
 
@@ -210,10 +209,8 @@ class LiveCanvas:
 
     def redraw(self, *_: Any) -> None:
         """Everything again (a browser connected: it starts from an empty canvas)."""
-        self._panel_key = None
-        self._styles.reset()
         self._draw_static()
-        self._draw_top()
+        self._draw_top(force=True)
         self._draw_robots(self.scene)
 
     # ------------------------------------------------------------------ layers
@@ -248,8 +245,11 @@ class LiveCanvas:
             self.widget[0].clear()
             self.widget[0].put_image_data(rgba, 0, 0)
 
-    def _draw_top(self, scene: Scene | None = None) -> None:
-        """Labels and panel (layer 2), when the panel's content changed."""
+    def _draw_top(self, scene: Scene | None = None, force: bool = False) -> None:
+        """Labels and panel (layer 2), when the panel's content changed (or ``force``)."""
+        if force:
+            self._panel_key = None
+            self._styles.reset()
         scene = scene or self.scene
         r = self.hi
         lines, legend = self.overlay.panel, scene.legend

@@ -28,7 +28,7 @@ from .paint import Op, Text, paint, to_uint8
 from .palette import THEMES, Theme, resolve_theme
 from .panel import panel_sections
 from .picture import feature_ops, floor_ops, label_ops, level_ops
-from .scene import Scene, as_scene, robot_sprites
+from .scene import Scene, as_scene, glide, robot_sprites
 from .sprites import Patch, blend, patch
 
 __all__ = ["MAX_CELL_SIZE", "MAX_FRAME_PIXELS", "MIN_CELL_SIZE", "THEMES", "RgbRenderer", "Theme", "resolve_theme"]
@@ -91,9 +91,11 @@ class RgbRenderer:
         return self.background.shape  # type: ignore[return-value]
 
     # ------------------------------------------------------------------ frames
-    def frame(self, robots: Scene | Sequence[Cell | None] = (), overlay: Overlay | None = None) -> np.ndarray:
+    def frame(self, robots: Scene | Sequence[Cell | None] = (), overlay: Overlay | None = None, t: float = 1.0) -> np.ndarray:
         """The level with the scene's robots (or robot ``i`` at ``robots[i]``; None: not drawn),
-        under the overlay's labels and over its tints, and the panel below when there is one."""
+        under the overlay's labels and over its tints, and the panel below when there is one.
+        ``t`` < 1: the robots that moved this step a fraction ``t`` of the way (in-between
+        frames for smooth GIFs, as the live canvas glides)."""
         scene = as_scene(robots)
         panel = self.panel(overlay, scene)
         static = self.static(overlay)
@@ -104,7 +106,8 @@ class RgbRenderer:
             img[: static.shape[0]] = static
             img[static.shape[0] :] = panel
         grid = img[: static.shape[0]]
-        drawn = robot_sprites(scene, self.cell_size, self.theme)
+        at, poses = glide(scene, t) if t < 1.0 else ({}, {})
+        drawn = robot_sprites(scene, self.cell_size, self.theme, poses, at)
         for sprite, cx, cy in drawn:
             blend(grid, patch(sprite, cx, cy), cx, cy)
         if drawn:  # labels stay on top

@@ -80,6 +80,21 @@ def placements(scene: Scene) -> list[Placement]:
     return out
 
 
+def glide(scene: Scene, t: float) -> tuple[dict[int, tuple[float, float]], dict[int, str]]:
+    """Where the robots that moved this step are a fraction ``t`` (0..1) of the way, and their
+    poses on the way (a finisher walks in, then celebrates): the ``at`` and ``poses`` of
+    ``robot_sprites``."""
+    moving = {v.number: v for v in scene.robots if v.came_from is not None and v.came_from != v.cell}
+    if not moving or t >= 1.0:
+        return {}, {}
+    ends = {p.view.number: (p.cx, p.cy) for p in placements(scene) if p.view.number in moving}
+    at = {}
+    for i, v in moving.items():
+        (ax, ay), (bx, by) = (v.came_from[0] + 0.5, v.came_from[1] + 0.5), ends[i]  # type: ignore[index]
+        at[i] = (ax + (bx - ax) * t, ay + (by - ay) * t)
+    return at, {i: "moving" for i, v in moving.items() if v.pose == "finished"}
+
+
 def robot_sprites(scene: Scene, cs: float, theme: Theme, pose_override: dict[int, str] | None = None,
                   at: dict[int, tuple[float, float]] | None = None) -> list[tuple[Sprite, float, float]]:  # fmt: skip
     """The sprites of a scene's robots, marks and badges with their centres in pixels, in drawing order.
