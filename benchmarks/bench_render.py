@@ -97,8 +97,13 @@ def main(argv: list[str] | None = None) -> int:
             lambda e, a: gym_step(e, a % 3),
         )
     rng = np.random.default_rng(0)
-    for env, step in envs.values():  # warm-up, not timed: sprites are rasterised once per pose, heading and size
-        frame_time(env, step, 2 * frames, rng)
+    cold = {}
+    for name, (env, step) in envs.items():  # warm-up, not timed: a pose is rasterised once per heading and size
+        t0 = time.perf_counter()
+        env.reset(seed=0)
+        env.render()
+        cold[name] = time.perf_counter() - t0
+        frame_time(env, step, max(2 * frames, 1500), rng)
     times: dict[str, list[float]] = {name: [] for name in envs}
     for _ in range(rounds):
         for name, (env, step) in envs.items():
@@ -111,6 +116,8 @@ def main(argv: list[str] | None = None) -> int:
             ratios = [p / t for p, t in zip(times[peer], ts)]
             line += f" {statistics.median(ratios):9.1f}x ({min(ratios):.1f}..{max(ratios):.1f})"
         print(line)
+    print("first frame of a new env (cold: its level, overlay and first poses drawn): "
+          + ", ".join(f"{name.split(',')[0]} {t * 1e3:.0f} ms" for name, t in cold.items()))  # fmt: skip
     if peer in times:
         name = next(iter(envs))
         ratio = statistics.median([p / t for p, t in zip(times[peer], times[name])])

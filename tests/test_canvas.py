@@ -104,9 +104,9 @@ def test_robots_glide_through_the_points_between_cells(monkeypatch):
     seen = []
     real = live.robot_sprites
 
-    def spy(scene, cs, theme, poses=None, at=None):
+    def spy(scene, cs, theme, poses=None, at=None, labelled=frozenset()):
         seen.append((dict(at or {}), dict(poses or {})))
-        return real(scene, cs, theme, poses, at)
+        return real(scene, cs, theme, poses, at, labelled)
 
     monkeypatch.setattr(live, "robot_sprites", spy)
     c.draw(Scene((RobotView(0, (3, 1), 2, "finished", (1, 1)),)))

@@ -146,7 +146,7 @@ class LiveCanvas:
         self.overlay = Overlay()
         self.frames_sent = 0  # hold_canvas batches sent (tests, benchmarks)
         self._static: np.ndarray | None = None  # what layer 0 shows
-        self._panel_key: object = None
+        self._drawn: list[tuple] | None = None  # the keys of the panel's pieces on layer 2
         self._due = 0.0  # time.monotonic() at which the next robot frame may be sent
         self._handle: Any = None  # the display handle whose PNG ``snapshot`` refreshes
         self._styles = _Styles()
@@ -187,13 +187,13 @@ class LiveCanvas:
         self.scene = scene
         self._draw_top()
         steps = self.animation_frames if animate else 0
-        if steps == 0 or not glide(scene, 0.0)[0]:
+        if steps == 0 or not glide(scene, 0.0)[0]:  # nobody moved
             self._pace(1.0 / self.fps if animate and self.fps > 0 else 0.0)
             self._draw_robots(scene)
         else:
             for k in range(1, steps + 1):
                 self._pace(1.0 / (self.fps * steps) if self.fps > 0 else 0.0)
-                at, poses = glide(scene, k / steps)
+                at, poses = glide(scene, k / steps, self.hi.labelled, self.hi.label_top)
                 self._draw_robots(scene, at, poses)
         if scene.done:
             self.snapshot()
@@ -246,38 +246,51 @@ class LiveCanvas:
             self.widget[0].put_image_data(rgba, 0, 0)
 
     def _draw_top(self, scene: Scene | None = None, force: bool = False) -> None:
-        """Labels and panel (layer 2), when the panel's content changed (or ``force``)."""
-        if force:
-            self._panel_key = None
-            self._styles.reset()
+        """Labels and panel (layer 2): only the strips of the panel whose content changed (a
+        legend row's return, say), everything when the panel's height changed or ``force``."""
+        from .annotate import value_range
+        from .panel import panel_sections, shifted
+
         scene = scene or self.scene
         r = self.hi
-        lines, legend = self.overlay.panel, scene.legend
-        from .annotate import value_range
-
-        vr = value_range(self.overlay)
-        key = (lines, vr, legend)
-        if key == self._panel_key:
-            return
-        self._panel_key = key
-        from .panel import panel_ops, shifted
-
-        ops, height = panel_ops(r.width, r.cell_size, r.theme, lines, vr, legend, self.ratio)
-        total = r.grid_height + height
-        if total != self.widget.height:
-            self.widget.height = total  # resizing clears every layer
+        sections = panel_sections(r.width, r.cell_size, r.theme, self.overlay.panel, value_range(self.overlay),
+                                  scene.legend, self.ratio)  # fmt: skip
+        height = sum(sec.height for sec in sections)
+        drawn = self._drawn if not force and r.grid_height + height == self.widget.height else None
+        if r.grid_height + height != self.widget.height:
+            self.widget.height = r.grid_height + height  # resizing clears every layer
             self._set_css_size(self.grid_height + height // self.ratio)
             self._draw_static()
             self._draw_robots(self.scene)
+        if force or drawn is None:
+            self._styles.reset()
+        ops: list[Op] = [] if drawn is not None else list(r.labels)
+        now: list[tuple] = []
+        y = r.grid_height
+        for k, sec in enumerate(sections):
+            old = drawn[k] if drawn is not None and k < len(drawn) else None
+            pieces = sec.parts or ((0, r.width, sec.key, sec.build),)
+            keys = tuple(part[2] for part in pieces)
+            now.append(keys)
+            for j, (x0, x1, key, build) in enumerate(pieces):
+                if old is not None and len(old) == len(keys) and old[j] == key:
+                    continue  # this piece shows already
+                ops.append(Fill(_rect(x0, y, x1, y + sec.height), sec.background))
+                ops += [shifted(op, y) for op in build()]
+            y += sec.height
+        self._drawn = now
+        if not ops:
+            return
         layer = self.widget[2]
         with self._hold():
-            layer.clear()
-            _send(layer, [*r.labels, *(shifted(op, r.grid_height) for op in ops)], self._styles)
+            if drawn is None:
+                layer.clear()
+            _send(layer, ops, self._styles)
 
     def _draw_robots(self, scene: Scene, at: dict[int, tuple[float, float]] | None = None,
                      poses: dict[int, str] | None = None) -> None:  # fmt: skip
         layer = self.widget[1]
-        sprites = robot_sprites(scene, self.hi.cell_size, self.hi.theme, poses, at)
+        sprites = robot_sprites(scene, self.hi.cell_size, self.hi.theme, poses, at, self.hi.labelled)
         with self._hold():
             layer.clear()
             if not sprites:
@@ -315,6 +328,12 @@ class _Styles:
         self.last[id(layer)] = (font, fill)
 
 
+def _rect(x0: float, y0: float, x1: float, y1: float) -> np.ndarray:
+    from .paint import rect
+
+    return rect(x0, y0, x1, y1)
+
+
 def _send(layer: Any, ops: Sequence[Op], styles: _Styles) -> None:
     """``ops`` as canvas calls: all polygons in one ``fill_styled_polygons`` call (in order), then
     the texts (each element's text lies over its own shapes; elements do not overlap)."""
@@ -335,7 +354,7 @@ def _send(layer: Any, ops: Sequence[Op], styles: _Styles) -> None:
             np.array([f.alpha for f in fills], dtype=np.float64),
             points_per_polygon=np.array([len(f.points) for f in fills]),
         )
-    for t in texts:
+    for t in sorted(texts, key=lambda t: (t.size, t.colour, t.alpha)):  # texts do not overlap: fewest style changes
         styles.set(layer, css_font(t.size), _css(t.colour, t.alpha))
         layer.fill_text(t.text, float(origin(t)[0]), float(baseline_y(t)))
 

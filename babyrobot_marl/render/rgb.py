@@ -27,7 +27,7 @@ from .overlay import Overlay
 from .paint import Op, Text, paint, to_uint8
 from .palette import THEMES, Theme, resolve_theme
 from .panel import panel_sections
-from .picture import feature_ops, floor_ops, label_ops, level_ops
+from .picture import feature_ops, floor_ops, label_band, label_ops, level_ops
 from .scene import Scene, as_scene, glide, robot_sprites
 from .sprites import Patch, blend, patch
 
@@ -81,10 +81,12 @@ class RgbRenderer:
         self.width, self.grid_height = level.width * cs, level.height * cs
         self.labels: list[Op] = label_ops(level, cs, self.theme)
         self.labelled = frozenset((int(op.x // cs), int(op.y // cs)) for op in self.labels if isinstance(op, Text))
+        self.label_top = label_band(cs)[1] / cs  # robots sharing a labelled cell stand below this
         self.background = self._draw([*level_ops(level, cs, self.theme), *self.labels])
         self._label_patches = self._patches(self.labels)
         self._static: tuple[Overlay | None, np.ndarray] = (None, self.background)
         self._panels: OrderedDict[object, np.ndarray] = OrderedDict()
+        self._tiles: OrderedDict[tuple, tuple] = OrderedDict()  # cells with a robot drawn in, by content
 
     @property
     def shape(self) -> tuple[int, int, int]:
@@ -97,23 +99,64 @@ class RgbRenderer:
         ``t`` < 1: the robots that moved this step a fraction ``t`` of the way (in-between
         frames for smooth GIFs, as the live canvas glides)."""
         scene = as_scene(robots)
-        panel = self.panel(overlay, scene)
         static = self.static(overlay)
-        if panel is None:
-            img = static.copy()
-        else:  # one allocation for grid and panel
-            img = np.empty((static.shape[0] + panel.shape[0], self.width, 3), dtype=np.uint8)
-            img[: static.shape[0]] = static
-            img[static.shape[0] :] = panel
+        strips = self._panel_strips(overlay, scene)
+        h = static.shape[0]
+        img = np.empty((h + sum(st.shape[0] for st in strips), self.width, 3), dtype=np.uint8)
+        img[:h] = static
+        for st in strips:
+            img[h : h + st.shape[0]] = st
+            h += st.shape[0]
         grid = img[: static.shape[0]]
-        at, poses = glide(scene, t) if t < 1.0 else ({}, {})
-        drawn = robot_sprites(scene, self.cell_size, self.theme, poses, at)
-        for sprite, cx, cy in drawn:
-            blend(grid, patch(sprite, cx, cy), cx, cy)
-        if drawn:  # labels stay on top
-            for y0, x0, label in self._label_patches:
+        at, poses = glide(scene, t, self.labelled, self.label_top) if t < 1.0 else ({}, {})
+        drawn = [(sprite, cx, cy, patch(sprite, cx, cy)) for sprite, cx, cy in robot_sprites(
+            scene, self.cell_size, self.theme, poses, at, self.labelled)]  # fmt: skip
+        boxes = [_box(p, cx, cy) for _, cx, cy, p in drawn]
+        touched: dict[tuple[int, int], int] = {}
+        for box in boxes:
+            for c in self._cells_of(box):
+                touched[c] = touched.get(c, 0) + 1
+        blended = []
+        for (sprite, cx, cy, p), box in zip(drawn, boxes):
+            cells = self._cells_of(box)
+            if len(cells) == 1 and touched[cells[0]] == 1:  # alone in its cell: a cached tile
+                x, y = cells[0]
+                cs = self.cell_size
+                grid[y * cs : (y + 1) * cs, x * cs : (x + 1) * cs] = self._tile(static, cells[0], sprite, p, cx, cy)
+            else:
+                blend(grid, p, cx, cy)
+                blended.append(box)
+        for y0, x0, label in self._label_patches:  # labels stay on top
+            lb = (x0, y0, x0 + label.rgb.shape[1], y0 + label.rgb.shape[0])
+            if any(_overlap(lb, box) for box in blended):
                 blend(grid, label, x0, y0)
         return img
+
+    def _cells_of(self, box: tuple[int, int, int, int]) -> list[tuple[int, int]]:
+        cs = self.cell_size
+        x0, y0, x1, y1 = box
+        return [(x, y) for y in range(y0 // cs, (y1 - 1) // cs + 1) for x in range(x0 // cs, (x1 - 1) // cs + 1)]
+
+    def _tile(self, static: np.ndarray, cell: tuple[int, int], sprite, p: Patch, cx: float, cy: float) -> np.ndarray:
+        """The cell of ``static`` with the sprite and the labels over it, cached: robots come back to
+        the same cells in the same poses, and a copy is far cheaper than a blend."""
+        key = (id(static), cell, id(sprite), int(round((cx % 1) * 4)), int(round((cy % 1) * 4)))
+        hit = self._tiles.get(key)
+        if hit is not None and hit[0] is static and hit[1] is sprite:
+            self._tiles.move_to_end(key)
+            return hit[2]
+        cs = self.cell_size
+        x, y = cell
+        tile = static[y * cs : (y + 1) * cs, x * cs : (x + 1) * cs].copy()
+        blend(tile, p, cx - x * cs, cy - y * cs)
+        for y0, x0, label in self._label_patches:
+            if y0 // cs == y and x0 // cs == x or _overlap((x0, y0, x0 + label.rgb.shape[1], y0 + label.rgb.shape[0]),
+                                                           (x * cs, y * cs, (x + 1) * cs, (y + 1) * cs)):  # fmt: skip
+                blend(tile, label, x0 - x * cs, y0 - y * cs)
+        self._tiles[key] = (static, sprite, tile)
+        if len(self._tiles) > 1024:
+            self._tiles.popitem(last=False)
+        return tile
 
     def static(self, overlay: Overlay | None) -> np.ndarray:
         """The level with ``overlay``'s tints, arrows and numbers, and the labels (read-only; the
@@ -130,11 +173,13 @@ class RgbRenderer:
 
     def panel(self, overlay: Overlay | None, scene: Scene) -> np.ndarray | None:
         """The panel image under the grid, or None; its strips are cached by content."""
+        strips = self._panel_strips(overlay, scene)
+        return np.concatenate(strips, axis=0) if strips else None
+
+    def _panel_strips(self, overlay: Overlay | None, scene: Scene) -> list[np.ndarray]:
         lines = overlay.panel if overlay is not None else ()
         vr = annotate.value_range(overlay) if overlay is not None else None
         sections = panel_sections(self.width, self.cell_size, self.theme, lines, vr, scene.legend)
-        if not sections:
-            return None
         strips = []
         for sec in sections:
             if sec.parts:
@@ -144,7 +189,7 @@ class RgbRenderer:
                 strips.append(strip)
             else:
                 strips.append(self._strip(sec.key, sec.height, self.width, sec.background, sec.build))
-        return np.concatenate(strips, axis=0)
+        return strips
 
     def _strip(self, key: tuple, height: int, width: int, bg: tuple, build, x0: int = 0) -> np.ndarray:
         """A piece of the panel drawn from ``build()`` (operations from ``x0``), cached by ``key``."""
@@ -186,6 +231,16 @@ class RgbRenderer:
             out.append((y0, x0, Patch(rgb, alpha[..., None], 0, 0)))
         return out
 
+
+
+def _box(p: Patch, cx: float, cy: float) -> tuple[int, int, int, int]:
+    """The pixels a patch centred on ``(cx, cy)`` covers: (x0, y0, x1, y1), x1 and y1 exclusive."""
+    x0, y0 = int(math.floor(cx + 1e-9)) + p.dx, int(math.floor(cy + 1e-9)) + p.dy
+    return x0, y0, x0 + p.rgb.shape[1], y0 + p.rgb.shape[0]
+
+
+def _overlap(a: tuple[int, int, int, int], b: tuple[int, int, int, int]) -> bool:
+    return a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]
 
 
 def _same_cells(a: Overlay | None, b: Overlay) -> bool:

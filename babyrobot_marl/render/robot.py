@@ -170,11 +170,13 @@ def _eyes(p: _Pen, pose: str, ex: float, ey: float, eye: Colour) -> None:
                 p.disc(x, ey, r * 0.45, (20, 24, 36))
 
 
-def icon_scale(n: int) -> tuple[float, list[tuple[float, float]]]:
-    """Robots sharing one cell side by side: their scale and their centres in cell units."""
+def icon_scale(n: int, top: float = 0.0) -> tuple[float, list[tuple[float, float]]]:
+    """Robots sharing one cell side by side: their scale and their centres in cell units, in
+    the part of the cell below ``top`` (a label's band) when there are several."""
     if n <= 1:
         return 1.0, [(0.5, 0.5)]
     k = math.ceil(math.sqrt(n))
     rows = math.ceil(n / k)
-    s = 1.0 / k
-    return s, [((i % k + 0.5) * s, (i // k + 0.5) * s + (k - rows) * s / 2) for i in range(n)]
+    s = min(1.0 / k, (1.0 - top) / rows)
+    y0 = top + (1.0 - top - rows * s) / 2
+    return s, [((i % k + 0.5) / k, y0 + (i // k + 0.5) * s) for i in range(n)]

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from functools import lru_cache
 
 from ..core.level import Cell
 from .paint import Colour
@@ -65,29 +66,33 @@ class Placement:
     scale: float  # 1: a whole cell
 
 
-def placements(scene: Scene) -> list[Placement]:
-    """Where each robot is drawn, lowest number on top (drawn last)."""
+@lru_cache(maxsize=16)
+def placements(scene: Scene, labelled: frozenset = frozenset(), top: float = 0.0) -> list[Placement]:
+    """Where each robot is drawn, lowest number on top (drawn last); robots sharing a ``labelled``
+    cell stand below its label (``top``: the label band's bottom, in cell units)."""
     by_cell: dict[Cell, list[RobotView]] = {}
     for v in scene.robots:
         by_cell.setdefault(v.cell, []).append(v)
     out = []
     for cell, views in by_cell.items():
         views.sort(key=lambda v: (v.rank == 0, v.rank, v.number))  # finished first, by rank
-        scale, slots = icon_scale(len(views))
+        scale, slots = icon_scale(len(views), top if cell in labelled else 0.0)
         for v, (u, w) in zip(views, slots):
             out.append(Placement(v, cell[0] + u, cell[1] + w, scale))
     out.sort(key=lambda p: -p.view.number)
     return out
 
 
-def glide(scene: Scene, t: float) -> tuple[dict[int, tuple[float, float]], dict[int, str]]:
+def glide(
+    scene: Scene, t: float, labelled: frozenset = frozenset(), top: float = 0.0
+) -> tuple[dict[int, tuple[float, float]], dict[int, str]]:
     """Where the robots that moved this step are a fraction ``t`` (0..1) of the way, and their
     poses on the way (a finisher walks in, then celebrates): the ``at`` and ``poses`` of
     ``robot_sprites``."""
     moving = {v.number: v for v in scene.robots if v.came_from is not None and v.came_from != v.cell}
     if not moving or t >= 1.0:
         return {}, {}
-    ends = {p.view.number: (p.cx, p.cy) for p in placements(scene) if p.view.number in moving}
+    ends = {p.view.number: (p.cx, p.cy) for p in placements(scene, labelled, top) if p.view.number in moving}
     at = {}
     for i, v in moving.items():
         (ax, ay), (bx, by) = (v.came_from[0] + 0.5, v.came_from[1] + 0.5), ends[i]  # type: ignore[index]
@@ -96,15 +101,18 @@ def glide(scene: Scene, t: float) -> tuple[dict[int, tuple[float, float]], dict[
 
 
 def robot_sprites(scene: Scene, cs: float, theme: Theme, pose_override: dict[int, str] | None = None,
-                  at: dict[int, tuple[float, float]] | None = None) -> list[tuple[Sprite, float, float]]:  # fmt: skip
+                  at: dict[int, tuple[float, float]] | None = None,
+                  labelled: frozenset = frozenset()) -> list[tuple[Sprite, float, float]]:  # fmt: skip
     """The sprites of a scene's robots, marks and badges with their centres in pixels, in drawing order.
 
     ``at`` moves robots (by number) to other centres (cell units; the canvas's glide) and
-    ``pose_override`` changes their poses on the way.
+    ``pose_override`` changes their poses on the way; ``labelled``: cells with a START / EXIT label.
     """
+    from .picture import label_band
+
     out: list[tuple[Sprite, float, float]] = []
     badges = []
-    for p in placements(scene):
+    for p in placements(scene, labelled, label_band(int(cs))[1] / cs):
         v = p.view
         pose = (pose_override or {}).get(v.number, v.pose)
         cx, cy = (at or {}).get(v.number, (p.cx, p.cy))
