@@ -44,6 +44,7 @@ from .sprites import Stamp
 
 MAX_ANIMATION_FRAMES = 60
 PIXEL_RATIO = 2
+REDRAW_AFTER = 1.0  # seconds after a browser (re)connects: everything drawn once more
 MAX_TRACKED = 16  # canvases whose saved PNG is refreshed after each cell (the most recent ones)
 _shown: deque[LiveCanvas] = deque(maxlen=MAX_TRACKED)
 _hooked = False
@@ -151,11 +152,14 @@ class LiveCanvas:
         self._handle: Any = None  # the display handle whose PNG ``snapshot`` refreshes
         self._styles = _Styles()
         self._snapped: tuple[Scene, Overlay] | None = None  # what the output's PNG shows
-        # each layer is its own canvas in the browser, ready in its own time: each redraws itself
+        # each layer is its own canvas in the browser, ready in its own time: each redraws itself,
+        # and everything is drawn once more a moment later (a reloading page may drop the first
+        # commands: the widget that carries them to the layers is not always ready before them)
         layers = self.widget._canvases
-        layers[0].on_client_ready(lambda *_: self._draw_static())
-        layers[1].on_client_ready(lambda *_: self._draw_robots(self.scene))
-        layers[2].on_client_ready(lambda *_: self._draw_top(force=True))
+        layers[0].on_client_ready(lambda *_: self._on_ready(self._draw_static))
+        layers[1].on_client_ready(lambda *_: self._on_ready(lambda: self._draw_robots(self.scene)))
+        layers[2].on_client_ready(lambda *_: self._on_ready(lambda: self._draw_top(force=True)))
+        self._redraw_due = False
         self._draw_static()
         self._draw_top()
 
@@ -206,6 +210,24 @@ class LiveCanvas:
         if self.renderer.static(overlay) is not self.renderer.static(old) or self._static is None:
             self._draw_static()
         self._draw_top(scene)
+
+    def _on_ready(self, draw_layer: Any) -> None:
+        draw_layer()
+        if self._redraw_due:
+            return
+        try:
+            import asyncio
+
+            loop = asyncio.get_running_loop()  # the kernel's, running the comm message handlers
+        except RuntimeError:  # no running loop (not in a kernel): nothing to wait for
+            return
+        self._redraw_due = True
+
+        def again() -> None:
+            self._redraw_due = False
+            self.redraw()
+
+        loop.call_later(REDRAW_AFTER, again)
 
     def redraw(self, *_: Any) -> None:
         """Everything again (a browser connected: it starts from an empty canvas)."""
