@@ -285,3 +285,15 @@ def test_gymnasium_make_renders_rgb_array_for_both_registered_envs():
         frame = env.render()
         level = env.unwrapped.level
         assert frame.shape[1:] == (level.width * 16, 3) and frame.shape[0] >= level.height * 16
+
+
+def test_text_frames_give_84_robots_their_own_character_and_say_which_share_one_past_that():
+    from babyrobot_marl.render.ansi import GLYPHS, frame, robot_glyph
+
+    glyphs = [robot_glyph(i, 200) for i in range(len(GLYPHS))]
+    assert len(set(glyphs)) == len(GLYPHS) >= 84 and all(len(g) == 1 for g in glyphs)
+    level = levels.get("maze-16x16")
+    cells = [(i % 16, i // 16) for i in range(100)]
+    text = frame(level, cells, status="step 0")
+    assert "robots 84..99 drawn as @" in text and text.split("\nstep 0")[0].count("@") == 100 - 84
+    assert "drawn as @" not in frame(level, cells[:84])
