@@ -203,8 +203,8 @@ def _legend_row(cols: tuple[float, float, float, float], width: int, rh: int, si
     cap = cap_height(size)[1]
     cy = rh / 2
     pad = max(4, size // 2)
-    split_ret = int(x_ret - text_width("-0000", size) - pad)  # the name ends before; returns start after
-    split_rank = int(x_ret + 2)
+    split_ret = min(max(int(x_ret - text_width("-0000", size) - pad), 0), width)  # the name ends before
+    split_rank = min(max(int(x_ret + 2), split_ret), width)  # the return ends before; the rank after
     name = f"{row.number} {row.name}" if row.name else f"robot {row.number}"
     pose = "finished" if row.rank else "idle"
     ret = f"{row.ret + 0.0:g}"
