@@ -297,3 +297,19 @@ def test_text_frames_give_84_robots_their_own_character_and_say_which_share_one_
     text = frame(level, cells, status="step 0")
     assert "robots 84..99 drawn as @" in text and text.split("\nstep 0")[0].count("@") == 100 - 84
     assert "drawn as @" not in frame(level, cells[:84])
+
+
+def test_the_race_gym_env_names_the_learner_and_its_opponents_and_forwards_the_animation_settings():
+    env = gymnasium.make(
+        "babyrobot_marl/BabyRobotRace-v0",
+        level="race-4",
+        opponents=["shortest", "random"],
+        render_mode="rgb_array",
+        animation_frames=0,
+        render_fps=10,
+    )
+    env.reset(seed=0)
+    race = env.unwrapped.race
+    assert [row.name for row in race._scene().legend] == ["learner", "shortest", "random"]
+    assert race.animation_frames == 0 and env.unwrapped.metadata["render_fps"] == 10
+    assert env.render().shape[0] > race.level.height * race.cell_size  # the legend
