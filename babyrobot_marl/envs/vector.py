@@ -134,7 +134,8 @@ class _BatchVectorEnv(gym.vector.VectorEnv):
     def render(self) -> tuple[Any, ...] | None:
         """One frame per env (not per slot), as ``SyncVectorEnv.render`` returns one per env.
 
-        ``"rgb_array"``: each the single env's ``rgb_array`` frame; ``"ansi"``: each a text
+        ``"rgb_array"``: each env's robots drawn where they stand by the single env's renderer
+        (the batch keeps no step history: no poses, no race legend); ``"ansi"``: each a text
         frame with the env's step count.
         """
         if self.render_mode is None:
