@@ -14,11 +14,22 @@ import numpy as np
 
 from babyrobot_marl.core.actions import Action
 from babyrobot_marl.play.notebook import make_game
+from babyrobot_marl.render.palette import THEMES
 from babyrobot_marl.render.rgb import RgbRenderer
 from tests.browser.notebook_files import write_notebook
-from tests.test_browser import MARKER, SCREENSHOTS, browser_ready, lab, page  # noqa: F401  (fixtures)
+from tests.test_browser import (  # noqa: F401  (browser_ready, lab, page: fixtures)
+    CELL,
+    MARKER,
+    PX,
+    SCREENSHOTS,
+    assert_robot_at,
+    browser_ready,
+    cell_box,
+    has,
+    lab,
+    page,
+)  # fmt: skip
 
-CELL = 32
 WAIT_MS = 30_000  # a guard against a dead kernel, not a speed target
 
 
@@ -56,12 +67,18 @@ def robots_in_panel(text: str) -> str:
 
 
 def assert_robot_pixels(img: np.ndarray, level, robots) -> None:
-    """Each robot's centre pixel, and each start cell left empty, as ``RgbRenderer.frame`` draws them."""
-    expected = RgbRenderer(level, CELL).frame(robots)
-    cells = [c for c in robots if c is not None] + [s for s in level.starts if s not in robots]
-    for x, y in cells:
-        px, py = x * CELL + CELL // 2, y * CELL + CELL // 2
-        assert tuple(img[py, px, :3]) == tuple(expected[py, px]), f"cell {(x, y)}: canvas {img[py, px]}, frame {expected[py, px]}"
+    """Baby Robot (body, eye, visor) in each robot's cell; in every other cell no robot, and an empty
+    floor cell exactly as ``rgb_array`` draws it (the canvas holds two device pixels per CSS pixel)."""
+    theme = THEMES["light"]
+    for i, cell in enumerate(robots):
+        if cell is not None:
+            assert_robot_at(img, cell, theme.robots[i], theme)
+    others = [(x, y) for y in range(level.height) for x in range(level.width) if (x, y) not in robots]
+    for cell in others:
+        assert not has(cell_box(img, cell), theme.eye), f"a robot drawn in {cell}"
+    marked = {*level.starts, *level.exits, *level.small_puddles, *level.large_puddles, *level.blocked}
+    empty = next(c for c in others if c not in marked)
+    assert (cell_box(img, empty) == cell_box(RgbRenderer(level, PX).background, empty)).all(), f"cell {empty} differs"
 
 
 def test_player_buttons_and_keys_move_the_robot_where_the_game_predicts(lab, page, capsys):  # noqa: F811
@@ -88,7 +105,7 @@ def test_player_buttons_and_keys_move_the_robot_where_the_game_predicts(lab, pag
         game.act(a)
     text = wait_panel(page, f"robots at {game.robots}")
     assert f"step 5/{game.env.max_steps}  return {game.ret:g}  last: STAY -> stayed" in text
-    img = page.canvas_pixels(0)
+    img = page.canvas_pixels(0)[..., :3]
     shot(page, "play_single", capsys)
     assert_robot_pixels(img, game.env.level, game.robots)
     p.keyboard.press("r")  # restart: back at the start
@@ -105,16 +122,16 @@ def test_race_tab_hands_the_keys_to_the_next_robot(lab, page, capsys):  # noqa: 
         """,
     ])  # fmt: skip
     p = page.page
-    wait_panel(page, "you drive A (robot_0)")
+    wait_panel(page, "you drive #0 (robot_0)")
     p.locator(".jp-OutputArea-output canvas").first.click(position={"x": 5, "y": 5})
     game = make_game("race-4", policies="shortest", seed=0)
     for key in ["ArrowRight", "Tab", " ", "ArrowDown"]:
         p.keyboard.press(key)
         game.command({"ArrowRight": Action.EAST, "Tab": "switch", " ": Action.STAY, "ArrowDown": Action.SOUTH}[key])
         wait_panel(page, f"robots at {game.robots}")
-    text = wait_panel(page, "you drive B (robot_1)")
+    text = wait_panel(page, "you drive #1 (robot_1)")
     assert f"step {game.steps}/" in text
-    img = page.canvas_pixels(0)
+    img = page.canvas_pixels(0)[..., :3]
     shot(page, "play_race", capsys)
     assert_robot_pixels(img, game.env.level, game.robots)
 

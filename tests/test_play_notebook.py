@@ -13,23 +13,28 @@ from babyrobot_marl.play.game import RaceGame, SingleGame  # noqa: E402
 from babyrobot_marl.policies import ShortestPathPolicy  # noqa: E402
 
 
+def drawn(player) -> list:
+    """Where the canvas shows each robot, by robot number."""
+    return [v.cell for v in sorted(player.canvas.scene.robots, key=lambda v: v.number)]
+
+
 def _button(player, name):
     return next(b for b in player.widget.children[1].children if f"babyrobot-{name}" in b._dom_classes)
 
 
 def test_keys_and_buttons_move_the_robot_on_the_canvas_and_the_panel_follows():
     p = notebook.play("default", seed=0)
-    assert isinstance(p.game, SingleGame) and p.canvas.robots == [(0, 0)]
+    assert isinstance(p.game, SingleGame) and drawn(p) == [(0, 0)]
     p.press("ArrowRight")
     _button(p, "east").click()
     p.press("s")
     _button(p, "south").click()
-    assert p.canvas.robots == [(2, 2)] and p.game.terminated
+    assert drawn(p) == [(2, 2)] and p.game.terminated
     assert "reached the exit in 4 steps, return -3" in p.text
     p.press("ArrowLeft")  # after the end: nothing moves
-    assert p.canvas.robots == [(2, 2)] and "the episode is over" in p.text
+    assert drawn(p) == [(2, 2)] and "the episode is over" in p.text
     _button(p, "reset").click()
-    assert p.canvas.robots == [(0, 0)] and p.game.steps == 0
+    assert drawn(p) == [(0, 0)] and p.game.steps == 0
     p.press("w")
     assert "NORTH -> bumped into a wall" in p.text
 
@@ -59,12 +64,12 @@ def test_in_a_race_tab_switches_the_robot_you_drive_and_the_others_follow_their_
     p = notebook.play("race-4", policies="shortest", seed=0)
     env = p.game.env
     shortest = ShortestPathPolicy(env.table)
-    assert p.game.driven == 0 and "you drive A (robot_0)" in p.text
+    assert p.game.driven == 0 and "you drive #0 (robot_0)" in p.text
     start = env.robot_cells
     p.press(" ")  # robot_0 stays, the others take their shortest step
     assert env.robot_cells[0] == start[0] and all(env.robot_cells[i] != start[i] for i in (1, 2, 3))
     p.press("Tab")
-    assert p.game.driven == 1 and "you drive B (robot_1)" in p.text
+    assert p.game.driven == 1 and "you drive #1 (robot_1)" in p.text
     before = env.robot_cells
     p.press(" ")  # now robot_1 stays while robot_0 follows its policy
     assert env.robot_cells[1] == before[1]
@@ -78,7 +83,10 @@ def test_when_your_robot_finishes_the_keys_move_on_to_a_robot_still_racing():
     while "robot_0" in env.agents and not p.game.over:
         p.press({1: "ArrowUp", 2: "ArrowRight", 3: "ArrowDown", 4: "ArrowLeft", 0: " "}[shortest(list(env.robot_cells[0]))])
     assert env.ranks[0] == 1 and not p.game.over  # robot_1 (random) is still on its way
-    assert p.game.driven == 1 and p.canvas.robots[0] is None and "you drive B (robot_1)" in p.text
+    assert p.game.driven == 1 and "you drive #1 (robot_1)" in p.text
+    finished = next(v for v in p.canvas.scene.robots if v.number == 0)
+    assert finished.rank == 1 and finished.cell in env.level.exits  # drawn at the exit with its rank
+    assert [r.name for r in p.canvas.scene.legend] == ["random", "you"]
 
 
 def test_the_editor_builds_a_level_from_clicks_and_plays_it():

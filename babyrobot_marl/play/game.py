@@ -130,6 +130,7 @@ class RaceGame:
                 f"policies: robot {missing[0]} has no policy; only the driven robot of a game without switching may lack one"
             )
         self.env, self.policies, self.seed, self.switchable = env, list(policies), seed, switchable
+        self.labels: Callable[[int], str] | None = None  # how a robot is named: terminal letters by default
         self.first_driven = self.driven = driven
         self.episode = 0
         self.restart()
@@ -164,7 +165,8 @@ class RaceGame:
         return [None if r else c for c, r in zip(self.env.robot_cells, self.env.ranks)]
 
     def glyph(self, i: int) -> str:
-        return robot_glyph(i, self.env.n_robots)
+        """A robot's short name: its letter in a text frame (A, B, ...), or ``labels(i)`` if set."""
+        return self.labels(i) if self.labels is not None else robot_glyph(i, self.env.n_robots)
 
     # ------------------------------------------------------------------ commands
     def command(self, cmd: Command | None) -> bool:

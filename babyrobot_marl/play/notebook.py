@@ -76,11 +76,11 @@ class Player:
         from ipywidgets import HTML, Button, HBox, Layout, VBox
 
         self.game = make_game(env_or_level, robots, policies, seed)
+        if isinstance(self.game, RaceGame):
+            self.game.labels = lambda i: f"#{i}"  # the canvas numbers its robots 0, 1, ...
         self.level: Level = self.game.env.level
         self.canvas = LiveCanvas(RgbRenderer(self.level, cell_size, theme), animation_frames=0, fps=0)
         self.canvas.widget.on_key_down(self._on_key)
-        h, w = self.canvas.renderer.background.shape[:2]
-        self.canvas.widget.layout = Layout(width=f"{w}px", height=f"{h}px")  # its own size, not stretched to the cell
         buttons = []
         specs = list(BUTTONS) + ([("next robot (TAB)", SWITCH, "switch")] if self.is_race else [])
         for label, cmd, name in specs:
@@ -119,16 +119,14 @@ class Player:
     # ------------------------------------------------------------------ output
     def _refresh(self) -> None:
         g = self.game
-        overlay = None
-        if self.is_race and g.robots[g.driven] is not None:
-            from ..render.overlay import Overlay, update_overlay
-
-            overlay = update_overlay(Overlay(), self.level, text={g.robots[g.driven]: "you"})
-        elif self.is_race:
-            from ..render.overlay import Overlay
-
-            overlay = Overlay()
-        self.canvas.draw(g.robots, overlay, animate=False)
+        if self.is_race:  # the legend over the grid says who is who: you, and the others' policies
+            names = ["you" if i == g.driven else getattr(p, "name", "policy") for i, p in enumerate(g.policies)]
+            if names != getattr(self, "_names", None):
+                g.env.set_overlay(names=names)
+                self._names = names
+        # the env's own scene (poses, bumps, finished robots at their exits), as render_mode="human" draws it
+        scene = g.env._scene() if hasattr(g.env, "_scene") else g.robots
+        self.canvas.draw(scene, g.env.overlay, animate=False)
         self.panel.value = "<pre style='margin:0'>" + html.escape(self.text) + "</pre>"
 
     @property
