@@ -20,6 +20,7 @@ import numpy as np
 
 from .actions import N_ACTIONS
 from .engine import move_array, move_drawn
+from .observe import Observer, global_gather
 from .rng import SLOT_PRIORITY, SLOTS, uniform_array
 from .table import Table
 
@@ -138,6 +139,7 @@ class BatchRace:
         free: Sequence[int] = (),
         start: str = "level",
         win_bonus: float = 0.0,
+        observer: Observer | None = None,
     ):
         if start not in START_MODES:
             raise ValueError(f"start: must be one of {START_MODES}, got {start!r}")
@@ -159,11 +161,9 @@ class BatchRace:
         self.generators = [np.random.default_rng() for _ in range(e)]
         self._robot_counts = np.arange(n, dtype=np.uint64) * np.uint64(SLOTS)
         w = table.width
+        self.observer = observer  # None: the "global" rows below
         # observation of robot i: its [x, y], then [x, y, finished] of robots i+1, ..., i-1
-        self.gather = np.array(
-            [[3 * i, 3 * i + 1] + [3 * ((i + k) % n) + f for k in range(1, n) for f in range(3)] for i in range(n)],
-            dtype=np.intp,
-        )
+        self.gather = global_gather(n if observer is None else 0)
         ids = np.arange(table.n_cells)
         self._xyf = np.stack([ids % w, ids // w, np.zeros_like(ids)], axis=1).astype(np.int64)
         self._xy = np.ascontiguousarray(self._xyf[:, :2])
@@ -271,7 +271,10 @@ class BatchRace:
         return rewards[:, None], finishing[:, None], self._no_block, code[:, None], over
 
     def observations(self) -> np.ndarray:
-        """``(n_envs, n_robots, 2 + 3 * (n_robots - 1))`` int64, as ``race_v0`` (``[x, y]`` for one robot)."""
+        """``(n_envs, n_robots, 2 + 3 * (n_robots - 1))`` int64, as ``race_v0`` (``[x, y]`` for one robot);
+        with an ``observer``, its rows."""
+        if self.observer is not None:
+            return self.observer(self.cells, self.racing)
         if self.n_robots == 1:  # [x, y] alone
             return self._xy.take(self.cells, axis=0)
         flat = self._xyf.take(self.cells, axis=0)  # (E, R, 3): [x, y, 0]

@@ -37,6 +37,13 @@ _LOCAL_NVEC = (len(TERRAIN), 2, len(EDGE), len(EDGE), len(EDGE), len(EDGE))
 _ROBOT = 1  # the column of the robot feature
 
 
+def global_gather(n: int) -> np.ndarray:
+    """Where the "global" rows gather from the flat state ``[x0, y0, finished0, x1, ...]``: robot
+    ``i`` sees its ``[x, y]``, then ``[x, y, finished]`` of robots ``i+1, ..., i-1`` (mod ``n``)."""
+    rows = [[3 * i, 3 * i + 1] + [3 * ((i + k) % n) + f for k in range(1, n) for f in range(3)] for i in range(n)]
+    return np.array(rows, dtype=np.intp).reshape(n, max(3 * n - 1, 0))
+
+
 @dataclass(frozen=True, eq=False)
 class LocalView:
     """The level's part of every local window of radius ``radius``, on a grid padded by it."""
@@ -240,3 +247,52 @@ def _nearest_subset(xy: np.ndarray, racing: np.ndarray, rel: np.ndarray, who: np
     vals = np.where(found[..., None], np.take_along_axis(d, near[..., None], axis=1), _MISSING)
     rel[who, :kk] = vals
     rel[who, kk:] = _MISSING
+
+
+@dataclass(frozen=True, eq=False)
+class Observer:
+    """A race's "local" or "nearest" observations (``make_observer``): ``nvec`` and the rows."""
+
+    mode: str
+    nvec: np.ndarray
+    view: LocalView | None  # "local"
+    k: int  # "nearest"
+    xy: np.ndarray  # (cells, 2)
+    width: int
+    height: int
+
+    def __call__(self, cells: np.ndarray, racing: np.ndarray) -> np.ndarray:
+        """``(..., n, len(nvec))`` int64 rows from every robot's cell and racing flag, ``(..., n)``."""
+        if self.view is not None:
+            return local_observations(self.view, cells, racing)
+        return nearest_observations(self.xy[np.asarray(cells)], racing, self.k, self.width, self.height)
+
+
+DEFAULT_VIEW_RADIUS, DEFAULT_K = 2, 4
+
+
+def make_observer(table: Table, observe: str = "global", view_radius: int | None = None, k: int | None = None) -> Observer | None:
+    """The observer of ``observe`` (``None`` for "global", which the envs build themselves).
+
+    ``view_radius`` (default 2) belongs to "local" and ``k`` (default 4) to "nearest": either
+    given to another mode is a ``ValueError``, as is anything but an integer >= 0 (>= 1 for ``k``).
+    """
+    if observe not in OBSERVE_MODES:
+        raise ValueError(f"observe: must be one of {', '.join(map(repr, OBSERVE_MODES))}, got {observe!r}")
+    for name, value, mode, low in (("view_radius", view_radius, "local", 0), ("k", k, "nearest", 1)):
+        if value is None:
+            continue
+        if observe != mode:
+            raise ValueError(f"{name}: only for observe={mode!r}, got {name}={value!r} with observe={observe!r}")
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
+            raise ValueError(f"{name}: must be an integer >= {low}, got {value!r}")
+    if observe == "global":
+        return None
+    w, h = table.level.width, table.level.height
+    ids = np.arange(table.n_cells)
+    xy = np.stack([ids % w, ids // w], axis=1)
+    if observe == "local":
+        view = local_view(table, int(DEFAULT_VIEW_RADIUS if view_radius is None else view_radius))
+        return Observer("local", view.nvec, view, 0, xy, w, h)
+    k = int(DEFAULT_K if k is None else k)
+    return Observer("nearest", nearest_nvec(w, h, k), None, k, xy, w, h)

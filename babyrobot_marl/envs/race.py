@@ -15,6 +15,7 @@ from ..core.actions import N_ACTIONS
 from ..core.batch import BatchRace
 from ..core.engine import OUTCOMES
 from ..core.level import Cell, Level, as_cell
+from ..core.observe import global_gather, make_observer
 from ..core.race import race_step
 from ..core.rng import new_key
 from ..core.rules import COLLISION_MODES, Rules
@@ -33,7 +34,7 @@ FINISHED_MODES = ("remove", "freeze")
 _INT, _ACTIONS = frozenset({int}), frozenset(range(N_ACTIONS))
 _ARGS = (
     "arguments are level, n_robots, collisions, max_cycles, start, finished, rules, render_mode, cell_size, theme, "
-    "animation_frames, render_fps"
+    "animation_frames, render_fps, observe, view_radius, k"
 )
 
 
@@ -61,6 +62,9 @@ class RaceEnv(Drawing, ParallelEnv):
         theme: str | Theme = "light",
         animation_frames: int = 4,
         render_fps: float | None = None,
+        observe: str = "global",
+        view_radius: int | None = None,
+        k: int | None = None,
         **rule_overrides: Any,
     ):
         self.level = resolve_level(level)
@@ -71,6 +75,7 @@ class RaceEnv(Drawing, ParallelEnv):
         self.rules = resolve_rules(rules, rule_overrides, known=_ARGS)
         self.collisions = self.rules.collisions
         self.table = compile_level(self.level, self.rules)
+        self.observe, self._observer = observe, make_observer(self.table, observe, view_radius, k)  # None: "global"
         self.n_robots = n = check_positive_int(n_robots, "n_robots")
         self.max_cycles = default_max_steps(self.level) if max_cycles is None else check_positive_int(max_cycles, "max_cycles")
         if start not in START_MODES:
@@ -89,17 +94,14 @@ class RaceEnv(Drawing, ParallelEnv):
         w, h = self.level.width, self.level.height
         self.possible_agents = [f"robot_{i}" for i in range(n)]
         self._index = {a: i for i, a in enumerate(self.possible_agents)}
-        self._obs_space = spaces.MultiDiscrete([w, h] + [w, h, 2] * (n - 1))
+        self._obs_space = spaces.MultiDiscrete(self._observer.nvec if self._observer else [w, h] + [w, h, 2] * (n - 1))
         self._act_space = spaces.Discrete(5)
         self.observation_spaces = dict.fromkeys(self.possible_agents, self._obs_space)
         self.action_spaces = dict.fromkeys(self.possible_agents, self._act_space)
         self.state_space = spaces.Box(0, np.array([w - 1, h - 1, 1] * n), shape=(3 * n,), dtype=np.int64)
         # the observer first, then the others in turn: robot i sees i, i+1, ..., i-1 (mod n);
         # observations gather from the flat state [x0, y0, finished0, x1, ...]
-        self._gather = np.array(
-            [[3 * i, 3 * i + 1] + [3 * ((i + k) % n) + f for k in range(1, n) for f in range(3)] for i in range(n)],
-            dtype=np.intp,
-        )
+        self._gather = global_gather(n if self._observer is None else 0)  # n^2 numbers: "global" only
         self._lists = self.table.lists
         self._xy = [self.table.cell_xy(c) for c in range(self.table.n_cells)]
         self._reward_at = self._lists.reward.__getitem__
@@ -257,7 +259,7 @@ class RaceEnv(Drawing, ParallelEnv):
         """Observation rows of the reported agents, gathered from the rows of ``_live_cells + _parked``."""
         place = np.empty(self.n_robots, dtype=np.intp)
         place[self._live + self._done] = np.arange(len(self._live) + len(self._done))
-        g = self._gather[self._agent_ids]
+        g = self._gather[self._agent_ids] if self._observer is None else self._gather
         self._gather_reported = 3 * place[g // 3] + g % 3 if len(self._done) else g
         self._reported_live = self._agent_ids == self._live
         self._live_set = frozenset(self._live)
@@ -305,7 +307,8 @@ class RaceEnv(Drawing, ParallelEnv):
         """``n_envs`` copies of this race as one batch engine (the ``finished="freeze"`` view):
         env ``i`` plays exactly the races of this env seeded the same way."""
         return BatchRace(
-            self.table, n_envs, self.n_robots, self.max_cycles, self._fixed_starts, self._free, self.start, self.rules.win_bonus
+            self.table, n_envs, self.n_robots, self.max_cycles, self._fixed_starts, self._free, self.start, self.rules.win_bonus,
+            observer=self._observer,
         )
 
     @cached_property
@@ -405,6 +408,8 @@ class RaceEnv(Drawing, ParallelEnv):
 
     def _observations(self) -> np.ndarray:
         """One row per reported agent, in ``agents`` order (a fresh array per step, rows never shared)."""
+        if self._observer is not None:
+            return self._observer(np.array(self._cells), np.array(self._racing))[self._agent_ids]
         rows = [*self._live_cells, *self._parked] if self._parked else self._live_cells
         return self._xyf.take(rows, axis=0).ravel()[self._gather_reported]
 
