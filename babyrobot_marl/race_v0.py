@@ -12,8 +12,10 @@ rules. Built on the same compiled level and rules as the single-robot env.
 | Agents             | `n_robots` (default 2)                               |
 | Action shape       | (1,)                                                 |
 | Action values      | Discrete(5)                                          |
-| Observation shape  | `"global"`: (2 + 3 * (n_robots - 1),); `"local"`: (2 + 6 * (2r+1)^2,); `"nearest"`: (2 + 2k,) |
-| Observation values | `"global"`: MultiDiscrete([W, H] + [W, H, 2] * (n_robots - 1)); `"local"`: MultiDiscrete([W, H] + [5, 2, 3, 3, 3, 3] * (2r+1)^2); `"nearest"`: MultiDiscrete([W, H] + [2W, 2H] * k) |
+| Observation shape  | (2 + 3 * (n_robots - 1),) (`observe="global"`)       |
+| Observation values | MultiDiscrete([W, H] + [W, H, 2] * (n_robots - 1))   |
+| Local view         | `observe="local"`: see Observations                  |
+| Nearest robots     | `observe="nearest"`: see Observations                |
 | State shape        | (3 * n_robots,)                                      |
 | State values       | Box(0, [W-1, H-1, 1] * n_robots), int64              |
 
@@ -31,11 +33,16 @@ rules. Built on the same compiled level and rules as the single-robot env.
 
 Every robot observes an int64 vector beginning with its own `[x, y]`; `observe=` picks the rest:
 
-| `observe=` | after `[x, y]` | numbers | cost per step |
-|---|---|---|---|
-| `"global"` (default) | `[x, y, finished]` of every other robot, in the order `i+1, i+2, ..., i-1` (mod `n_robots`: the next robot first) | `3 * n_robots - 1` | O(n^2) |
-| `"local"`, `view_radius=r` (default 2) | a (2r+1) x (2r+1) window centred on the robot, rows north to south, west to east in a row; per cell `[terrain, robot, north, east, south, west]` | `2 + 6 * (2r+1)^2` | O(n) |
-| `"nearest"`, `k=` (default 4) | `[dx + W - 1, dy + H - 1]` of the `k` nearest other racing robots, nearest first | `2 + 2k` | O(n) |
+| `observe=`               | after `[x, y]`, per robot                      | values (`MultiDiscrete`)                 | a step |
+|--------------------------|------------------------------------------------|------------------------------------------|--------|
+| `"global"` (default)     | `[x, y, finished]` of each other robot         | `[W, H] + [W, H, 2] * (n_robots - 1)`    | O(n^2) |
+| `"local"`, `view_radius` | a (2r+1) x (2r+1) window, 6 numbers per cell   | `[W, H] + [5, 2, 3, 3, 3, 3] * (2r+1)^2` | O(n)   |
+| `"nearest"`, `k`         | `[dx + W - 1, dy + H - 1]` of the k nearest    | `[W, H] + [2W, 2H] * k`                  | O(n)   |
+
+`"global"`: the other robots in the order `i+1, i+2, ..., i-1` (mod `n_robots`: the next robot
+first). `"local"` (`view_radius=r`, default 2): the window is centred on the robot, rows north
+to south, west to east within a row, each cell `[terrain, robot, north, east, south, west]`.
+`"nearest"` (`k`, default 4): the other racing robots nearest first.
 
 In a `"local"` window: `terrain` 0 floor, 1 small puddle, 2 large puddle, 3 blocked cell or
 outside the grid, 4 exit; `robot` 1 when another racing robot is on the cell; each side 0 open,

@@ -4,11 +4,14 @@ for the scalar rules (``core.race``) and the batch engine's (``core.batch``)."""
 
 from __future__ import annotations
 
+from unittest import mock
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from babyrobot_marl.core import race as race_core
 from babyrobot_marl.core import rng
 from babyrobot_marl.core.batch import resolve_collisions_array
 from babyrobot_marl.envs.race import RaceEnv
@@ -19,7 +22,8 @@ EXCLUSIVE = ("block", "bounce")
 
 
 def both_engines(mode, cells, desired, racing, key=12345, step=7):
-    """The scalar and the array result, after checking they equal the brute-force reference."""
+    """The result, after checking that the scalar rules (numpy above ``_ARRAYS_FROM`` racing robots,
+    dicts below), the dict-based path alone and the batch engine all equal the brute-force reference."""
     n = len(cells)
 
     def priority(i):
@@ -27,6 +31,8 @@ def both_engines(mode, cells, desired, racing, key=12345, step=7):
 
     expected = reference_resolve(mode, cells, desired, racing, priority)
     scalar = list(resolve_all_robots(mode, list(cells), list(desired), list(racing), key, step))
+    with mock.patch.object(race_core, "_ARRAYS_FROM", 10**9):  # the dict-based path at any size
+        dicts = list(resolve_all_robots(mode, list(cells), list(desired), list(racing), key, step))
     array = resolve_collisions_array(
         mode,
         np.array([cells]),
@@ -36,6 +42,7 @@ def both_engines(mode, cells, desired, racing, key=12345, step=7):
         np.array([step]),
     )[0].tolist()
     assert scalar == expected
+    assert dicts == expected
     assert array == expected
     return expected
 

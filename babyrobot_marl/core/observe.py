@@ -110,16 +110,17 @@ def local_observations(view: LocalView, cells: np.ndarray, racing: np.ndarray) -
     n_races = int(np.prod(lead, dtype=np.int64))
     cells2, racing2 = cells.reshape(n_races, n), racing.reshape(n_races, n)
     n_padded = view.static.shape[0]
-    centre = view.padded[cells2] + (np.arange(n_races, dtype=np.int64) * n_padded)[:, None]  # (R, n)
-    idx = centre[:, :, None] + view.window  # (R, n, cells in a window)
+    at = view.padded.take(cells2)  # (R, n) each robot's cell in the padded grid
+    idx = at[:, :, None] + view.window  # (R, n, cells in a window): always inside the padded grid
     out = np.empty((n_races, n, view.size), dtype=np.int64)
-    out[:, :, :2] = view.xy[cells2]
+    out[:, :, :2] = view.xy.take(cells2, axis=0)
     feats = out[:, :, 2:].reshape(n_races, n, view.window.size, len(LOCAL_FEATURES))
-    feats[...] = view.static[idx % n_padded]
+    feats[...] = view.static.take(idx, axis=0, mode="clip")  # "clip": no bounds checks (all inside)
     # the robots, on a scratch grid of all races: only racing robots are on the board
+    race_base = (np.arange(n_races, dtype=np.int64) * n_padded)[:, None, None]
     count = np.zeros(n_races * n_padded, dtype=np.int32)
-    np.add.at(count, centre[racing2], 1)
-    seen = count[idx]
+    np.add.at(count, (at + race_base[:, :, 0])[racing2], 1)
+    seen = count.take(idx + race_base, mode="clip")
     seen[:, :, view.window.size // 2] -= racing2  # not the observer itself
     feats[:, :, :, _ROBOT] = seen > 0
     return out.reshape(*lead, n, view.size)
@@ -189,7 +190,10 @@ def _nearest_rings(xy: np.ndarray, racing: np.ndarray, rel: np.ndarray, width: i
     # the racing robots by cell (several may share one under "pass"), robot numbers ascending
     cell = xy[others, 1] * width + xy[others, 0]
     order = np.lexsort((others, cell))
-    by_cell, robots = cell[order], others[order]
+    robots = others[order]
+    # robots[first_on[c] : first_on[c] + count[c]] are the racing robots on cell c; the last slot: outside
+    count = np.bincount(cell, minlength=width * height + 1)
+    first_on = np.cumsum(count) - count
     found = np.zeros(n, dtype=np.int64)
     todo = np.arange(n)
     d = 0
@@ -203,9 +207,9 @@ def _nearest_rings(xy: np.ndarray, racing: np.ndarray, rel: np.ndarray, width: i
         x = xy[todo, 0][:, None] + dx
         y = xy[todo, 1][:, None] + dy
         inside = (x >= 0) & (x < width) & (y >= 0) & (y < height)
-        c = np.where(inside, y * width + x, -1)
-        lo = np.searchsorted(by_cell, c, "left")
-        hi = np.where(inside, np.searchsorted(by_cell, c, "right"), lo)
+        c = np.where(inside, y * width + x, width * height)
+        lo = first_on.take(c)
+        hi = lo + count.take(c)
         per_row = (hi - lo).sum(axis=1)
         rows = np.flatnonzero(per_row)
         if rows.size:

@@ -54,6 +54,8 @@ def resolve_collisions(
     # cell once and each mover's new cell once more.
     if len({*cells, *desired}) == m + sum(map(operator.ne, cells, desired)):
         return desired
+    if m > _ARRAYS_FROM:
+        return _resolve_with_arrays(mode, cells, desired, key, step, robots, n)
     occupant = {c: k for k, c in enumerate(cells)}
     heading: dict[int, list[int]] = {}  # cell -> the movers heading for it
     stopped = [False] * m
@@ -91,6 +93,29 @@ def resolve_collisions(
     if not stops:
         return desired
     return [c if s else d for c, d, s in zip(cells, desired, stopped)]
+
+
+_ARRAYS_FROM = 48  # racing robots above which numpy (``batch.resolve_collisions_array``) beats Python dicts
+
+
+def _resolve_with_arrays(
+    mode: str, cells: Sequence[int], desired: Sequence[int], key: int, step: int, robots: Sequence[int] | None, n: int
+) -> Sequence[int]:
+    """``resolve_collisions`` through the batch engine's version: one race of ``n`` robots, the finished ones off the board."""
+    import numpy as np
+
+    from .batch import resolve_collisions_array  # the batch engine imports nothing from here
+
+    m = len(cells)
+    n = n or m
+    where = np.arange(m) if robots is None else np.asarray(robots, dtype=np.int64)
+    c, d, racing = np.zeros((1, n), dtype=np.int64), np.zeros((1, n), dtype=np.int64), np.zeros((1, n), dtype=bool)
+    c[0, where], d[0, where], racing[0, where] = cells, desired, True
+    final = resolve_collisions_array(mode, c, d, racing, np.array([key], dtype=np.uint64), np.array([step], dtype=np.int64))
+    if final is d:
+        return desired
+    out = final[0, where]
+    return desired if np.array_equal(out, d[0, where]) else out.tolist()
 
 
 def _priority(key: int, step: int, n: int, robot: int) -> float:
