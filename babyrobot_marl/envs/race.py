@@ -424,7 +424,7 @@ class RaceEnv(Drawing, ParallelEnv):
                 )
             return starts[:n], []
         fixed = starts[:n] if self.start == "fill" else []
-        free = [c for c in (self.table.cell_id(c) for c in self.level.free_cells()) if c not in fixed]
+        free = [c for c in self.table.free_cells if c not in fixed]
         if len(fixed) + len(free) < n:
             raise ValueError(
                 f"n_robots: {n} robots do not fit on level {self.level.name or ''!r}, "
