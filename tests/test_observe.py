@@ -99,8 +99,11 @@ def test_local_rows_of_many_races_at_once_equal_each_race_alone():
     cells = np.stack([g.choice(table.n_cells, 5, replace=False) for _ in range(7)])
     racing = g.random(cells.shape) > 0.3
     together = observe.local_observations(view, cells, racing)
+    with mock.patch.object(observe, "_SCRATCH", 1):  # one race per scratch grid
+        assert (observe.local_observations(view, cells, racing) == together).all()
     for e in range(7):
         assert (together[e] == observe.local_observations(view, cells[e], racing[e])).all()
+    assert together[:, :, 2 + observe._ROBOT :: 6].any()  # robots were seen
 
 
 @settings(max_examples=200, deadline=None)

@@ -116,14 +116,24 @@ def local_observations(view: LocalView, cells: np.ndarray, racing: np.ndarray) -
     out[:, :, :2] = view.xy.take(cells2, axis=0)
     feats = out[:, :, 2:].reshape(n_races, n, view.window.size, len(LOCAL_FEATURES))
     feats[...] = view.static.take(idx, axis=0, mode="clip")  # "clip": no bounds checks (all inside)
-    # the robots, on a scratch grid of all races: only racing robots are on the board
-    race_base = (np.arange(n_races, dtype=np.int64) * n_padded)[:, None, None]
-    count = np.zeros(n_races * n_padded, dtype=np.int32)
-    np.add.at(count, (at + race_base[:, :, 0])[racing2], 1)
-    seen = count.take(idx + race_base, mode="clip")
-    seen[:, :, view.window.size // 2] -= racing2  # not the observer itself
-    feats[:, :, :, _ROBOT] = seen > 0
+    if n == 1:
+        feats[:, :, :, _ROBOT] = 0  # a lone robot sees no other
+        return out.reshape(*lead, n, view.size)
+    # the robots, on a scratch grid of a few races at a time (a bounded grid, O(n) work):
+    # only racing robots are on the board
+    step = max(1, _SCRATCH // n_padded)
+    for s in range(0, n_races, step):
+        at_s, racing_s = at[s : s + step], racing2[s : s + step]
+        race_base = (np.arange(at_s.shape[0], dtype=np.int64) * n_padded)[:, None]
+        count = np.zeros(at_s.shape[0] * n_padded, dtype=np.int32)
+        np.add.at(count, (at_s + race_base)[racing_s], 1)
+        seen = count.take(idx[s : s + step] + race_base[:, :, None], mode="clip")
+        seen[:, :, view.window.size // 2] -= racing_s  # not the observer itself
+        feats[s : s + step, :, :, _ROBOT] = seen > 0
     return out.reshape(*lead, n, view.size)
+
+
+_SCRATCH = 1 << 20  # cells of scratch grid per pass (4 MB of counts)
 
 
 def nearest_nvec(width: int, height: int, k: int) -> np.ndarray:
