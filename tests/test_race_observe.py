@@ -127,3 +127,21 @@ def test_local_and_nearest_envs_do_not_build_the_global_gather():
     assert env.batch(1).gather.size == 0
     obs, _ = env.reset(seed=0)
     assert len(obs) == 2000 and obs["robot_1999"].shape == (2 + 6 * 9,)
+
+
+@pytest.mark.parametrize("n_robots", [63, 64, 90])
+def test_batch_global_rows_of_many_robots_equal_the_parallel_env(n_robots):
+    """From 64 robots the batch engine copies windows of the state instead of gathering by index."""
+    env = race_v0.parallel_env(level="maze-16x16", n_robots=n_robots, start="random", finished="freeze")
+    batch = env.batch(2)
+    batch.seed([5, 6])
+    batch.reset_envs([0, 1])
+    env.reset(seed=6)
+    rng = np.random.default_rng(2)
+    for _ in range(40):
+        actions = rng.integers(0, 5, (2, n_robots))
+        batch.step(actions)
+        obs, *_ = env.step({a: int(actions[1, k]) for k, a in enumerate(env.agents)})
+    rows = batch.observations()
+    assert rows.shape == (2, n_robots, 3 * n_robots - 1)
+    assert all(np.array_equal(obs[a], rows[1, k]) for k, a in enumerate(env.possible_agents))
