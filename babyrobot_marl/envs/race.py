@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import operator
 from collections.abc import Mapping, Sequence
-from functools import cached_property
+from functools import cached_property, partial
 from typing import Any
 
 import numpy as np
@@ -20,6 +20,7 @@ from ..core.race import race_step
 from ..core.rng import new_key
 from ..core.rules import COLLISION_MODES, Rules
 from ..core.table import compile_level
+from ..level_sources import DrawnLevels
 from ..render.ansi import frame, robot_glyph
 from ..render.canvas import check_animation_frames, check_fps
 from ..render.overlay import Overlay
@@ -38,7 +39,7 @@ _ARGS = (
 )
 
 
-class RaceEnv(Drawing, ParallelEnv):
+class RaceEnv(Drawing, DrawnLevels, ParallelEnv):
     """Several Baby Robots race to the exit. See ``babyrobot_marl.race_v0`` for the full table."""
 
     metadata = {
@@ -67,7 +68,7 @@ class RaceEnv(Drawing, ParallelEnv):
         k: int | None = None,
         **rule_overrides: Any,
     ):
-        self.level = resolve_level(level)
+        self.level = resolve_level(self._init_level_source(level))  # level= a family or a callable: drawn per reset
         if collisions is not None:
             if collisions not in COLLISION_MODES:
                 raise ValueError(f"collisions: must be one of {', '.join(map(repr, COLLISION_MODES))}, got {collisions!r}")
@@ -75,7 +76,8 @@ class RaceEnv(Drawing, ParallelEnv):
         self.rules = resolve_rules(rules, rule_overrides, known=_ARGS)
         self.collisions = self.rules.collisions
         self.table = compile_level(self.level, self.rules)
-        self.observe, self._observer = observe, make_observer(self.table, observe, view_radius, k)  # None: "global"
+        self._observer_of = partial(make_observer, observe=observe, view_radius=view_radius, k=k)
+        self.observe, self._observer = observe, self._observer_of(self.table)  # None: "global"
         self.n_robots = n = check_positive_int(n_robots, "n_robots")
         self.max_cycles = default_max_steps(self.level) if max_cycles is None else check_positive_int(max_cycles, "max_cycles")
         if start not in START_MODES:
@@ -137,6 +139,7 @@ class RaceEnv(Drawing, ParallelEnv):
         check_options(options)
         if seed is not None:
             self.np_random, _ = _seeding(seed)
+        self._draw_level()
         self._key = new_key(self.np_random)
         n = self.n_robots
         self._live, self._live_cells = list(range(n)), self._draw_starts()
@@ -306,6 +309,7 @@ class RaceEnv(Drawing, ParallelEnv):
     def batch(self, n_envs: int) -> BatchRace:
         """``n_envs`` copies of this race as one batch engine (the ``finished="freeze"`` view):
         env ``i`` plays exactly the races of this env seeded the same way."""
+        self._check_one_level("the batch engine (and the vector envs)")
         return BatchRace(
             self.table, n_envs, self.n_robots, self.max_cycles, self._fixed_starts, self._free, self.start, self.rules.win_bonus,
             observer=self._observer,
