@@ -40,8 +40,12 @@ _ROBOT = 1  # the column of the robot feature
 def global_gather(n: int) -> np.ndarray:
     """Where the "global" rows gather from the flat state ``[x0, y0, finished0, x1, ...]``: robot
     ``i`` sees its ``[x, y]``, then ``[x, y, finished]`` of robots ``i+1, ..., i-1`` (mod ``n``)."""
-    rows = [[3 * i, 3 * i + 1] + [3 * ((i + k) % n) + f for k in range(1, n) for f in range(3)] for i in range(n)]
-    return np.array(rows, dtype=np.intp).reshape(n, max(3 * n - 1, 0))
+    if n == 0:
+        return np.zeros((0, 0), dtype=np.intp)
+    i = np.arange(n, dtype=np.intp)[:, None]
+    others = (i + np.arange(1, n, dtype=np.intp)) % n  # (n, n - 1)
+    rows = np.concatenate([3 * i, 3 * i + 1, (3 * others[:, :, None] + np.arange(3)).reshape(n, 3 * (n - 1))], axis=1)
+    return rows
 
 
 @dataclass(frozen=True, eq=False)
