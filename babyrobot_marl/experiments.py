@@ -28,6 +28,7 @@ from typing import Any
 import numpy as np
 
 from . import policies as policy_module
+from .core.level import Level
 from .envs.race import RaceEnv
 
 Z95 = 1.959963984540054  # the two-sided 95% normal quantile
@@ -199,18 +200,25 @@ def run_races(
         raise ValueError("n_robots: given by the number of policies")
     env = RaceEnv(level=level, n_robots=len(policies), **env_kwargs)
     names = [p if isinstance(p, str) else getattr(p, "name", getattr(p, "__name__", type(p).__name__)) for p in policies]
-    records = []
-    for i in range(n_races):
-        acting = [
-            policy_module.make(p, env.table, seed=np.random.default_rng([seed, i, k])) if isinstance(p, str) else p
-            for k, p in enumerate(policies)
-        ]
-        records.append(_one_race(env, acting, seed + i))
-    return RaceStats(env.level.name or str(level), names, records)
+    records = [_one_race(env, policies, seed, i) for i in range(n_races)]
+    return RaceStats(_level_name(level, env), names, records)
 
 
-def _one_race(env: RaceEnv, acting: Sequence[Policy], seed: int) -> RaceRecord:
-    obs, _ = env.reset(seed=seed)
+def _level_name(level: Any, env: RaceEnv) -> str:
+    if isinstance(level, str) and level.endswith("*"):
+        return level  # a family
+    if isinstance(level, (str, Level)):
+        return env.level.name or "custom level"
+    return getattr(level, "family", "drawn levels")
+
+
+def _one_race(env: RaceEnv, policies: Sequence[str | Policy], seed: int, i: int) -> RaceRecord:
+    obs, _ = env.reset(seed=seed + i)
+    # named policies after the reset: a drawn level (level= a family) changes the table
+    acting = [
+        policy_module.make(p, env.table, seed=np.random.default_rng([seed, i, k])) if isinstance(p, str) else p
+        for k, p in enumerate(policies)
+    ]
     n = env.n_robots
     index = {a: k for k, a in enumerate(env.possible_agents)}
     finish = [0] * n
@@ -222,7 +230,7 @@ def _one_race(env: RaceEnv, acting: Sequence[Policy], seed: int) -> RaceRecord:
         for a, info in infos.items():
             if info["finished"] and not finish[index[a]]:
                 finish[index[a]] = env.elapsed_steps
-    return RaceRecord(seed, env.elapsed_steps, env.ranks, finish, env.returns, env.collisions_count, collisions)
+    return RaceRecord(seed + i, env.elapsed_steps, env.ranks, finish, env.returns, env.collisions_count, collisions)
 
 
 def summary(stats: RaceStats) -> Mapping[str, Any]:

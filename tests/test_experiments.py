@@ -120,3 +120,12 @@ def test_summary_is_plain_numbers():
     s = experiments.summary(run_races("race-2", ["shortest", "shortest"], n_races=3, seed=0))
     assert s["races"] == 3 and len(s["robots"]) == 2
     assert isinstance(s["race"]["makespan"][0], float)
+
+
+def test_named_policies_act_on_the_level_drawn_for_each_race():
+    from babyrobot_marl.level_sources import maze_family
+
+    stats = run_races(maze_family(6, 6, seeds=range(20)), ["shortest"], n_races=10, seed=0, start="random")
+    assert stats.level == "maze-6x6-*"
+    assert all(r.ranks == [1] for r in stats.records)  # alone, the shortest path always gets out
+    assert all(r.finish_steps[0] <= 2 * 36 for r in stats.records)
