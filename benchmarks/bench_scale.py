@@ -2,7 +2,7 @@
 worst-case collision queue; the batch engine beside ``parallel_env`` from 4096 x 1 to 1 x 1000.
 
     python benchmarks/bench_scale.py            # about two minutes on a shared 2-core machine
-    python benchmarks/bench_scale.py --quick    # CI smoke run: fewer steps, one round
+    python benchmarks/bench_scale.py --quick    # CI smoke run: fewer steps, one round, no targets judged
 
 1. ``race_v0.parallel_env`` on ``maze-64x64``, random starts, random actions, robots 4, 10, 16,
    64, 256, 1024, each ``observe`` mode: microseconds per agent-step (median over rounds), the
@@ -18,7 +18,8 @@ worst-case collision queue; the batch engine beside ``parallel_env`` from 4096 x
    (4096 x 1) to (1 x 1000), "global" and "local" observations. Target: the batch engine at
    least as fast as ``parallel_env`` (ratio >= 1.0) for every shape.
 
-The script exits with status 1 when a target is missed.
+The script exits with status 1 when a target is missed (``--quick`` prints the figures only:
+a few thousand steps on a busy CI machine are too few to judge a ratio).
 """
 
 from __future__ import annotations
@@ -163,6 +164,9 @@ def main(argv: list[str] | None = None) -> int:
     ok = part_modes(rounds, agent_steps)
     ok &= part_queue()
     ok &= part_batch(rounds, agent_steps)
+    if args.quick:
+        print("quick run: too few steps to judge the targets (run without --quick)")
+        return 0
     return 0 if ok else 1
 
 
