@@ -59,7 +59,7 @@ def parallel_time(env, n: int, agent_steps: int, rng: np.random.Generator) -> fl
     return (time.perf_counter() - t0) / count
 
 
-def part_modes(rounds: int, agent_steps: int) -> bool:
+def part_modes(rounds: int, agent_steps: int, judge: bool = True) -> bool:
     print(f"1. parallel_env on {LEVEL}, random starts and actions (median of {rounds})")
     print(f"{'observe':8s} {'robots':>6s} {'us/agent-step':>14s} {'build s':>8s} {'build MB':>9s} {'obs KB/step':>12s}")
     race_v0.parallel_env(level=LEVEL, n_robots=1)  # compiles the level once: later envs share it
@@ -84,7 +84,8 @@ def part_modes(rounds: int, agent_steps: int) -> bool:
         ratio = per_mode[mode][1024] / per_mode[mode][10]
         met = ratio <= 1.5
         ok &= met
-        print(f"target: {mode}, time per agent-step at 1024 robots <= 1.5x at 10: {ratio:.2f}x {'met' if met else 'MISSED'}")
+        verdict = ("met" if met else "MISSED") if judge else "(not judged)"
+        print(f"target: {mode}, time per agent-step at 1024 robots <= 1.5x at 10: {ratio:.2f}x {verdict}")
     return ok
 
 
@@ -92,7 +93,7 @@ def corridor(n: int) -> str:
     return "\n".join(["+" + "-+" * (n + 1), "|" + " " * (2 * n) + "E|", "+" + "-+" * (n + 1)])
 
 
-def part_queue() -> bool:
+def part_queue(judge: bool = True) -> bool:
     print(f"\n2. a queue of {QUEUE:,} robots in a corridor pressing west against the wall, one step (median of 5)")
     text = corridor(QUEUE)
     ok = True
@@ -110,12 +111,12 @@ def part_queue() -> bool:
         t = statistics.median(times)
         met = t < 0.050
         ok &= met
-        verdict = "met" if met else "MISSED"
+        verdict = ("met" if met else "MISSED") if judge else "not judged"
         print(f"head at the wall is the {name}-numbered robot: {t * 1e3:7.1f} ms per step  (target < 50 ms: {verdict})")
     return ok
 
 
-def part_batch(rounds: int, agent_steps: int) -> bool:
+def part_batch(rounds: int, agent_steps: int, judge: bool = True) -> bool:
     print(f"\n3. batch engine and RaceVectorEnv beside parallel_env, {LEVEL}, us per agent-step (median of {rounds})")
     print(f"{'observe':8s} {'envs x robots':>14s} {'batch':>8s} {'vector env':>11s} {'parallel':>9s} {'batch vs parallel':>18s}")
     ok = True
@@ -149,8 +150,9 @@ def part_batch(rounds: int, agent_steps: int) -> bool:
             ok &= met
             shape = f"{n_envs} x {n}"
             figures = f"{b * 1e6:8.3f} {v * 1e6:11.3f} {p * 1e6:9.3f} {p / b:17.2f}x"
-            print(f"{mode:8s} {shape:>14s} {figures}{'' if met else '  MISSED'}", flush=True)
-    print(f"target: batch engine at least as fast as parallel_env per agent-step for every shape: {'met' if ok else 'MISSED'}")
+            print(f"{mode:8s} {shape:>14s} {figures}{'' if met or not judge else '  MISSED'}", flush=True)
+    verdict = ("met" if ok else "MISSED") if judge else "(not judged)"
+    print(f"target: batch engine at least as fast as parallel_env per agent-step for every shape: {verdict}")
     return ok
 
 
@@ -161,13 +163,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--agent-steps", type=int, default=20_000, help="agent-steps per measurement")
     args = parser.parse_args(argv)
     rounds, agent_steps = (1, 3_000) if args.quick else (args.rounds, args.agent_steps)
-    ok = part_modes(rounds, agent_steps)
-    ok &= part_queue()
-    ok &= part_batch(rounds, agent_steps)
-    if args.quick:
-        print("quick run: too few steps to judge the targets (run without --quick)")
-        return 0
-    return 0 if ok else 1
+    judge = not args.quick  # a few thousand steps on a busy machine are too few to judge a ratio
+    ok = part_modes(rounds, agent_steps, judge)
+    ok &= part_queue(judge)
+    ok &= part_batch(rounds, agent_steps, judge)
+    return 0 if ok or not judge else 1
 
 
 if __name__ == "__main__":
