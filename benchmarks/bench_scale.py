@@ -44,7 +44,7 @@ QUEUE = 3000
 
 def parallel_time(env, n: int, agent_steps: int, rng: np.random.Generator) -> float:
     """Seconds per agent-step of ``parallel_env`` under random actions (a reset when the race ends)."""
-    steps = max(5, agent_steps // n)
+    steps = max(30, agent_steps // n)
     actions = rng.integers(0, 5, (steps, n)).tolist()
     env.reset(seed=0)
     count = 0
@@ -125,7 +125,7 @@ def part_batch(rounds: int, agent_steps: int, judge: bool = True) -> bool:
             kw = dict(level=LEVEL, n_robots=n, start="random", max_cycles=10**6, observe=mode)
             env = race_v0.parallel_env(**kw)
             rng = np.random.default_rng(0)
-            steps = max(5, agent_steps // (n_envs * n))
+            steps = max(30, agent_steps // (n_envs * n))
             actions = rng.integers(0, 5, (steps, n_envs, n))
             batch = env.batch(n_envs)
             vec = RaceVectorEnv(n_envs, **kw)
