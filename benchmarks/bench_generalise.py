@@ -11,7 +11,7 @@ generator, SuperSuit + Stable-Baselines3 PPO with one policy for every robot
 seeded races (``babyrobot_marl.experiments.run_races``) on the training mazes and on unseen ones
 (maze seeds 100,000 and up), four robots of one policy each time: the success rate is the share
 of robots reaching the exit within ``max_cycles`` (256 steps), with its 95% interval. The PPO
-policy acts deterministically (its most likely action).
+policy is judged twice: taking its most likely action, and sampling its action (seeded).
 
 No target: the figure is what a memoryless policy that sees a 5x5 window and its own position
 achieves on unseen mazes; the shortest-path robot knows the whole maze.
@@ -41,18 +41,19 @@ def success(stats) -> tuple[float, float, float]:
     return done / total, low, high
 
 
-def ppo_success(model, seeds: range, n_races: int, seed: int) -> tuple[float, float, float]:
+def ppo_success(model, seeds: range, n_races: int, seed: int, deterministic: bool) -> tuple[float, float, float]:
     """``success`` for the PPO policy, its robots' actions predicted together each step (one call
     instead of one per robot): the same races as ``run_races`` (race ``i`` reset with ``seed + i``)."""
     from babyrobot_marl import race_v0
 
     env = race_v0.parallel_env(level=maze_family(8, 8, seeds), n_robots=ROBOTS, **ENV)
+    model.set_random_seed(seed)  # the sampled actions (deterministic=False) repeat too
     done = 0
     for i in range(n_races):
         obs, _ = env.reset(seed=seed + i)
         while env.agents:
             agents = env.agents
-            actions, _ = model.predict(np.stack([obs[a] for a in agents]), deterministic=True)
+            actions, _ = model.predict(np.stack([obs[a] for a in agents]), deterministic=deterministic)
             obs, *_ = env.step(dict(zip(agents, map(int, actions))))
         done += sum(1 for r in env.ranks if r)
     low, high = wilson(done, n_races * ROBOTS)
@@ -75,17 +76,17 @@ def main(argv: list[str] | None = None) -> int:
 
     print(f"trained {args.steps:,} timesteps in {seconds:.0f} s on 8x8 mazes {TRAIN_SEEDS.start}..{TRAIN_SEEDS.stop - 1}")
     print(f"success rate: robots reaching the exit within 256 steps, {args.races} races of {ROBOTS} robots, 95% interval")
-    print(f"{'policy':18s} {'training mazes':>24s} {'unseen mazes':>24s}")
-    for name in ("ppo (local view)", "shortest", "random"):
+    print(f"{'policy':24s} {'training mazes':>24s} {'unseen mazes':>24s}")
+    for name in ("ppo, most likely action", "ppo, sampled action", "shortest", "random"):
         cells = []
         for seeds in (TRAIN_SEEDS, UNSEEN_SEEDS):
             if name == "shortest" or name == "random":
                 stats = run_races(maze_family(8, 8, seeds), [name] * ROBOTS, n_races=args.races, seed=args.seed + 1, **ENV)
                 rate, low, high = success(stats)
             else:
-                rate, low, high = ppo_success(model, seeds, args.races, args.seed + 1)
+                rate, low, high = ppo_success(model, seeds, args.races, args.seed + 1, deterministic="likely" in name)
             cells.append(f"{rate:.2f} [{low:.2f}, {high:.2f}]")
-        print(f"{name:18s} {cells[0]:>24s} {cells[1]:>24s}", flush=True)
+        print(f"{name:24s} {cells[0]:>24s} {cells[1]:>24s}", flush=True)
     return 0
 
 
