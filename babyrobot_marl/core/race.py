@@ -44,7 +44,9 @@ def resolve_collisions(
     the smallest set of stayers closed under them: a mover in a swap or losing a contest stays
     (both read off ``desired`` alone), and a mover heading for the cell of a robot that stays
     stays too. So stopping spreads backwards along "heads for the cell of", visiting each robot
-    once, from the robots that do not move and the swaps and contest losers.
+    once, from the robots that do not move and the swaps and contest losers. Past
+    ``_ARRAYS_FROM`` racing robots the batch engine's numpy version runs instead (the same
+    closure, by sorting and pointer doubling: O(n log n) steps in C, faster than dicts there).
     """
     if mode == "pass":
         return desired
