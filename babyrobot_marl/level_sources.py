@@ -95,3 +95,6 @@ class DrawnLevels:
         self._observer = self._observer_of(self.table)  # type: ignore[attr-defined]
         self._fixed_starts, self._free = self._placement(self.n_robots)  # type: ignore[attr-defined]
         self.__dict__.pop("rgb_renderer", None)  # drawn again for the new walls
+        if getattr(self, "canvas", None) is not None:  # a live canvas shows one level: a new one for this
+            self._close_canvas()  # type: ignore[attr-defined]
+            self.canvas = None

@@ -26,7 +26,7 @@ from ..render.canvas import check_animation_frames, check_fps
 from ..render.overlay import Overlay
 from ..render.rgb import RgbRenderer, Theme, check_cell_size, resolve_theme
 from .common import check_action, check_options, check_positive_int, check_render_mode, resolve_level, resolve_rules
-from .drawing import Drawing
+from .drawing import RaceDrawing
 from .single import default_max_steps
 
 START_MODES = ("level", "fill", "random")
@@ -39,7 +39,7 @@ _ARGS = (
 )
 
 
-class RaceEnv(Drawing, DrawnLevels, ParallelEnv):
+class RaceEnv(RaceDrawing, DrawnLevels, ParallelEnv):
     """Several Baby Robots race to the exit. See ``babyrobot_marl.race_v0`` for the full table."""
 
     metadata = {
@@ -59,7 +59,7 @@ class RaceEnv(Drawing, DrawnLevels, ParallelEnv):
         finished: str = "remove",
         rules: Rules | Mapping[str, Any] | None = None,
         render_mode: str | None = None,
-        cell_size: int = 32,
+        cell_size: int | None = None,
         theme: str | Theme = "light",
         animation_frames: int = 4,
         render_fps: float | None = None,
@@ -87,7 +87,7 @@ class RaceEnv(Drawing, DrawnLevels, ParallelEnv):
         self.start, self.finished_mode = start, finished
         self._fixed_starts, self._free = self._placement(n)
         self.render_mode = check_render_mode(render_mode, self.metadata["render_modes"])
-        self.cell_size, self.theme = check_cell_size(cell_size), resolve_theme(theme)
+        self.cell_size, self.theme = check_cell_size(cell_size, self.level), resolve_theme(theme)
         self.animation_frames = check_animation_frames(animation_frames)
         if render_fps is not None:  # this env's own metadata: the class's stays as it is
             self.metadata = {**type(self).metadata, "render_fps": check_fps(render_fps)}
@@ -101,9 +101,7 @@ class RaceEnv(Drawing, DrawnLevels, ParallelEnv):
         self.observation_spaces = dict.fromkeys(self.possible_agents, self._obs_space)
         self.action_spaces = dict.fromkeys(self.possible_agents, self._act_space)
         self.state_space = spaces.Box(0, np.array([w - 1, h - 1, 1] * n), shape=(3 * n,), dtype=np.int64)
-        # the observer first, then the others in turn: robot i sees i, i+1, ..., i-1 (mod n);
-        # observations gather from the flat state [x0, y0, finished0, x1, ...]
-        self._gather = global_gather(n if self._observer is None else 0)  # n^2 numbers: "global" only
+        self._gather = global_gather(n if self._observer is None else 0)  # robot i sees i, i+1, ..., i-1: "global" only
         self._lists = self.table.lists
         self._xy = [self.table.cell_xy(c) for c in range(self.table.n_cells)]
         self._reward_at = self._lists.reward.__getitem__
@@ -121,6 +119,7 @@ class RaceEnv(Drawing, DrawnLevels, ParallelEnv):
         self._returns: list[float] = []  # of the finished robots; the racing ones' in _live_returns
         self._live_returns: list[float] = []
         self._bumps: list[int] = []
+        self._last_step: tuple | None = None  # what the last step did, for the pictures (drawing.py)
         self._t = 0
         self._key = 0
         self._n_finished = 0
@@ -148,6 +147,7 @@ class RaceEnv(Drawing, DrawnLevels, ParallelEnv):
         self._returns = [0.0] * n
         self._live_returns = [0.0] * n
         self._bumps = [0] * n
+        self._last_step = None
         self._t = 0
         self._n_finished = 0
         self._set_agents(self._live)
@@ -171,6 +171,7 @@ class RaceEnv(Drawing, DrawnLevels, ParallelEnv):
         cells, outcome, blocked, finishing = race_step(
             self._lists, self.collisions, self._live_cells, acts, self._key, t, live, self.n_robots
         )
+        self._last_step = (live, self._live_cells, acts, outcome, blocked, finishing, t)
         self._live_cells, self._t = cells, t + 1
         rewards = list(map(self._reward_at, cells))
         if True in blocked:
@@ -298,12 +299,11 @@ class RaceEnv(Drawing, DrawnLevels, ParallelEnv):
 
             gymnasium.logger.warn("render() called with render_mode=None; pass render_mode='ansi' or 'human'")
             return None
-        robots: list[Cell | None] = [self._xy[c] if r else None for c, r in zip(self._cells, self._racing)]
         if self.render_mode == "rgb_array":
-            return self._overlay_frame(robots)
+            return self._overlay_frame()
         if self.render_mode == "ansi":
             return self.render_text()
-        self._show_human(robots, self.render_text, animate=self._t > 0)
+        self._show_human(self.render_text, animate=self._t > 0)
         return None
 
     def batch(self, n_envs: int) -> BatchRace:
@@ -321,7 +321,7 @@ class RaceEnv(Drawing, DrawnLevels, ParallelEnv):
         return RgbRenderer(self.level, self.cell_size, self.theme)
 
     def close(self) -> None:
-        pass
+        self._close_canvas()
 
     # ----------------------------------------------------------------------- helpers
     def render_text(self, colour: bool = False) -> str:
