@@ -3,15 +3,17 @@
 from __future__ import annotations
 
 import operator
-from collections.abc import Mapping
+from collections.abc import Collection, Mapping, Sequence
 from typing import Any
 
 import numpy as np
 
 from .. import levels
 from ..core.actions import N_ACTIONS, Action
-from ..core.level import Level
+from ..core.engine import OUTCOMES
+from ..core.level import Level, as_cell
 from ..core.rules import RULE_NAMES, Rules
+from ..core.table import Table
 
 ACTION_HELP = ", ".join(f"{a.value}={a.name}" for a in Action)
 
@@ -25,8 +27,14 @@ def resolve_level(level: str | Level) -> Level:
     raise TypeError(f"level: expected a level name, a level text or a Level, got {type(level).__name__}")
 
 
-def resolve_rules(rules: Rules | Mapping[str, Any] | None, overrides: Mapping[str, Any], known: str = "") -> Rules:
-    """``Rules`` from a ``Rules``, a dict or ``None`` (defaults), with keyword overrides on top."""
+def resolve_rules(
+    rules: Rules | Mapping[str, Any] | None, overrides: Mapping[str, Any], owner: str = "", known: Sequence[str] = ()
+) -> Rules:
+    """``Rules`` from a ``Rules``, a dict or ``None`` (defaults), with keyword overrides on top.
+
+    An override that is no rule is a ``TypeError`` in Python's own wording for ``owner``'s
+    ``__init__`` (TorchRL's ``GymEnv`` matches on it to drop ``frameskip=``), then the known names.
+    """
     if rules is None:
         base = Rules()
     elif isinstance(rules, Rules):
@@ -38,12 +46,39 @@ def resolve_rules(rules: Rules | Mapping[str, Any] | None, overrides: Mapping[st
         base = Rules().replace(**rules)
     else:
         raise TypeError(f"rules: expected a Rules, a dict of rule values or None, got {type(rules).__name__}")
-    unknown = sorted(set(overrides) - RULE_NAMES)
+    unknown = sorted(set(overrides) - RULE_NAMES, key=str)
     if unknown:
-        raise TypeError(
-            f"unknown argument {unknown[0]!r}; {known + '; ' if known else ''}rule overrides are: {', '.join(sorted(RULE_NAMES))}"
-        )
+        raise unexpected_keyword(owner, unknown[0], known, RULE_NAMES)
     return base.replace(**overrides) if overrides else base
+
+
+def unexpected_keyword(owner: str, name: object, known: Sequence[str], rule_names: Collection[str] = ()) -> TypeError:
+    """Python's own ``TypeError`` for an unknown keyword argument, followed by the known ones."""
+    where = f"{owner}.__init__()" if owner else "__init__()"
+    text = f"{where} got an unexpected keyword argument {name!r}"
+    if known:
+        text += f"; arguments are {', '.join(known)}"
+    if rule_names:
+        text += f"; rule overrides are {', '.join(sorted(rule_names))}"
+    return TypeError(text)
+
+
+def check_seed(seed: object, what: str = "seed") -> int | None:
+    """``reset(seed=...)``: None or a non-negative integer (Python or numpy; bools and floats are not seeds).
+
+    A local helper until the package-wide integer rule (``checks.check_int``) lands.
+    """
+    if seed is None:
+        return None
+    v: int | None = None
+    if not isinstance(seed, (bool, np.bool_)):
+        try:
+            v = operator.index(seed)
+        except TypeError:
+            v = None
+    if v is None or v < 0:
+        raise ValueError(f"{what}: must be None or a non-negative integer, got {seed!r}")
+    return v
 
 
 def check_action(action: object, what: str = "action") -> int:
@@ -79,10 +114,45 @@ def check_positive_int(value: object, what: str) -> int:
     return v
 
 
-def check_options(options: object) -> Mapping[str, Any]:
-    """``reset(options=...)``: None or a dict."""
+def check_options(options: object, known: Collection[str] = ()) -> Mapping[str, Any]:
+    """``reset(options=...)``: None or a dict whose keys are among ``known``."""
     if options is None:
         return {}
     if not isinstance(options, Mapping):
         raise ValueError(f"options: expected a dict or None, got {type(options).__name__}")
+    unknown = [k for k in options if k not in known]
+    if unknown:
+        allowed = ", ".join(map(repr, known)) if known else "none"
+        raise ValueError(f"options: unknown option {unknown[0]!r}; known options are {allowed}")
     return options
+
+
+# Info "outcome" codes: the engine's five, then the two the envs add. Ints so that tensor
+# libraries can stack infos; names by code in OUTCOME_NAMES (exported as babyrobot_marl.OUTCOME_NAMES).
+OUTCOME_NAMES = (*OUTCOMES, "start", "finished")
+START, FINISHED = OUTCOME_NAMES.index("start"), OUTCOME_NAMES.index("finished")
+
+
+def check_cells(table: Table, cells: object, n: int, what: str, distinct: bool = True) -> list[int]:
+    """``n`` cells ``(x, y)`` as cell ids: each inside the grid, neither blocked nor an exit, and
+    (``distinct``) no two the same; else a ``ValueError`` naming ``what`` and what is allowed."""
+    allowed = f"{n} distinct open cells (x, y), one per robot, not blocked and not an exit"
+    if not isinstance(cells, Sequence) or isinstance(cells, (str, bytes)):
+        raise ValueError(f"{what}: expected a list of {allowed}, got {cells!r}")
+    if len(cells) != n:
+        raise ValueError(f"{what}: expected {allowed}; got {len(cells)} cells")
+    ids = []
+    for cell in cells:
+        try:
+            x, y = as_cell(cell, what)
+        except ValueError:
+            raise ValueError(f"{what}: expected {allowed}; {cell!r} is not a cell (x, y) of integers") from None
+        if not (0 <= x < table.width and 0 <= y < table.height):
+            raise ValueError(f"{what}: {(x, y)} is outside the {table.width}x{table.height} grid; expected {allowed}")
+        c = table.cell_id((x, y))
+        if table.blocked[c] or table.is_exit[c]:
+            raise ValueError(f"{what}: {(x, y)} is blocked or an exit; expected {allowed}")
+        ids.append(c)
+    if distinct and len(set(ids)) < len(ids):
+        raise ValueError(f"{what}: two robots share a cell; expected {allowed}")
+    return ids

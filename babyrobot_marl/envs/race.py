@@ -13,17 +13,28 @@ from pettingzoo import ParallelEnv
 
 from ..core.actions import N_ACTIONS
 from ..core.batch import BatchRace
-from ..core.engine import OUTCOMES
-from ..core.level import Cell, Level, as_cell
+from ..core.level import Cell, Level
 from ..core.race import race_step
 from ..core.rng import new_key
 from ..core.rules import COLLISION_MODES, Rules
 from ..core.table import compile_level
+from ..encodings import Encoder
 from ..render.ansi import frame, robot_glyph
 from ..render.canvas import check_animation_frames, check_fps
 from ..render.overlay import Overlay
 from ..render.rgb import RgbRenderer, Theme, check_cell_size, resolve_theme
-from .common import check_action, check_options, check_positive_int, check_render_mode, resolve_level, resolve_rules
+from .common import (
+    FINISHED,
+    START,
+    check_action,
+    check_cells,
+    check_options,
+    check_positive_int,
+    check_render_mode,
+    check_seed,
+    resolve_level,
+    resolve_rules,
+)
 from .drawing import Drawing
 from .single import default_max_steps
 
@@ -32,8 +43,8 @@ FINISHED_MODES = ("remove", "freeze")
 # actions on the fast path: Python ints 0..4 (bools, numpy ints and the rest are checked one by one)
 _INT, _ACTIONS = frozenset({int}), frozenset(range(N_ACTIONS))
 _ARGS = (
-    "arguments are level, n_robots, collisions, max_cycles, start, finished, rules, render_mode, cell_size, theme, "
-    "animation_frames, render_fps"
+    "level", "n_robots", "collisions", "max_cycles", "start", "finished", "rules", "render_mode", "cell_size", "theme",
+    "animation_frames", "render_fps", "obs_encoding",
 )
 
 
@@ -61,6 +72,7 @@ class RaceEnv(Drawing, ParallelEnv):
         theme: str | Theme = "light",
         animation_frames: int = 4,
         render_fps: float | None = None,
+        obs_encoding: str = "multidiscrete",
         **rule_overrides: Any,
     ):
         self.level = resolve_level(level)
@@ -68,7 +80,7 @@ class RaceEnv(Drawing, ParallelEnv):
             if collisions not in COLLISION_MODES:
                 raise ValueError(f"collisions: must be one of {', '.join(map(repr, COLLISION_MODES))}, got {collisions!r}")
             rule_overrides["collisions"] = collisions
-        self.rules = resolve_rules(rules, rule_overrides, known=_ARGS)
+        self.rules = resolve_rules(rules, rule_overrides, "RaceEnv", _ARGS)
         self.collisions = self.rules.collisions
         self.table = compile_level(self.level, self.rules)
         self.n_robots = n = check_positive_int(n_robots, "n_robots")
@@ -89,11 +101,17 @@ class RaceEnv(Drawing, ParallelEnv):
         w, h = self.level.width, self.level.height
         self.possible_agents = [f"robot_{i}" for i in range(n)]
         self._index = {a: i for i, a in enumerate(self.possible_agents)}
-        self._obs_space = spaces.MultiDiscrete([w, h] + [w, h, 2] * (n - 1))
+        self.encoder = Encoder([w, h] + [w, h, 2] * (n - 1), obs_encoding)
+        self._obs_space = self.encoder.space
         self._act_space = spaces.Discrete(5)
         self.observation_spaces = dict.fromkeys(self.possible_agents, self._obs_space)
         self.action_spaces = dict.fromkeys(self.possible_agents, self._act_space)
-        self.state_space = spaces.Box(0, np.array([w - 1, h - 1, 1] * n), shape=(3 * n,), dtype=np.int64)
+        self._encode_state = Encoder([w, h, 2] * n, obs_encoding)
+        self.state_space = (
+            spaces.Box(0, np.array([w - 1, h - 1, 1] * n), shape=(3 * n,), dtype=np.int64)
+            if self._encode_state.identity
+            else self._encode_state.space
+        )
         # the observer first, then the others in turn: robot i sees i, i+1, ..., i-1 (mod n);
         # observations gather from the flat state [x0, y0, finished0, x1, ...]
         self._gather = np.array(
@@ -102,6 +120,7 @@ class RaceEnv(Drawing, ParallelEnv):
         )
         self._lists = self.table.lists
         self._xy = [self.table.cell_xy(c) for c in range(self.table.n_cells)]
+        self._xy_arrays = [np.array(xy, dtype=np.int64) for xy in self._xy]  # infos' "cell", copied per step
         self._reward_at = self._lists.reward.__getitem__
         # [x, y, finished] of a robot: row c racing in cell c, row n_cells + c finished there
         self._xyf = np.array([(*xy, 0) for xy in self._xy] + [(*xy, 1) for xy in self._xy], dtype=np.int64)
@@ -120,7 +139,19 @@ class RaceEnv(Drawing, ParallelEnv):
         self._t = 0
         self._key = 0
         self._n_finished = 0
-        self.np_random, _ = _seeding(None)
+        self._np_random: np.random.Generator | None = None  # made at the first reset, as Gymnasium does
+        self._started = False
+
+    @property
+    def np_random(self) -> np.random.Generator:
+        """The race's generator: made unseeded on first use (so copies of an unreset env differ)."""
+        if self._np_random is None:
+            self._np_random, _ = _seeding(None)
+        return self._np_random
+
+    @np_random.setter
+    def np_random(self, value: np.random.Generator) -> None:
+        self._np_random = value
 
     # ----------------------------------------------------------------------- PettingZoo API
     def observation_space(self, agent: str) -> spaces.MultiDiscrete:
@@ -132,12 +163,17 @@ class RaceEnv(Drawing, ParallelEnv):
         return self._act_space
 
     def reset(self, seed: int | None = None, options: dict | None = None):
-        check_options(options)
+        """A new race. ``options={"starts": [(x, y), ...]}``: one distinct open cell per robot."""
+        starts = check_options(options, ("starts",)).get("starts")
+        if starts is not None:
+            starts = check_cells(self.table, starts, self.n_robots, 'options["starts"]')
+        seed = check_seed(seed)
         if seed is not None:
             self.np_random, _ = _seeding(seed)
         self._key = new_key(self.np_random)
         n = self.n_robots
-        self._live, self._live_cells = list(range(n)), self._draw_starts()
+        self._started = True
+        self._live, self._live_cells = list(range(n)), self._draw_starts() if starts is None else starts
         self._done, self._parked = [], []
         self._rank = [0] * n
         self._returns = [0.0] * n
@@ -149,8 +185,9 @@ class RaceEnv(Drawing, ParallelEnv):
         if self.render_mode == "human":
             self.render()
         obs = self._observations()
+        xy = self._xy_arrays
         infos = {
-            a: {"cell": self._xy[c], "outcome": "start", "blocked": False, "finished": False}
+            a: {"cell": xy[c].copy(), "outcome": START, "blocked": False, "finished": False, "rank": 0}
             for a, c in zip(self.possible_agents, self._live_cells)
         }
         return dict(zip(self.possible_agents, obs)), infos
@@ -158,6 +195,7 @@ class RaceEnv(Drawing, ParallelEnv):
     def step(self, actions: Mapping[str, Any]):
         reported = self.agents
         if not reported:
+            self._check_started("step")
             if actions:
                 raise ValueError("actions: the race is over (no agents left); call reset() before stepping again")
             return {}, {}, {}, {}, {}
@@ -176,9 +214,9 @@ class RaceEnv(Drawing, ParallelEnv):
             out = self._step_general(cells, outcome, blocked, finishing, rewards)
         else:  # the common step: nobody finishes, the race goes on, the agents are the racing robots
             self._live_returns = list(map(operator.add, self._live_returns, rewards))
-            xy, names = self._xy, OUTCOMES
+            xy = self._xy_arrays
             infos = {
-                a: {"cell": xy[c], "outcome": names[o], "blocked": b, "finished": False}
+                a: {"cell": xy[c].copy(), "outcome": o, "blocked": b, "finished": False, "rank": 0}
                 for a, c, o, b in zip(reported, cells, outcome, blocked)
             }
             no = self._none_done
@@ -221,7 +259,7 @@ class RaceEnv(Drawing, ParallelEnv):
         over = self._t >= self.max_cycles or not self._live
         obs = self._observations()
         reported, ids = self.agents, self._agent_ids
-        all_cells, xy, ranks = self._cells, self._xy, self._rank
+        all_cells, xy, ranks = self._cells, self._xy_arrays, self._rank
         # parked robots (freeze) are terminated only when the race ends: PettingZoo expects a
         # terminated agent to leave `agents` in the same step
         parked_done = over or self.finished_mode == "remove"
@@ -231,15 +269,13 @@ class RaceEnv(Drawing, ParallelEnv):
         infos = {}
         for a, i in zip(reported, ids):
             k = was_live.get(i)
-            info = {
-                "cell": xy[all_cells[i]],
-                "outcome": "finished" if k is None else OUTCOMES[outcome[k]],
+            infos[a] = {
+                "cell": xy[all_cells[i]].copy(),
+                "outcome": FINISHED if k is None else outcome[k],
                 "blocked": k is not None and blocked[k],
                 "finished": not racing_now[i],
+                "rank": ranks[i],
             }
-            if ranks[i]:
-                info["rank"] = ranks[i]
-            infos[a] = info
         if over:
             self._set_agents([])
         elif self.finished_mode == "remove":
@@ -281,11 +317,12 @@ class RaceEnv(Drawing, ParallelEnv):
         return racing
 
     def state(self) -> np.ndarray:
-        """Every robot's ``[x, y, finished]`` in robot order (a global view for critics)."""
+        """Every robot's ``[x, y, finished]`` in robot order (a global view for critics), encoded as observations are."""
+        self._check_started("state")
         rows = [0] * self.n_robots
         for i, row in zip(self._live + self._done, [*self._live_cells, *self._parked]):
             rows[i] = row
-        return self._xyf.take(rows, axis=0).ravel()
+        return self._encode_state(self._xyf.take(rows, axis=0).ravel())
 
     def render(self) -> str | None:
         if self.render_mode is None:
@@ -353,21 +390,8 @@ class RaceEnv(Drawing, ParallelEnv):
     def set_cells(self, cells: list[Cell]) -> None:
         """Place the robots by hand (tests, tutorials): one distinct open cell per robot (after a
         reset; robots that have finished stay parked at their exits)."""
-        if not isinstance(cells, Sequence) or isinstance(cells, str):
-            raise ValueError(f"cells: expected a list of {self.n_robots} cells (x, y), got {cells!r}")
-        if len(cells) != self.n_robots:
-            raise ValueError(f"cells: expected {self.n_robots} cells, got {len(cells)}")
-        ids = []
-        for cell in cells:
-            x, y = as_cell(cell, "cells")
-            if not (0 <= x < self.level.width and 0 <= y < self.level.height):
-                raise ValueError(f"cells: {cell} is outside the {self.level.width}x{self.level.height} grid")
-            c = self.table.cell_id((x, y))
-            if self.table.blocked[c] or self.table.is_exit[c]:
-                raise ValueError(f"cells: {cell} is blocked or an exit")
-            ids.append(c)
-        if self.collisions != "pass" and len(set(ids)) < len(ids):
-            raise ValueError(f"cells: two robots share a cell, which collisions={self.collisions!r} forbids")
+        self._check_started("set_cells")
+        ids = check_cells(self.table, cells, self.n_robots, "cells", distinct=self.collisions != "pass")
         self._live_cells = [ids[i] for i in self._live]  # finished robots stay parked at their exits
 
     def _agent_index(self, agent: str) -> int:
@@ -389,11 +413,9 @@ class RaceEnv(Drawing, ParallelEnv):
         live = self._live_set
         for agent, action in actions.items():
             i = self._agent_index(agent)  # raises, naming the known agents
-            if i not in live:
-                if self.finished_mode == "freeze":
-                    check_action(action, f"actions[{agent!r}]")
-                    continue  # parked: its action is ignored
-                raise ValueError(f"actions: {agent!r} has finished the race and takes no more actions")
+            if i not in live:  # finished: its action is checked and ignored (as PettingZoo's conversions do)
+                check_action(action, f"actions[{agent!r}]")
+                continue
             given[i] = check_action(action, f"actions[{agent!r}]")
         if len(given) < len(live):
             missing = [self.possible_agents[i] for i in self._live if i not in given]
@@ -406,7 +428,11 @@ class RaceEnv(Drawing, ParallelEnv):
     def _observations(self) -> np.ndarray:
         """One row per reported agent, in ``agents`` order (a fresh array per step, rows never shared)."""
         rows = [*self._live_cells, *self._parked] if self._parked else self._live_cells
-        return self._xyf.take(rows, axis=0).ravel()[self._gather_reported]
+        return self.encoder(self._xyf.take(rows, axis=0).ravel()[self._gather_reported])
+
+    def _check_started(self, what: str) -> None:
+        if not self._started:
+            raise RuntimeError(f"{what}: the race has not started; call reset() first")
 
     def _placement(self, n: int) -> tuple[list[int], list[int]]:
         """Level starts used as they are, and the free cells random starts are drawn from."""

@@ -12,8 +12,12 @@ from ..core.level import Level
 from ..core.rules import Rules
 from ..policies import POLICY_NAMES, make
 from ..render.rgb import Theme
-from .common import check_action
+from .common import check_action, check_cells, check_options, check_seed, resolve_rules
 from .race import RaceEnv
+
+_ARGS = (
+    "level", "opponents", "collisions", "max_cycles", "start", "rules", "render_mode", "cell_size", "theme", "obs_encoding"
+)
 
 
 class BabyRobotRaceEnv(gym.Env):
@@ -24,8 +28,15 @@ class BabyRobotRaceEnv(gym.Env):
     ``MultiDiscrete`` observation beginning with its own ``[x, y]`` followed by
     ``[x, y, finished]`` of each opponent. The episode terminates when robot 0 reaches an exit
     (its reward includes ``win_bonus`` if it is first) and is truncated after ``max_cycles``
-    steps. Opponents that finish are parked off the board. ``info`` holds robot 0's race info
-    plus ``"ranks"`` of all robots (0: not finished).
+    steps. Opponents that finish are parked off the board.
+
+    ``info``, the same keys after ``reset`` and every ``step``, numbers only: robot 0's race info
+    (``cell`` int64 ``[x, y]``, ``outcome`` an int code into ``babyrobot_marl.OUTCOME_NAMES``,
+    ``blocked``, ``finished``, ``rank``: 0 until it finishes) plus ``ranks``, an int64 array of
+    every robot's rank (0: not finished).
+
+    ``obs_encoding``: ``"multidiscrete"`` (default), ``"box"`` or ``"onehot"``
+    (``babyrobot_marl.encodings``). ``reset(options={"starts": [(x, y), ...]})`` places every robot.
 
     Registered as ``babyrobot_marl/BabyRobotRace-v0``: ``gymnasium.make(
     "babyrobot_marl/BabyRobotRace-v0", level="race-4", opponents=["shortest", "random", "random"])``.
@@ -44,8 +55,10 @@ class BabyRobotRaceEnv(gym.Env):
         render_mode: str | None = None,
         cell_size: int = 32,
         theme: str | Theme = "light",
+        obs_encoding: str = "multidiscrete",
         **rule_overrides: Any,
     ):
+        resolve_rules(None, rule_overrides, "BabyRobotRaceEnv", _ARGS)  # Python's wording, naming this class
         if isinstance(opponents, str) or not isinstance(opponents, Sequence) or not all(p in POLICY_NAMES for p in opponents):
             raise ValueError(f"opponents: expected a list of policy names from {POLICY_NAMES}, got {opponents!r}")
         self.race = RaceEnv(
@@ -59,6 +72,7 @@ class BabyRobotRaceEnv(gym.Env):
             render_mode=render_mode,
             cell_size=cell_size,
             theme=theme,
+            obs_encoding=obs_encoding,
             **rule_overrides,
         )
         self.opponent_names = tuple(opponents)
@@ -73,7 +87,11 @@ class BabyRobotRaceEnv(gym.Env):
         return self.race.level
 
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
-        super().reset(seed=seed)
+        # every argument checked before anything changes
+        starts = check_options(options, ("starts",)).get("starts")
+        if starts is not None:
+            check_cells(self.race.table, starts, self.race.n_robots, 'options["starts"]')
+        super().reset(seed=check_seed(seed))
         # the opponents' random moves and the race's own draws all come from self.np_random
         self._opponents = [make(name, self.race.table, seed=self.np_random) for name in self.opponent_names]
         self._obs, infos = self.race.reset(seed=int(self.np_random.integers(2**63)), options=options)
@@ -100,4 +118,4 @@ class BabyRobotRaceEnv(gym.Env):
         return self.race.render()
 
     def _with_ranks(self, info: dict[str, Any]) -> dict[str, Any]:
-        return {**info, "ranks": self.race.ranks}
+        return {**info, "ranks": np.array(self.race.ranks, dtype=np.int64)}
