@@ -11,9 +11,8 @@ import numpy as np
 from .. import levels
 from ..core.actions import N_ACTIONS, Action
 from ..core.engine import OUTCOMES
-from ..core.level import Level, as_cell
+from ..core.level import Level
 from ..core.rules import RULE_NAMES, Rules
-from ..core.table import Table
 
 ACTION_HELP = ", ".join(f"{a.value}={a.name}" for a in Action)
 
@@ -131,28 +130,3 @@ def check_options(options: object, known: Collection[str] = ()) -> Mapping[str, 
 # libraries can stack infos; names by code in OUTCOME_NAMES (exported as babyrobot_marl.OUTCOME_NAMES).
 OUTCOME_NAMES = (*OUTCOMES, "start", "finished")
 START, FINISHED = OUTCOME_NAMES.index("start"), OUTCOME_NAMES.index("finished")
-
-
-def check_cells(table: Table, cells: object, n: int, what: str, distinct: bool = True) -> list[int]:
-    """``n`` cells ``(x, y)`` as cell ids: each inside the grid, neither blocked nor an exit, and
-    (``distinct``) no two the same; else a ``ValueError`` naming ``what`` and what is allowed."""
-    allowed = f"{n} distinct open cells (x, y), one per robot, not blocked and not an exit"
-    if not isinstance(cells, Sequence) or isinstance(cells, (str, bytes)):
-        raise ValueError(f"{what}: expected a list of {allowed}, got {cells!r}")
-    if len(cells) != n:
-        raise ValueError(f"{what}: expected {allowed}; got {len(cells)} cells")
-    ids = []
-    for cell in cells:
-        try:
-            x, y = as_cell(cell, what)
-        except ValueError:
-            raise ValueError(f"{what}: expected {allowed}; {cell!r} is not a cell (x, y) of integers") from None
-        if not (0 <= x < table.width and 0 <= y < table.height):
-            raise ValueError(f"{what}: {(x, y)} is outside the {table.width}x{table.height} grid; expected {allowed}")
-        c = table.cell_id((x, y))
-        if table.blocked[c] or table.is_exit[c]:
-            raise ValueError(f"{what}: {(x, y)} is blocked or an exit; expected {allowed}")
-        ids.append(c)
-    if distinct and len(set(ids)) < len(ids):
-        raise ValueError(f"{what}: two robots share a cell; expected {allowed}")
-    return ids

@@ -27,7 +27,6 @@ from .common import (
     FINISHED,
     START,
     check_action,
-    check_cells,
     check_options,
     check_positive_int,
     check_render_mode,
@@ -37,6 +36,7 @@ from .common import (
 )
 from .drawing import Drawing
 from .single import default_max_steps
+from .starts import check_cells, draw_starts, placement
 
 START_MODES = ("level", "fill", "random")
 FINISHED_MODES = ("remove", "freeze")
@@ -90,7 +90,7 @@ class RaceEnv(Drawing, ParallelEnv):
         if finished not in FINISHED_MODES:
             raise ValueError(f"finished: must be one of {', '.join(map(repr, FINISHED_MODES))}, got {finished!r}")
         self.start, self.finished_mode = start, finished
-        self._fixed_starts, self._free = self._placement(n)
+        self._fixed_starts, self._free = placement(self.table, start, n)
         self.render_mode = check_render_mode(render_mode, self.metadata["render_modes"])
         self.cell_size, self.theme = check_cell_size(cell_size), resolve_theme(theme)
         self.animation_frames = check_animation_frames(animation_frames)
@@ -434,31 +434,8 @@ class RaceEnv(Drawing, ParallelEnv):
         if not self._started:
             raise RuntimeError(f"{what}: the race has not started; call reset() first")
 
-    def _placement(self, n: int) -> tuple[list[int], list[int]]:
-        """Level starts used as they are, and the free cells random starts are drawn from."""
-        starts = [self.table.cell_id(c) for c in self.level.starts]
-        if self.start == "level":
-            if len(starts) < n:
-                raise ValueError(
-                    f"n_robots: level {self.level.name or ''!r} has {len(starts)} numbered starts for {n} robots; "
-                    "pass start='fill' (level starts, then random free cells) or start='random'"
-                )
-            return starts[:n], []
-        fixed = starts[:n] if self.start == "fill" else []
-        free = [c for c in (self.table.cell_id(c) for c in self.level.free_cells()) if c not in fixed]
-        if len(fixed) + len(free) < n:
-            raise ValueError(
-                f"n_robots: {n} robots do not fit on level {self.level.name or ''!r}, "
-                f"which has {len(fixed) + len(free)} free cells"
-            )
-        return fixed, free
-
     def _draw_starts(self) -> list[int]:
-        need = self.n_robots - len(self._fixed_starts)
-        if need == 0:
-            return list(self._fixed_starts)
-        picks = self.np_random.choice(len(self._free), size=need, replace=False)
-        return list(self._fixed_starts) + [self._free[int(k)] for k in picks]
+        return draw_starts(self.np_random, self._fixed_starts, self._free, self.n_robots)
 
 
 def _seeding(seed: int | None) -> tuple[np.random.Generator, Any]:

@@ -12,8 +12,9 @@ from ..core.level import Level
 from ..core.rules import Rules
 from ..policies import POLICY_NAMES, make
 from ..render.rgb import Theme
-from .common import check_action, check_cells, check_options, check_seed, resolve_rules
+from .common import check_action, check_options, check_seed, resolve_rules
 from .race import RaceEnv
+from .starts import check_cells
 
 _ARGS = (
     "level", "opponents", "collisions", "max_cycles", "start", "rules", "render_mode", "cell_size", "theme", "obs_encoding"

@@ -39,7 +39,6 @@ from .common import (
     ACTION_HELP,
     FINISHED,
     START,
-    check_cells,
     check_options,
     check_positive_int,
     check_render_mode,
@@ -48,6 +47,7 @@ from .common import (
 )
 from .race import RaceEnv
 from .single import BabyRobotEnv
+from .starts import check_cells
 
 if TYPE_CHECKING:
     from stable_baselines3.common.vec_env import VecEnv
