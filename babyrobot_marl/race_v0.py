@@ -88,10 +88,12 @@ stack them):
 | key        | type                 | meaning                                                                  |
 |------------|----------------------|--------------------------------------------------------------------------|
 | `cell`     | int64 array `[x, y]` | its cell (a finished robot: the exit it took)                            |
-| `outcome`  | int                  | code into `babyrobot_marl.OUTCOME_NAMES`: 0 moved, 1 stayed, 2 bumped, 3 skidded, 4 glass, 5 start (after reset), 6 finished (parked) |
+| `outcome`  | int                  | code into `babyrobot_marl.OUTCOME_NAMES` (below)                         |
 | `blocked`  | bool                 | another robot stopped it this step                                       |
 | `finished` | bool                 | it has reached an exit                                                   |
 | `rank`     | int                  | 0 until it finishes, then 1 = first (robots finishing together share it) |
+
+Outcome codes: 0 moved, 1 stayed, 2 bumped, 3 skidded, 4 glass, 5 start (after reset), 6 finished (parked).
 
 ## Reset
 
