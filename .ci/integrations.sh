@@ -17,7 +17,7 @@ venv() {  # venv DIR: a fresh venv with torch's CPU build
 
 dir=.venv-ci-integrations
 venv "$dir"
-"$dir/bin/pip" install -q "torchrl==0.11.1" "tensordict>=0.11,<0.12" hydra-core tqdm "av<14" "tianshou==2.0.1" -e ".[train,test]"
+"$dir/bin/pip" install -q "torchrl==0.11.1" "tensordict>=0.11,<0.12" hydra-core tqdm "av<14" "tianshou==2.0.1" pytest -e ".[train]"
 "$dir/bin/pip" install -q --no-deps "benchmarl==1.5.2"
 "$dir/bin/python" -c "import torch, torchrl, benchmarl, tianshou; assert '+cpu' in torch.__version__, torch.__version__"
 echo "integrations venv ready after $((SECONDS - start)) s"
@@ -25,7 +25,7 @@ echo "integrations venv ready after $((SECONDS - start)) s"
 
 adir=.venv-ci-agilerl
 venv "$adir"
-"$adir/bin/pip" install -q "agilerl==2.58.0" peft -e ".[test]"
+"$adir/bin/pip" install -q "agilerl==2.58.0" peft pytest -e .
 "$adir/bin/python" -c "import torch, agilerl; assert '+cpu' in torch.__version__, torch.__version__"
 "$adir/bin/python" -m pytest -q -p no:cacheprovider tests_integrations/test_agilerl.py
 echo "integrations: $((SECONDS - start)) s in all"
