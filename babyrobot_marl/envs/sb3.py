@@ -13,6 +13,7 @@ import numpy as np
 from stable_baselines3.common.vec_env import VecEnv
 
 from .common import check_options
+from .vector_args import check_actions, restart, seed_envs, seed_list
 
 if TYPE_CHECKING:
     from .vector import _BatchVectorEnv
@@ -33,8 +34,8 @@ class BabyRobotSB3VecEnv(VecEnv):
         options = [self._options[i * r] or {} for i in envs]
         # every option checked before any change
         starts = [v._start_option(check_options(o, v._options_known)) for o in options]
-        v._seed_envs(list(zip(envs.tolist(), v._seed_list(seeds))))
-        v._restart(envs, starts)
+        seed_envs(v._batch, list(zip(envs.tolist(), seed_list(seeds, v.n_envs))))
+        restart(v._batch, envs, starts)
         v._autoreset[:] = False
         v._started = True
         self._reset_seeds()
@@ -54,7 +55,7 @@ class BabyRobotSB3VecEnv(VecEnv):
 
     def step_wait(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[dict[str, Any]]]:
         v = self.venv_gym
-        acts = v._check_actions(self._actions)
+        acts = check_actions(self._actions, v.n_envs, v.n_robots)
         if not v._started:
             raise RuntimeError("step: call reset() before the first step()")
         b = v._batch

@@ -30,24 +30,22 @@ from ..core.actions import N_ACTIONS
 from ..core.batch import BatchRace
 from ..core.engine import STAYED
 from ..core.level import Cell, Level
-from ..core.rules import RULE_NAMES, Rules
+from ..core.rules import Rules
 from ..encodings import Encoder
 from ..render.ansi import frame
 from ..render.rgb import Theme
 from .autoreset import DISABLED, NEXT_STEP, SAME_STEP, final_infos, resolve_autoreset_mode, set_reset_values, with_masks
 from .common import (
-    ACTION_HELP,
     FINISHED,
     START,
     check_options,
     check_positive_int,
     check_render_mode,
-    check_seed,
-    unexpected_keyword,
 )
 from .race import RaceEnv
 from .single import BabyRobotEnv
 from .starts import check_cells
+from .vector_args import RACE_ARGS, SINGLE_ARGS, check_actions, known_args, mask_envs, restart, seed_envs, seed_list
 
 if TYPE_CHECKING:
     from stable_baselines3.common.vec_env import VecEnv
@@ -101,11 +99,11 @@ class _BatchVectorEnv(gym.vector.VectorEnv):
         shape ``(num_envs,)``, resets only the masked envs (the others keep their state).
         """
         opts = dict(check_options(options, self._options_known))
-        envs = self._mask_envs(opts.pop("reset_mask", None))
-        seeds = self._seed_list(seed)
+        envs = mask_envs(opts.pop("reset_mask", None), self.n_envs, self.n_robots)
+        seeds = seed_list(seed, self.n_envs)
         start = self._start_option(opts)
-        self._seed_envs([(i, seeds[i]) for i in envs])
-        self._restart(envs, [start] * len(envs))
+        seed_envs(self._batch, [(i, seeds[i]) for i in envs])
+        restart(self._batch, envs, [start] * len(envs))
         self._autoreset[envs] = False
         self._started = True
         slots = np.zeros(self.n_envs, dtype=bool)
@@ -127,7 +125,7 @@ class _BatchVectorEnv(gym.vector.VectorEnv):
         and ``info["final_info"]`` hold the last ones. Disabled: stepping it is an error until
         ``reset(options={"reset_mask": ...})`` restarts it.
         """
-        acts = self._check_actions(actions)
+        acts = check_actions(actions, self.n_envs, self.n_robots)
         if not self._started:
             raise RuntimeError("step: call reset() before the first step()")
         b, mode = self._batch, self._mode
@@ -141,7 +139,7 @@ class _BatchVectorEnv(gym.vector.VectorEnv):
         rewards, _, blocked, outcome, over = b.step(acts)
         if np.count_nonzero(reset):
             # the envs stepped above are restarted; their new episode starts from their own generators
-            self._restart(np.flatnonzero(reset), None)
+            restart(self._batch, np.flatnonzero(reset), None)
             rewards[reset] = 0.0
             over = over & ~reset
         obs = self._observations()
@@ -154,7 +152,7 @@ class _BatchVectorEnv(gym.vector.VectorEnv):
         if mode == SAME_STEP and np.count_nonzero(over):
             done = np.repeat(over, self.n_robots)
             extra = final_infos(self._encoded(obs), {k: v.copy() for k, v in values.items()}, done)
-            self._restart(np.flatnonzero(over), None)
+            restart(self._batch, np.flatnonzero(over), None)
             obs = self._observations()
             values = self._info_values(obs, values["outcome"], values.get("blocked", np.zeros(self.num_envs, dtype=bool)))
             set_reset_values(values, done, START)
@@ -191,93 +189,15 @@ class _BatchVectorEnv(gym.vector.VectorEnv):
     def _info_values(self, obs: np.ndarray, outcome: np.ndarray, blocked: np.ndarray) -> dict[str, np.ndarray]:
         raise NotImplementedError
 
-    def _check_actions(self, actions: Any) -> np.ndarray:
-        """``(n_envs, n_robots)`` actions, or a ``ValueError`` naming ``actions`` (nothing changes)."""
-        a = np.asarray(actions)
-        if a.shape != (self.num_envs,):
-            raise ValueError(f"actions: expected an array of shape ({self.num_envs},), one action per env, got shape {a.shape}")
-        if a.dtype.kind not in "iu":
-            raise ValueError(f"actions: expected integer actions ({ACTION_HELP}), got dtype {a.dtype}")
-        # one comparison: as unsigned, negative actions are huge
-        if np.count_nonzero(a.view(np.uint64) >= N_ACTIONS if a.dtype == np.int64 else (a < 0) | (a >= N_ACTIONS)):
-            k = int(np.flatnonzero((a < 0) | (a >= N_ACTIONS))[0])
-            raise ValueError(f"actions: must be integers in 0..{N_ACTIONS - 1} ({ACTION_HELP}), got {a[k]} at index {k}")
-        return a.astype(np.intp, copy=False).reshape(self.n_envs, self.n_robots)
-
-    def _seed_list(self, seed: object) -> list[int | None]:
-        """One seed (or None) per env from ``reset``'s ``seed`` argument."""
-        n = self.n_envs
-        if seed is None or isinstance(seed, (bool, np.bool_, float, int, np.integer, np.floating)):
-            s = check_seed(seed)
-            return [None if s is None else s + i for i in range(n)]
-        if isinstance(seed, (str, bytes)) or not isinstance(seed, Sequence):
-            raise ValueError(f"seed: expected None, an int or a list of {n} ints, got {type(seed).__name__}")
-        if len(seed) != n:
-            raise ValueError(f"seed: a list of seeds needs one per env ({n}), got {len(seed)}")
-        return [check_seed(s, "seed: each seed") for s in seed]
-
-    def _seed_envs(self, seeds: Sequence[tuple[int, int | None]]) -> None:
-        """Give env ``i`` the generator ``reset(seed=s)`` gives a single env (``None``: keep it)."""
-        for i, s in seeds:
-            if s is not None:
-                self._batch.generators[i] = np.random.default_rng(s)
-
-    def _mask_envs(self, reset_mask: object) -> np.ndarray:
-        """The envs to reset: all, or those of ``options["reset_mask"]`` (checked as ``SyncVectorEnv`` does)."""
-        if reset_mask is None:
-            return np.arange(self.n_envs)
-        if not isinstance(reset_mask, np.ndarray):
-            raise TypeError(f"options['reset_mask']: must be a numpy array, got {type(reset_mask).__name__}")
-        if reset_mask.shape != (self.num_envs,):
-            raise ValueError(f"options['reset_mask']: must have shape ({self.num_envs},), got {reset_mask.shape}")
-        if reset_mask.dtype != np.bool_:
-            raise TypeError(f"options['reset_mask']: must have dtype bool, got {reset_mask.dtype}")
-        if not reset_mask.any():
-            raise ValueError("options['reset_mask']: must contain at least one True value")
-        per_env = reset_mask.reshape(self.n_envs, self.n_robots)
-        if not (per_env == per_env[:, :1]).all():
-            raise ValueError("options['reset_mask']: the slots of one race are reset together; mask all or none of them")
-        return np.flatnonzero(per_env[:, 0])
-
     def _start_option(self, options: Mapping[str, Any]) -> tuple[int, ...] | None:
         """Start cell ids from ``options`` (one per robot); None: the usual starts."""
         return None
-
-    def _restart(self, envs: np.ndarray | Sequence[int], starts: Sequence[tuple[int, ...] | None] | None) -> None:
-        """New episodes in ``envs``; ``starts[k]``, when given, are env ``envs[k]``'s start cells.
-
-        Given starts draw only the episode key, as the single envs' start options do: the batch
-        is briefly told to use those cells as fixed level starts.
-        """
-        b = self._batch
-        if starts is None or all(s is None for s in starts):
-            b.reset_envs(envs)
-            return
-        envs = np.asarray(envs)
-        for s in set(starts):
-            group = envs[[k for k, t in enumerate(starts) if t == s]]
-            if s is None:
-                b.reset_envs(group)
-                continue
-            saved = b.start, b.fixed
-            b.start, b.fixed = "level", np.array(s, dtype=np.int64)
-            try:
-                b.reset_envs(group)
-            finally:
-                b.start, b.fixed = saved
 
     def _robots(self, i: int) -> list[Cell | None]:
         if not self._started:
             return []
         b = self._batch
         return [self._xy[c] if r else None for c, r in zip(b.cells[i].tolist(), b.racing[i].tolist())]
-
-
-def _known_args(owner: str, kwargs: Mapping[str, Any], known: Sequence[str]) -> None:
-    """Unknown keywords: Python's own ``TypeError`` naming ``owner`` (rule overrides pass through)."""
-    unknown = sorted(set(kwargs) - RULE_NAMES)
-    if unknown:
-        raise unexpected_keyword(owner, unknown[0], known, RULE_NAMES)
 
 
 class BabyRobotVectorEnv(_BatchVectorEnv):
@@ -351,7 +271,7 @@ class BabyRobotVectorEnv(_BatchVectorEnv):
         autoreset_mode: object = NEXT_STEP,
         **rule_overrides: Any,
     ):
-        _known_args("BabyRobotVectorEnv", rule_overrides, _SINGLE_ARGS)
+        known_args("BabyRobotVectorEnv", rule_overrides, SINGLE_ARGS)
         n = check_positive_int(num_envs, "num_envs")
         ref = BabyRobotEnv(
             level=level,
@@ -456,7 +376,7 @@ class RaceVectorEnv(_BatchVectorEnv):
     ):
         if rule_overrides.pop("finished", "freeze") != "freeze":
             raise ValueError("finished: a vector race keeps finished robots parked until the race ends ('freeze')")
-        _known_args("RaceVectorEnv", rule_overrides, _RACE_ARGS)
+        known_args("RaceVectorEnv", rule_overrides, RACE_ARGS)
         n = check_positive_int(n_envs, "n_envs")
         ref = RaceEnv(
             level=level,
@@ -488,12 +408,6 @@ class RaceVectorEnv(_BatchVectorEnv):
             "finished": ~b.racing.reshape(-1),
             "rank": b.rank.reshape(-1).astype(np.int64),
         }
-
-
-_SINGLE_ARGS = ("num_envs", "level", "rules", "max_steps", "start", "render_mode", "cell_size", "theme", "obs_encoding",
-                "autoreset_mode")  # fmt: skip
-_RACE_ARGS = ("n_envs", "level", "n_robots", "collisions", "max_cycles", "start", "rules", "render_mode", "cell_size",
-              "theme", "obs_encoding", "autoreset_mode")  # fmt: skip
 
 
 # ---------------------------------------------------------------------------- Stable-Baselines3
