@@ -4,6 +4,7 @@
 #   BenchMARL requires torchvision, which would pull torch 2.14.1 with CUDA: it imports none of it, so it
 #   is installed with --no-deps after its real requirements (torchrl, tensordict, hydra-core, tqdm, av).
 # - .venv-ci-agilerl: AgileRL 2.58 (pins pettingzoo < 1.27 and tensordict 0.13, imports peft at start-up).
+# - RLlib runs in .ci/rllib.sh's venv (ray[rllib] pins gymnasium 1.2.2).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 start=$SECONDS
@@ -28,4 +29,11 @@ venv "$adir"
 "$adir/bin/pip" install -q "agilerl==2.58.0" peft pytest -e .
 "$adir/bin/python" -c "import torch, agilerl; assert '+cpu' in torch.__version__, torch.__version__"
 "$adir/bin/python" -m pytest -q -p no:cacheprovider tests_integrations/test_agilerl.py
+# RLlib's own PettingZoo wrapper on the one-hot race: in the venv .ci/rllib.sh builds (.ci/run runs it first)
+rdir=.venv-ci-rllib
+if [ ! -x "$rdir/bin/python" ]; then
+    venv "$rdir"
+    "$rdir/bin/pip" install -q -e ".[rllib]" pytest
+fi
+"$rdir/bin/python" -m pytest -q -p no:cacheprovider tests_integrations/test_rllib.py
 echo "integrations: $((SECONDS - start)) s in all"
