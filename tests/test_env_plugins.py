@@ -286,3 +286,11 @@ def test_readme_pettingzoo_make_line_builds_the_race_and_race_v0_is_an_attribute
     env = pettingzoo.make("parallel", "babyrobot_marl/Race-v0", level="race-4", n_robots=3)
     assert env.possible_agents == ["robot_0", "robot_1", "robot_2"]
     assert babyrobot_marl.race_v0.parallel_env is race_v0.parallel_env
+
+
+@pytest.mark.parametrize("encoding", ["box", "onehot"])
+def test_gymnasium_env_checker_passes_on_the_encoded_envs(encoding):
+    from gymnasium.utils.env_checker import check_env
+
+    check_env(BabyRobotEnv(level="puddles", obs_encoding=encoding), skip_render_check=True)
+    check_env(BabyRobotRaceEnv(level="race-4", opponents=["random"] * 3, obs_encoding=encoding), skip_render_check=True)
