@@ -17,7 +17,8 @@ from .race import RaceEnv
 from .starts import check_cells
 
 _ARGS = (
-    "level", "opponents", "collisions", "max_cycles", "start", "rules", "render_mode", "cell_size", "theme", "obs_encoding"
+    "level", "opponents", "collisions", "max_cycles", "start", "rules", "render_mode", "cell_size", "theme",
+    "animation_frames", "render_fps", "obs_encoding",
 )
 
 
@@ -54,8 +55,10 @@ class BabyRobotRaceEnv(gym.Env):
         start: str = "level",
         rules: Rules | Mapping[str, Any] | None = None,
         render_mode: str | None = None,
-        cell_size: int = 32,
+        cell_size: int | None = None,
         theme: str | Theme = "light",
+        animation_frames: int = 4,
+        render_fps: float | None = None,
         obs_encoding: str = "multidiscrete",
         **rule_overrides: Any,
     ):
@@ -73,9 +76,13 @@ class BabyRobotRaceEnv(gym.Env):
             render_mode=render_mode,
             cell_size=cell_size,
             theme=theme,
+            animation_frames=animation_frames,
+            render_fps=render_fps,
             obs_encoding=obs_encoding,
             **rule_overrides,
         )
+        self.race.set_overlay(names=["learner", *opponents])  # the legend's names
+        self.metadata = self.race.metadata  # render_fps: this env's own
         self.opponent_names = tuple(opponents)
         self.render_mode = render_mode
         self.observation_space = self.race.observation_space("robot_0")
@@ -117,6 +124,9 @@ class BabyRobotRaceEnv(gym.Env):
 
     def render(self) -> str | None:
         return self.race.render()
+
+    def close(self) -> None:
+        self.race.close()
 
     def _with_ranks(self, info: dict[str, Any]) -> dict[str, Any]:
         return {**info, "ranks": np.array(self.race.ranks, dtype=np.int64)}
