@@ -294,3 +294,22 @@ def test_gymnasium_env_checker_passes_on_the_encoded_envs(encoding):
 
     check_env(BabyRobotEnv(level="puddles", obs_encoding=encoding), skip_render_check=True)
     check_env(BabyRobotRaceEnv(level="race-4", opponents=["random"] * 3, obs_encoding=encoding), skip_render_check=True)
+
+
+@pytest.mark.parametrize("observe", [dict(observe="local", view_radius=1), dict(observe="nearest", k=2)])
+def test_observation_modes_get_the_encodings_too(observe):
+    plain = race_v0.parallel_env(level="race-4", n_robots=4, **observe)
+    env = race_v0.parallel_env(level="race-4", n_robots=4, obs_encoding="onehot", **observe)
+    obs, _ = env.reset(seed=3)
+    ref, _ = plain.reset(seed=3)
+    space = env.observation_space("robot_0")
+    assert space.shape == (int(plain.observation_space("robot_0").nvec.sum()),)
+    for agent in env.agents:
+        assert obs[agent] in space
+        assert np.array_equal(obs[agent], Encoder(plain.observation_space(agent).nvec, "onehot")(ref[agent]))
+
+
+def test_starts_option_on_drawn_levels_is_checked_on_the_level_drawn():
+    env = race_v0.parallel_env(level="maze-5x5-*", n_robots=2, start="random")
+    obs, _ = env.reset(seed=0, options={"starts": [(0, 0), (1, 0)]})
+    assert [tuple(o[:2].tolist()) for o in obs.values()] == [(0, 0), (1, 0)]

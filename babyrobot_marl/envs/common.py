@@ -62,6 +62,13 @@ def unexpected_keyword(owner: str, name: object, known: Sequence[str], rule_name
     return TypeError(text)
 
 
+def known_args(owner: str, kwargs: Mapping[str, Any], known: Sequence[str]) -> None:
+    """Unknown keywords: Python's own ``TypeError`` naming ``owner`` (rule overrides and ``known`` names pass through)."""
+    unknown = sorted(set(kwargs) - RULE_NAMES - set(known), key=str)
+    if unknown:
+        raise unexpected_keyword(owner, unknown[0], known, RULE_NAMES)
+
+
 def check_seed(seed: object, what: str = "seed") -> int | None:
     """``reset(seed=...)``: None or a non-negative integer (Python or numpy; bools and floats are not seeds).
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import operator
 from collections.abc import Mapping, Sequence
-from functools import cached_property
+from functools import cached_property, partial
 from typing import Any
 
 import numpy as np
@@ -14,11 +14,13 @@ from pettingzoo import ParallelEnv
 from ..core.actions import N_ACTIONS
 from ..core.batch import BatchRace
 from ..core.level import Cell, Level
+from ..core.observe import global_gather, make_observer
 from ..core.race import race_step
 from ..core.rng import new_key
 from ..core.rules import COLLISION_MODES, Rules
 from ..core.table import compile_level
 from ..encodings import Encoder
+from ..level_sources import DrawnLevels
 from ..render.ansi import frame, robot_glyph
 from ..render.canvas import check_animation_frames, check_fps
 from ..render.overlay import Overlay
@@ -36,7 +38,7 @@ from .common import (
 )
 from .drawing import RaceDrawing
 from .single import default_max_steps
-from .starts import check_cells, draw_starts, placement
+from .starts import LazyGenerator, _seeding, check_cells, draw_starts, placement
 
 START_MODES = ("level", "fill", "random")
 FINISHED_MODES = ("remove", "freeze")
@@ -44,11 +46,11 @@ FINISHED_MODES = ("remove", "freeze")
 _INT, _ACTIONS = frozenset({int}), frozenset(range(N_ACTIONS))
 _ARGS = (
     "level", "n_robots", "collisions", "max_cycles", "start", "finished", "rules", "render_mode", "cell_size", "theme",
-    "animation_frames", "render_fps", "obs_encoding",
+    "animation_frames", "render_fps", "observe", "view_radius", "k", "obs_encoding",
 )
 
 
-class RaceEnv(RaceDrawing, ParallelEnv):
+class RaceEnv(RaceDrawing, DrawnLevels, LazyGenerator, ParallelEnv):
     """Several Baby Robots race to the exit. See ``babyrobot_marl.race_v0`` for the full table."""
 
     metadata = {
@@ -72,10 +74,13 @@ class RaceEnv(RaceDrawing, ParallelEnv):
         theme: str | Theme = "light",
         animation_frames: int = 4,
         render_fps: float | None = None,
+        observe: str = "global",
+        view_radius: int | None = None,
+        k: int | None = None,
         obs_encoding: str = "multidiscrete",
         **rule_overrides: Any,
     ):
-        self.level = resolve_level(level)
+        self.level = resolve_level(self._init_level_source(level))  # level= a family or a callable: drawn per reset
         if collisions is not None:
             if collisions not in COLLISION_MODES:
                 raise ValueError(f"collisions: must be one of {', '.join(map(repr, COLLISION_MODES))}, got {collisions!r}")
@@ -83,6 +88,8 @@ class RaceEnv(RaceDrawing, ParallelEnv):
         self.rules = resolve_rules(rules, rule_overrides, "RaceEnv", _ARGS)
         self.collisions = self.rules.collisions
         self.table = compile_level(self.level, self.rules)
+        self._observer_of = partial(make_observer, observe=observe, view_radius=view_radius, k=k)
+        self.observe, self._observer = observe, self._observer_of(self.table)  # None: "global"
         self.n_robots = n = check_positive_int(n_robots, "n_robots")
         self.max_cycles = default_max_steps(self.level) if max_cycles is None else check_positive_int(max_cycles, "max_cycles")
         if start not in START_MODES:
@@ -90,7 +97,7 @@ class RaceEnv(RaceDrawing, ParallelEnv):
         if finished not in FINISHED_MODES:
             raise ValueError(f"finished: must be one of {', '.join(map(repr, FINISHED_MODES))}, got {finished!r}")
         self.start, self.finished_mode = start, finished
-        self._fixed_starts, self._free = placement(self.table, start, n)
+        self._fixed_starts, self._free = self._placement(n)
         self.render_mode = check_render_mode(render_mode, self.metadata["render_modes"])
         self.cell_size, self.theme = check_cell_size(cell_size, self.level), resolve_theme(theme)
         self.animation_frames = check_animation_frames(animation_frames)
@@ -101,7 +108,8 @@ class RaceEnv(RaceDrawing, ParallelEnv):
         w, h = self.level.width, self.level.height
         self.possible_agents = [f"robot_{i}" for i in range(n)]
         self._index = {a: i for i, a in enumerate(self.possible_agents)}
-        self.encoder = Encoder([w, h] + [w, h, 2] * (n - 1), obs_encoding)
+        # any observation mode's MultiDiscrete, encoded as obs_encoding asks (encodings.py)
+        self.encoder = Encoder(self._observer.nvec if self._observer else [w, h] + [w, h, 2] * (n - 1), obs_encoding)
         self._obs_space = self.encoder.space
         self._act_space = spaces.Discrete(5)
         self.observation_spaces = dict.fromkeys(self.possible_agents, self._obs_space)
@@ -112,12 +120,7 @@ class RaceEnv(RaceDrawing, ParallelEnv):
             if self._encode_state.identity
             else self._encode_state.space
         )
-        # the observer first, then the others in turn: robot i sees i, i+1, ..., i-1 (mod n);
-        # observations gather from the flat state [x0, y0, finished0, x1, ...]
-        self._gather = np.array(
-            [[3 * i, 3 * i + 1] + [3 * ((i + k) % n) + f for k in range(1, n) for f in range(3)] for i in range(n)],
-            dtype=np.intp,
-        )
+        self._gather = global_gather(n if self._observer is None else 0)  # robot i sees i, i+1, ..., i-1: "global" only
         self._lists = self.table.lists
         self._xy = [self.table.cell_xy(c) for c in range(self.table.n_cells)]
         self._xy_arrays = [np.array(xy, dtype=np.int64) for xy in self._xy]  # infos' "cell", copied per step
@@ -140,19 +143,7 @@ class RaceEnv(RaceDrawing, ParallelEnv):
         self._t = 0
         self._key = 0
         self._n_finished = 0
-        self._np_random: np.random.Generator | None = None  # made at the first reset, as Gymnasium does
         self._started = False
-
-    @property
-    def np_random(self) -> np.random.Generator:
-        """The race's generator: made unseeded on first use (so copies of an unreset env differ)."""
-        if self._np_random is None:
-            self._np_random, _ = _seeding(None)
-        return self._np_random
-
-    @np_random.setter
-    def np_random(self, value: np.random.Generator) -> None:
-        self._np_random = value
 
     # ----------------------------------------------------------------------- PettingZoo API
     def observation_space(self, agent: str) -> spaces.MultiDiscrete:
@@ -171,6 +162,9 @@ class RaceEnv(RaceDrawing, ParallelEnv):
         seed = check_seed(seed)
         if seed is not None:
             self.np_random, _ = _seeding(seed)
+        self._draw_level()
+        if starts is not None and self._level_source is not None:  # checked again on the level just drawn
+            starts = check_cells(self.table, options["starts"], self.n_robots, 'options["starts"]')
         self._key = new_key(self.np_random)
         n = self.n_robots
         self._started = True
@@ -296,7 +290,7 @@ class RaceEnv(RaceDrawing, ParallelEnv):
         """Observation rows of the reported agents, gathered from the rows of ``_live_cells + _parked``."""
         place = np.empty(self.n_robots, dtype=np.intp)
         place[self._live + self._done] = np.arange(len(self._live) + len(self._done))
-        g = self._gather[self._agent_ids]
+        g = self._gather[self._agent_ids] if self._observer is None else self._gather
         self._gather_reported = 3 * place[g // 3] + g % 3 if len(self._done) else g
         self._reported_live = self._agent_ids == self._live
         self._live_set = frozenset(self._live)
@@ -343,8 +337,10 @@ class RaceEnv(RaceDrawing, ParallelEnv):
     def batch(self, n_envs: int) -> BatchRace:
         """``n_envs`` copies of this race as one batch engine (the ``finished="freeze"`` view):
         env ``i`` plays exactly the races of this env seeded the same way."""
+        self._check_one_level("the batch engine (and the vector envs)")
         return BatchRace(
-            self.table, n_envs, self.n_robots, self.max_cycles, self._fixed_starts, self._free, self.start, self.rules.win_bonus
+            self.table, n_envs, self.n_robots, self.max_cycles, self._fixed_starts, self._free, self.start, self.rules.win_bonus,
+            observer=self._observer,
         )
 
     @cached_property
@@ -429,6 +425,8 @@ class RaceEnv(RaceDrawing, ParallelEnv):
 
     def _observations(self) -> np.ndarray:
         """One row per reported agent, in ``agents`` order (a fresh array per step, rows never shared)."""
+        if self._observer is not None:
+            return self.encoder(self._observer(np.array(self._cells), np.array(self._racing))[self._agent_ids])
         rows = [*self._live_cells, *self._parked] if self._parked else self._live_cells
         return self.encoder(self._xyf.take(rows, axis=0).ravel()[self._gather_reported])
 
@@ -436,11 +434,8 @@ class RaceEnv(RaceDrawing, ParallelEnv):
         if not self._started:
             raise RuntimeError(f"{what}: the race has not started; call reset() first")
 
+    def _placement(self, n: int) -> tuple[list[int], list[int]]:
+        return placement(self.table, self.start, n)
+
     def _draw_starts(self) -> list[int]:
         return draw_starts(self.np_random, self._fixed_starts, self._free, self.n_robots)
-
-
-def _seeding(seed: int | None) -> tuple[np.random.Generator, Any]:
-    from gymnasium.utils import seeding
-
-    return seeding.np_random(seed)

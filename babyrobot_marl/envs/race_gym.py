@@ -12,13 +12,13 @@ from ..core.level import Level
 from ..core.rules import Rules
 from ..policies import POLICY_NAMES, make
 from ..render.rgb import Theme
-from .common import check_action, check_options, check_seed, resolve_rules
+from .common import check_action, check_options, check_seed, known_args
 from .race import RaceEnv
 from .starts import check_cells
 
 _ARGS = (
     "level", "opponents", "collisions", "max_cycles", "start", "rules", "render_mode", "cell_size", "theme",
-    "animation_frames", "render_fps", "obs_encoding",
+    "animation_frames", "render_fps", "observe", "view_radius", "k", "obs_encoding",
 )
 
 
@@ -62,7 +62,7 @@ class BabyRobotRaceEnv(gym.Env):
         obs_encoding: str = "multidiscrete",
         **rule_overrides: Any,
     ):
-        resolve_rules(None, rule_overrides, "BabyRobotRaceEnv", _ARGS)  # Python's wording, naming this class
+        known_args("BabyRobotRaceEnv", rule_overrides, _ARGS)  # Python's wording, naming this class
         if isinstance(opponents, str) or not isinstance(opponents, Sequence) or not all(p in POLICY_NAMES for p in opponents):
             raise ValueError(f"opponents: expected a list of policy names from {POLICY_NAMES}, got {opponents!r}")
         self.race = RaceEnv(
@@ -101,8 +101,9 @@ class BabyRobotRaceEnv(gym.Env):
             check_cells(self.race.table, starts, self.race.n_robots, 'options["starts"]')
         super().reset(seed=check_seed(seed))
         # the opponents' random moves and the race's own draws all come from self.np_random
-        self._opponents = [make(name, self.race.table, seed=self.np_random) for name in self.opponent_names]
         self._obs, infos = self.race.reset(seed=int(self.np_random.integers(2**63)), options=options)
+        # after the race's reset, which may draw a new level (making a policy draws no number)
+        self._opponents = [make(name, self.race.table, seed=self.np_random) for name in self.opponent_names]
         return self._obs["robot_0"].copy(), self._with_ranks(infos["robot_0"])
 
     def step(self, action):

@@ -1,13 +1,38 @@
-"""Where the robots of a race start: the level's numbered starts, random free cells, or cells given."""
+"""Where the robots of a race start (the level's numbered starts, random free cells, or cells given), drawn
+from the race's generator."""
 
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 
 from ..core.level import as_cell
 from ..core.table import Table
+
+
+class LazyGenerator:
+    """``np_random`` made unseeded at first use, as Gymnasium's ``Env`` does: copies of an env taken
+    before its first reset (SuperSuit clones it with cloudpickle) draw different races."""
+
+    _np_random: np.random.Generator | None = None
+
+    @property
+    def np_random(self) -> np.random.Generator:
+        if self._np_random is None:
+            self._np_random, _ = _seeding(None)
+        return self._np_random
+
+    @np_random.setter
+    def np_random(self, value: np.random.Generator) -> None:
+        self._np_random = value
+
+
+def _seeding(seed: int | None) -> tuple[np.random.Generator, Any]:
+    from gymnasium.utils import seeding
+
+    return seeding.np_random(seed)
 
 
 def placement(table: Table, start: str, n: int) -> tuple[list[int], list[int]]:
@@ -23,7 +48,7 @@ def placement(table: Table, start: str, n: int) -> tuple[list[int], list[int]]:
             )
         return starts[:n], []
     fixed = starts[:n] if start == "fill" else []
-    free = [c for c in (table.cell_id(c) for c in level.free_cells()) if c not in fixed]
+    free = [c for c in table.free_cells if c not in fixed]
     if len(fixed) + len(free) < n:
         fits = len(fixed) + len(free)
         raise ValueError(f"n_robots: {n} robots do not fit on level {level.name or ''!r}, which has {fits} free cells")

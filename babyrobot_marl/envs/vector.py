@@ -41,11 +41,12 @@ from .common import (
     check_options,
     check_positive_int,
     check_render_mode,
+    known_args,
 )
 from .race import RaceEnv
 from .single import BabyRobotEnv
 from .starts import check_cells
-from .vector_args import RACE_ARGS, SINGLE_ARGS, check_actions, known_args, mask_envs, restart, seed_envs, seed_list
+from .vector_args import RACE_ARGS, SINGLE_ARGS, check_actions, mask_envs, restart, seed_envs, seed_list
 
 if TYPE_CHECKING:
     from stable_baselines3.common.vec_env import VecEnv

@@ -3,15 +3,14 @@ a ``BatchRace`` and the env counts, so the Gymnasium and SB3 shells share them."
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
 
 from ..core.actions import N_ACTIONS
 from ..core.batch import BatchRace
-from ..core.rules import RULE_NAMES
-from .common import ACTION_HELP, check_seed, unexpected_keyword
+from .common import ACTION_HELP, check_seed
 
 
 def check_actions(actions: Any, n_envs: int, n_robots: int) -> np.ndarray:
@@ -81,13 +80,6 @@ def restart(b: BatchRace, envs: np.ndarray | Sequence[int], starts: Sequence[tup
             b.start, b.fixed = saved
 
 
-def known_args(owner: str, kwargs: Mapping[str, Any], known: Sequence[str]) -> None:
-    """Unknown keywords: Python's own ``TypeError`` naming ``owner`` (rule overrides pass through)."""
-    unknown = sorted(set(kwargs) - RULE_NAMES)
-    if unknown:
-        raise unexpected_keyword(owner, unknown[0], known, RULE_NAMES)
-
-
 def seed_envs(b: BatchRace, seeds: Sequence[tuple[int, int | None]]) -> None:
     """Give env ``i`` the generator ``reset(seed=s)`` gives a single env (``None``: keep it)."""
     for i, s in seeds:
@@ -98,4 +90,4 @@ def seed_envs(b: BatchRace, seeds: Sequence[tuple[int, int | None]]) -> None:
 SINGLE_ARGS = ("num_envs", "level", "rules", "max_steps", "start", "render_mode", "cell_size", "theme", "obs_encoding",
                 "autoreset_mode")  # fmt: skip
 RACE_ARGS = ("n_envs", "level", "n_robots", "collisions", "max_cycles", "start", "rules", "render_mode", "cell_size",
-              "theme", "obs_encoding", "autoreset_mode")  # fmt: skip
+              "theme", "observe", "view_radius", "k", "obs_encoding", "autoreset_mode")  # fmt: skip
