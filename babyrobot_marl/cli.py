@@ -35,6 +35,7 @@ from . import __version__, levels, policies
 from .core.actions import Action
 from .core.level import Level
 from .core.rules import COLLISION_MODES
+from .envs.common import OUTCOME_NAMES
 from .envs.race import START_MODES, RaceEnv
 from .envs.single import BabyRobotEnv
 from .render.ansi import frame, robot_glyph
@@ -292,7 +293,8 @@ def _episode_frames(env: BabyRobotEnv, policy: Callable, summary: EpisodeSummary
         summary.steps += 1
         summary.ret += reward
         summary.reached_exit = terminated
-        status = f"step {summary.steps}/{env.max_steps}  return {summary.ret:g}  {Action(action).name} -> {info['outcome']}"
+        outcome = OUTCOME_NAMES[info["outcome"]]
+        status = f"step {summary.steps}/{env.max_steps}  return {summary.ret:g}  {Action(action).name} -> {outcome}"
         yield frame(env.level, [env.robot_cell], status, colour=colour)
         if terminated or truncated:
             return
