@@ -12,6 +12,7 @@ from collections.abc import Callable, Sequence
 
 from ..core.actions import Action
 from ..core.level import Cell
+from ..envs.common import OUTCOME_NAMES
 from ..envs.race import RaceEnv
 from ..envs.single import BabyRobotEnv
 from ..render.ansi import robot_glyph
@@ -29,9 +30,11 @@ OUTCOME_TEXT = {
 OVER_HINT = "r: play again, q: quit"
 
 
-def outcome_text(action: int, outcome: str) -> str:
-    """``"EAST -> bumped into a wall"``."""
-    return f"{Action(action).name} -> {OUTCOME_TEXT.get(outcome, outcome)}"
+def outcome_text(action: int, outcome: int | str) -> str:
+    """``"EAST -> bumped into a wall"``; ``outcome`` is an info's code (``OUTCOME_NAMES``) or name."""
+    code = outcome if isinstance(outcome, str) else int(outcome)  # numpy integers too
+    name = OUTCOME_NAMES[code] if isinstance(code, int) and 0 <= code < len(OUTCOME_NAMES) else str(code)
+    return f"{Action(action).name} -> {OUTCOME_TEXT.get(name, name)}"
 
 
 class SingleGame:
