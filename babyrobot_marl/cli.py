@@ -22,21 +22,21 @@ traceback.
 from __future__ import annotations
 
 import argparse
-import math
 import os
 import sys
 import time
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
-from pathlib import Path
 from typing import NoReturn, TextIO
 
 from . import __version__, levels, policies
+from .cli_args import int_at_least, non_negative_int, policy_list, positive_float, positive_int, probability, seconds
 from .core.actions import Action
 from .core.level import Level
 from .core.rules import COLLISION_MODES
 from .envs.race import START_MODES, RaceEnv
 from .envs.single import BabyRobotEnv
+from .level_files import load_level
 from .render.ansi import frame, robot_glyph
 
 PROG = "babyrobot-marl"
@@ -60,34 +60,9 @@ class _Parser(argparse.ArgumentParser):
         self.exit(EXIT_USAGE, f"{self.prog}: error: {message} (see '{self.prog} --help')\n")
 
 
-# ------------------------------------------------------------------------ argument types
-def _int_at_least(minimum: int) -> Callable[[str], int]:
-    """An argparse type: an integer >= ``minimum``."""
-
-    def parse(text: str) -> int:
-        try:
-            value = int(text)
-        except ValueError:
-            value = minimum - 1
-        if value < minimum:
-            raise argparse.ArgumentTypeError(f"must be an integer >= {minimum}, got {text!r}")
-        return value
-
-    return parse
-
-
-_non_negative_int = _int_at_least(0)
-_positive_int = _int_at_least(1)
-
-
-def _seconds(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        value = math.nan
-    if not math.isfinite(value) or value < 0:  # nan, inf and negative delays make no animation
-        raise argparse.ArgumentTypeError(f"must be a number of seconds >= 0, got {text!r}")
-    return value
+# Argument types live in cli_args (kept importable here under their former names).
+_int_at_least, _non_negative_int, _positive_int = int_at_least, non_negative_int, positive_int
+_seconds, _probability, _positive_float, _policy_list = seconds, probability, positive_float, policy_list
 
 
 # ------------------------------------------------------------------------ shared arguments
@@ -124,31 +99,6 @@ def _add_display_args(p: argparse.ArgumentParser) -> None:
 
 
 # ------------------------------------------------------------------------ shared helpers
-def load_level(spec: str) -> Level:
-    """A level from a built-in name, ``maze-WxH[-sSEED]``, or the path of a level text file."""
-    path = Path(spec)
-    if path.is_file():
-        try:
-            text = path.read_text(encoding="utf-8-sig")  # a BOM from some editors is not part of the level
-        except (OSError, UnicodeDecodeError) as err:
-            raise ValueError(f"level: cannot read the level file {spec!r}: {err}") from None
-        try:
-            return Level.from_ascii(text, name=path.stem)
-        except ValueError as err:
-            raise ValueError(f"level file {spec}: {err}") from None
-    if path.suffix or os.sep in spec or "/" in spec:  # meant as a file: say so rather than "unknown level"
-        raise ValueError(f"level: no such level file {spec!r}")
-    try:
-        return levels.get(spec)
-    except ValueError as err:
-        if not str(err).startswith("level: unknown level"):
-            raise ValueError(f"level {spec!r}: {err}") from None  # e.g. a maze size out of range
-        raise ValueError(
-            f"level: unknown level {spec!r} and no file of that name; known levels: {', '.join(levels.names())} "
-            "(and maze-WxH or maze-WxH-sSEED for any size and seed)"
-        ) from None
-
-
 @dataclass(frozen=True)
 class Display:
     """How frames reach the terminal: colour, clearing between frames, pause between frames."""
@@ -327,16 +277,6 @@ class RobotResult:
     collisions: int = 0
 
 
-def _policy_list(text: str) -> list[str]:
-    names = [p.strip() for p in text.split(",")]
-    bad = [p for p in names if p not in policies.POLICY_NAMES]
-    if bad:
-        raise argparse.ArgumentTypeError(
-            f"unknown policy {bad[0]!r}; give a comma-separated list of {', '.join(policies.POLICY_NAMES)}"
-        )
-    return names
-
-
 def _add_race_parser(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "race",
@@ -395,12 +335,13 @@ def _results_table(results: list[RobotResult]) -> str:
 
 def _cmd_race(args: argparse.Namespace, out: TextIO) -> int:
     level = load_level(args.level)
-    names = args.policies * args.robots if len(args.policies) == 1 else args.policies
-    if len(names) != args.robots:
-        raise ValueError(f"policies: give one policy for all robots or one per robot ({args.robots}), got {len(names)}")
+    if len(args.policies) not in (1, args.robots):
+        raise ValueError(f"policies: give one policy for all robots or one per robot ({args.robots}), got {len(args.policies)}")
+    # The env checks the robots against the level's starts and free cells before anything per robot exists.
     env = RaceEnv(
         level=level, n_robots=args.robots, collisions=args.collisions, start=args.start, max_cycles=args.max_cycles
     )
+    names = args.policies * args.robots if len(args.policies) == 1 else args.policies
     seed = _fresh_seed() if args.seed is None else args.seed
     robot_policies = [policies.make(name, env.table, seed=seed + 7919 * (i + 1)) for i, name in enumerate(names)]
     results = [RobotResult(robot_glyph(i, args.robots) + f" {agent}", names[i]) for i, agent in enumerate(env.possible_agents)]
@@ -414,26 +355,6 @@ def _cmd_race(args: argparse.Namespace, out: TextIO) -> int:
 
 
 # ------------------------------------------------------------------------ solve
-def _probability(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        value = math.nan
-    if not 0.0 < value <= 1.0:
-        raise argparse.ArgumentTypeError(f"must be a number in (0, 1], got {text!r}")
-    return value
-
-
-def _positive_float(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        value = math.nan
-    if not 0.0 < value < math.inf:
-        raise argparse.ArgumentTypeError(f"must be a number > 0, got {text!r}")
-    return value
-
-
 def _add_solve_parser(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "solve",
@@ -577,6 +498,12 @@ def main(argv: list[str] | None = None) -> int:
         # Python's flush at exit does not raise again.
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 1
+    except OSError as err:  # e.g. an output path that cannot be written
+        print(f"{PROG}: error: {_one_line(err)}", file=sys.stderr)
+        return EXIT_USAGE
+    except MemoryError:  # the last resort: the limits (README "Limits") should stop large inputs before this
+        print(f"{PROG}: error: out of memory; try a smaller level or fewer robots", file=sys.stderr)
+        return EXIT_USAGE
 
 
 def _one_line(err: BaseException) -> str:

@@ -9,6 +9,7 @@ from typing import Any
 
 import numpy as np
 
+from ..checks import MAX_DENSE_STATES
 from ..core.level import Level
 from ..core.model import Transition, frozenlake_P, sparse_arrays, transition_arrays
 from ..core.rules import Rules
@@ -62,7 +63,19 @@ class Model:
 
     @cached_property
     def dense(self) -> tuple[np.ndarray, np.ndarray]:
-        """``(P[s, a, s'], R[s, a])``: S * S * 5 floats, for small levels and checks."""
+        """``(P[s, a, s'], R[s, a])``: S * S * 5 floats, for small levels and checks.
+
+        At most ``MAX_DENSE_STATES`` states (the size is checked before anything is allocated);
+        larger levels use the sparse ``next``/``prob``/``reward`` arrays, which all of planning reads.
+        """
+        n = self.n_states
+        if n > MAX_DENSE_STATES:
+            raise ValueError(
+                f"P: the dense model holds at most {MAX_DENSE_STATES:,} states ({5 * 8 * MAX_DENSE_STATES**2 / 1e6:,.0f} MB); "
+                f"this {self.width}x{self.height} level has {n:,} and would need {5 * 8 * n * n / 1e9:,.1f} GB. "
+                "Use the sparse model instead: model.next, model.prob and model.reward (value_iteration and the "
+                "other planning functions read those)"
+            )
         return transition_arrays(self.table)
 
     @property

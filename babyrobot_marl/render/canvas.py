@@ -28,6 +28,7 @@ from typing import Any
 
 import numpy as np
 
+from ..checks import check_int
 from ..core.level import Cell
 from .geometry import ARROWS, CELL_TEXT_CENTRE, ROBOT_RADIUS, TRIANGLE_LABELS, VALUE_TEXT_CENTRE, scaled
 from .overlay import Overlay, format_value
@@ -54,9 +55,7 @@ def notebook_available() -> bool:
 
 
 def check_animation_frames(n: object) -> int:
-    if isinstance(n, bool) or not isinstance(n, int) or not 0 <= n <= MAX_ANIMATION_FRAMES:
-        raise ValueError(f"animation_frames: must be an integer in 0..{MAX_ANIMATION_FRAMES} (0: no animation), got {n!r}")
-    return n
+    return check_int(n, "animation_frames", 0, MAX_ANIMATION_FRAMES)  # numpy integers too
 
 
 def check_fps(fps: object, name: str = "render_fps") -> float:

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..checks import check_int
 from ..core.level import Cell, Level
 from .font import draw_text, text_size
 from .geometry import ARROWS, CELL_TEXT_CENTRE, ROBOT_RADIUS, TRIANGLES, VALUE_TEXT_CENTRE, cell_mask
@@ -110,9 +111,7 @@ def resolve_theme(theme: str | Theme) -> Theme:
 
 
 def check_cell_size(cell_size: object) -> int:
-    if isinstance(cell_size, bool) or not isinstance(cell_size, int) or not MIN_CELL_SIZE <= cell_size <= MAX_CELL_SIZE:
-        raise ValueError(f"cell_size: must be an integer in {MIN_CELL_SIZE}..{MAX_CELL_SIZE} (pixels), got {cell_size!r}")
-    return cell_size
+    return check_int(cell_size, "cell_size", MIN_CELL_SIZE, MAX_CELL_SIZE)  # numpy integers too
 
 
 class RgbRenderer:
