@@ -79,3 +79,17 @@ def test_a_huge_integer_in_an_error_message_is_shortened():
     with pytest.raises(ValueError) as info:
         check_int(10**5000, "n", hi=5)
     assert len(str(info.value)) < 200
+
+
+@pytest.mark.parametrize("cell", [(1.0, 0), (np.float64(1), 0), (True, 0), ("1", 0), (1, None)], ids=repr)
+def test_a_cell_is_a_pair_of_integers_by_the_same_rule(cell):
+    with pytest.raises(ValueError, match="starts: .* is not a cell"):
+        Level(width=3, height=1, starts=[cell], exits=[(2, 0)])
+    env = BabyRobotEnv(level="walls")
+    with pytest.raises(ValueError, match="start"):
+        env.reset(options={"start": cell})
+
+
+def test_a_cell_of_numpy_integers_is_a_cell():
+    level = Level(width=3, height=1, starts=[np.array([1, 0])], exits=[(np.int64(2), np.uint8(0))])
+    assert level.starts == ((1, 0),) and type(level.starts[0][0]) is int

@@ -49,13 +49,13 @@ class LevelError(ValueError):
 
 
 def as_cell(value: object, what: str) -> Cell:
+    """``(x, y)`` from a pair of integers (numpy's too; not bools, not floats such as ``1.0``)."""
     try:
         x, y = value  # type: ignore[misc]
-        if int(x) == x and int(y) == y and not isinstance(x, bool) and not isinstance(y, bool):
-            return (int(x), int(y))
+        return (check_int(x, what), check_int(y, what))
     except (TypeError, ValueError):
         pass
-    raise LevelError(f"{what}: {value!r} is not a cell; a cell is a pair of integers (x, y)")
+    raise LevelError(f"{what}: {shown(value)} is not a cell; a cell is a pair of integers (x, y)")
 
 
 def _as_edge(value: object, what: str) -> Edge:
