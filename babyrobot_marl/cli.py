@@ -14,9 +14,10 @@ Each subcommand is a ``_add_<name>_parser`` function that registers its argument
 ``_cmd_<name>(args, out)`` handler; the shared pieces (``--level``, ``--seed``, the display
 options and ``_animate``) are small functions so that further subcommands reuse them.
 
-Bad input (an unknown level or policy, a negative seed, a bad delay, a broken level file)
-ends with exit status 2 and one line on stderr, ``babyrobot-marl: error: ...``, never a
-traceback.
+Bad input (an unknown level or policy, a negative seed, a bad delay, a broken level file, a
+directory or FIFO or device given as a level, a level past the size limits) ends with exit
+status 2 and one line on stderr, ``babyrobot-marl: error: ...``, never a traceback. Argument
+types live in ``cli_args``, level loading (bounded file reads) in ``level_files``.
 """
 
 from __future__ import annotations
