@@ -17,7 +17,7 @@ import operator
 import numpy as np
 
 MAX_LEVEL_CELLS = 65_536  # width * height: a 256x256 maze, or a one-row corridor 65,536 cells long
-MAX_LEVEL_TEXT_CHARS = 4 * 1024 * 1024  # a level text (or file, in bytes): the largest level is < 600 kB
+MAX_LEVEL_TEXT_CHARS = 2 * 1024 * 1024  # a level text (or file, in bytes): the largest level takes under 700 kB, CRLF included
 MAX_DENSE_STATES = 2_500  # planning's dense P[s, a, s']: 5 * S * S floats, 250 MB at 2,500 states (50x50)
 MAX_FRAME_PIXELS = 100_000_000  # an rgb_array frame: 300 MB of uint8 RGB (maze-256x256 fits up to cell_size 38)
 

@@ -73,7 +73,7 @@ def _too_large(spec: str, size: int | None = None) -> str:
     return _cannot(
         spec,
         f"it is too large{got}; a level file has at most {MAX_LEVEL_TEXT_CHARS:,} bytes "
-        "(the largest level, 65,536 cells, takes under 600 kB)",
+        "(the largest level, 65,536 cells, takes under 700 kB)",
     )
 
 
