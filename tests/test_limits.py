@@ -41,6 +41,15 @@ def test_a_one_row_corridor_of_the_limits_length_is_allowed():
     assert (level.width, level.height) == (MAX_LEVEL_CELLS, 1)
 
 
+def test_the_longest_level_text_with_crlf_line_ends_and_an_indent_is_within_the_character_limit():
+    """A one-column corridor of 65,536 cells has the most lines (131,073): indented by 2, with CRLF."""
+    rows = ["+-+", "|S|"] + ["+ +", "| |"] * (MAX_LEVEL_CELLS - 2) + ["+ +", "|E|", "+-+"]
+    text = "\r\n".join("  " + row for row in rows)
+    assert len(text) <= MAX_LEVEL_TEXT_CHARS
+    level = Level.from_ascii(text)
+    assert (level.width, level.height) == (1, MAX_LEVEL_CELLS)
+
+
 def test_a_level_one_cell_past_the_limit_is_refused_by_name():
     with pytest.raises(ValueError, match=r"width, height: a level has at most 65,536 cells.*65537x1"):
         Level(width=MAX_LEVEL_CELLS + 1, height=1, exits=[(0, 0)])
