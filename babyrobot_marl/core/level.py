@@ -248,7 +248,12 @@ class Level:
 
     @classmethod
     def from_ascii(cls, text: str, name: str = "") -> Level:
-        """Parse the text format. Errors are ``ValueError`` naming the line and column (1-based)."""
+        """Parse the text format. Errors are ``ValueError`` naming the line and column (1-based).
+
+        Lines end with ``\\n``, ``\\r\\n`` or a lone ``\\r``; trailing spaces are trimmed, any other
+        whitespace is a character like any other. A text of more than ``MAX_LEVEL_TEXT_CHARS``
+        characters or ``MAX_LEVEL_CELLS`` cells is refused before it is parsed.
+        """
         if not isinstance(text, str):
             raise TypeError(f"text: expected a level text (str), got {type(text).__name__}")
         if len(text) > MAX_LEVEL_TEXT_CHARS:  # before splitting it into lines
