@@ -99,7 +99,7 @@ def load_level(spec: str) -> Level:
         raise TypeError(f"level: expected a level name, a level text or a file path (str), got {type(spec).__name__}")
     if looks_like_level_text(spec):  # "+-+-+\r|S E|\r+-+-+" is a text, not a name
         try:
-            return Level.from_ascii(spec)
+            return Level.from_ascii(spec, name="(level text)")  # the name summaries print, not the text
         except ValueError as err:
             raise ValueError(f"level text: {err}") from None
     try:
