@@ -66,6 +66,17 @@ def check_level_size(width: int, height: int, what: str = "width, height") -> No
         )
 
 
+def check_dense_states(n_states: int, width: int, height: int, what: str = "P") -> None:
+    """A dense ``P[s, a, s']`` of ``n_states`` states is within ``MAX_DENSE_STATES`` (checked before allocating it)."""
+    if n_states > MAX_DENSE_STATES:
+        raise ValueError(
+            f"{what}: the dense model holds at most {MAX_DENSE_STATES:,} states ({5 * 8 * MAX_DENSE_STATES**2 / 1e6:,.0f} MB); "
+            f"this {width}x{height} level has {n_states:,} and would need {5 * 8 * n_states**2 / 1e9:,.1f} GB. "
+            "Use the sparse model instead: model.next, model.prob and model.reward (value_iteration and the "
+            "other planning functions read those)"
+        )
+
+
 def check_frame_pixels(width: int, height: int, what: str = "cell_size", hint: str = "use a smaller cell_size") -> None:
     """An image of ``width x height`` pixels is within ``MAX_FRAME_PIXELS`` (checked before allocating it)."""
     if width * height > MAX_FRAME_PIXELS:

@@ -86,6 +86,14 @@ def test_the_dense_model_past_its_limit_names_the_limit_and_the_sparse_alternati
     assert value_iteration(model("maze-16x16")).iterations > 0  # the sparse path all planning uses
 
 
+def test_the_core_dense_arrays_past_the_limit_are_refused_before_allocating():
+    from babyrobot_marl.core import compile_level, transition_arrays
+
+    table = compile_level(levels.get("maze-128x128"))
+    with pytest.raises(ValueError, match="transition_arrays: the dense model holds at most"):
+        transition_arrays(table)
+
+
 def test_the_dense_model_within_its_limit_is_built():
     m = model("maze-16x16")
     assert m.P.shape == (256, 5, 256)

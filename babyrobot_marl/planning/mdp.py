@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from ..checks import MAX_DENSE_STATES
+from ..checks import check_dense_states
 from ..core.level import Level
 from ..core.model import Transition, frozenlake_P, sparse_arrays, transition_arrays
 from ..core.rules import Rules
@@ -68,14 +68,7 @@ class Model:
         At most ``MAX_DENSE_STATES`` states (the size is checked before anything is allocated);
         larger levels use the sparse ``next``/``prob``/``reward`` arrays, which all of planning reads.
         """
-        n = self.n_states
-        if n > MAX_DENSE_STATES:
-            raise ValueError(
-                f"P: the dense model holds at most {MAX_DENSE_STATES:,} states ({5 * 8 * MAX_DENSE_STATES**2 / 1e6:,.0f} MB); "
-                f"this {self.width}x{self.height} level has {n:,} and would need {5 * 8 * n * n / 1e9:,.1f} GB. "
-                "Use the sparse model instead: model.next, model.prob and model.reward (value_iteration and the "
-                "other planning functions read those)"
-            )
+        check_dense_states(self.n_states, self.width, self.height)
         return transition_arrays(self.table)
 
     @property
