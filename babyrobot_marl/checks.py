@@ -6,6 +6,16 @@ numpy reals, not bools; a huge integer such as ``10**400`` is refused by name in
 raising ``OverflowError``.
 
 The limits below are checked before anything large is allocated; README "Limits" states them.
+
+=======================  ==================================================================
+``check_int``            integers (Python, numpy) in bounds; bools, floats, strings refused
+``check_real``           finite reals; bools, complex, strings, ``10**400`` refused
+``real_array``           a float64 array of real numbers; complex, strings, bools refused
+``check_level_size``     ``width * height <= MAX_LEVEL_CELLS``
+``check_dense_states``   the dense model ``P[s, a, s']`` within ``MAX_DENSE_STATES``
+``check_frame_pixels``   an image within ``MAX_FRAME_PIXELS``; ``max_cell_size`` the largest cell that fits
+``shown``                a short ``repr`` for error messages (never a huge input in full)
+=======================  ==================================================================
 """
 
 from __future__ import annotations
@@ -55,6 +65,21 @@ def check_real(value: object, name: str, lo: float | None = None, hi: float | No
         bounds = "" if lo is None and hi is None else f" in [{low}, {high}]"
         raise ValueError(f"{name}: must be a finite number{bounds}, got {shown(value)}")
     return f
+
+
+def real_array(value: object, name: str) -> np.ndarray:
+    """``value`` as a float64 array, if it holds real numbers only (ints, floats; numpy's too).
+
+    Bools, complex numbers and strings (even numeric ones such as ``"1.5"``) are a ``ValueError``
+    naming ``name``: ``np.array(value, dtype=float)`` alone would take ``"1.5"`` and drop ``1j``.
+    """
+    try:
+        arr = np.asarray(value)
+    except (TypeError, ValueError):  # ragged nesting
+        raise ValueError(f"{name}: expected an array of numbers, got {shown(value)}") from None
+    if arr.dtype.kind not in "iuf":
+        raise ValueError(f"{name}: expected real numbers (ints or floats), got an array of dtype {arr.dtype}")
+    return arr.astype(np.float64)
 
 
 def check_level_size(width: int, height: int, what: str = "width, height") -> None:

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from babyrobot_marl import Level, compile_level, levels, policies
-from babyrobot_marl.checks import check_int, check_real
+from babyrobot_marl.checks import check_int, check_real, real_array
 from babyrobot_marl.envs.race import RaceEnv
 from babyrobot_marl.envs.single import BabyRobotEnv
 
@@ -93,3 +93,11 @@ def test_a_cell_is_a_pair_of_integers_by_the_same_rule(cell):
 def test_a_cell_of_numpy_integers_is_a_cell():
     level = Level(width=3, height=1, starts=[np.array([1, 0])], exits=[(np.int64(2), np.uint8(0))])
     assert level.starts == ((1, 0),) and type(level.starts[0][0]) is int
+
+
+def test_real_array_takes_ints_and_floats_and_refuses_complex_strings_and_bools():
+    assert real_array([[1, 2.5]], "values").dtype == np.float64
+    assert real_array(np.arange(3, dtype=np.int8), "values").tolist() == [0.0, 1.0, 2.0]
+    for bad in ([1j, 2], ["1.5", "2"], [True, False], [[1, 2], [3]], None):
+        with pytest.raises(ValueError, match="^values: expected"):
+            real_array(bad, "values")
