@@ -156,3 +156,20 @@ def test_every_special_level_file_is_an_answer_in_time_not_a_hang_or_traceback(l
 @given(data=st.data())
 def test_random_argument_lists_exit_0_or_2_with_one_error_line_and_no_traceback(level_files, data):
     check_run(data.draw(argument_lists(level_files), label="argv"))
+
+
+LEVEL_CHARS = "+-|#* .SEpP0123456789\n\r\t\f\v\x00"
+FILE_CONTENTS = st.one_of(
+    st.binary(max_size=3000),
+    st.text(alphabet=LEVEL_CHARS, max_size=3000).map(lambda t: t.encode()),
+    st.text(max_size=500).map(lambda t: t.encode("utf-8", "surrogatepass")),
+    st.sampled_from([TINY, TINY.replace("\n", "\r")]).map(lambda t: t.encode("utf-16")),  # not UTF-8
+)
+
+
+@settings(max_examples=10, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])
+@given(content=FILE_CONTENTS, command=st.sampled_from(["levels", "play", "solve"]))
+def test_random_level_file_contents_give_a_level_or_one_error_line(tmp_path_factory, content, command):
+    path = tmp_path_factory.mktemp("fuzzed") / "level.txt"
+    path.write_bytes(content)
+    check_run([command, str(path)] if command == "levels" else [command, "--level", str(path)])
