@@ -12,7 +12,8 @@
 
 Each subcommand is a ``_add_<name>_parser`` function that registers its arguments and a
 ``_cmd_<name>(args, out)`` handler; the shared pieces (``--level``, ``--seed``, the display
-options and ``_animate``) are small functions so that further subcommands reuse them.
+options; ``animation.animate`` shows the frames) are small functions so that further
+subcommands reuse them.
 
 Bad input (an unknown level or policy, a negative seed, a bad delay, a broken level file, a
 directory or FIFO or device given as a level, a level past the size limits) ends with exit
@@ -25,12 +26,14 @@ from __future__ import annotations
 import argparse
 import os
 import sys
-import time
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import NoReturn, TextIO
 
 from . import __version__, levels, policies
+from .animation import DEFAULT_DELAY, Display
+from .animation import animate as _animate
+from .animation import isatty as _isatty
 from .cli_args import int_at_least, non_negative_int, policy_list, positive_float, positive_int, probability, seconds
 from .core.actions import Action
 from .core.level import Level
@@ -41,17 +44,8 @@ from .level_files import load_level
 from .render.ansi import frame, robot_glyph
 
 PROG = "babyrobot-marl"
-DEFAULT_DELAY = 0.15  # seconds between frames on a terminal: fast, yet each move is visible
 EXIT_USAGE = 2  # bad input, as argparse uses
 EXIT_INTERRUPTED = 130  # Ctrl-C, as a shell reports it
-
-# ANSI control sequences, written only to a terminal.
-CLEAR_SCREEN = "\x1b[2J"
-CURSOR_HOME = "\x1b[H"
-CLEAR_TO_EOL = "\x1b[K"
-CLEAR_BELOW = "\x1b[J"
-HIDE_CURSOR = "\x1b[?25l"
-SHOW_CURSOR = "\x1b[?25h"
 
 
 class _Parser(argparse.ArgumentParser):
@@ -101,55 +95,11 @@ def _add_display_args(p: argparse.ArgumentParser) -> None:
 
 
 # ------------------------------------------------------------------------ shared helpers
-@dataclass(frozen=True)
-class Display:
-    """How frames reach the terminal: colour, clearing between frames, pause between frames."""
-
-    colour: bool
-    clear: bool
-    delay: float
-
-
 def _display(args: argparse.Namespace, out: TextIO) -> Display:
     tty = _isatty(out)
     colour = tty and not args.no_color and not os.environ.get("NO_COLOR")
     delay = args.delay if args.delay is not None else (DEFAULT_DELAY if tty else 0.0)
     return Display(colour=colour, clear=tty, delay=delay)
-
-
-def _isatty(out: TextIO) -> bool:
-    try:
-        return out.isatty()
-    except (AttributeError, ValueError):  # a closed or unusual stream: treat as a file
-        return False
-
-
-def _animate(frames: Iterable[str], display: Display, out: TextIO, sleep: Callable[[float], None] = time.sleep) -> int:
-    """Show text frames one after another; returns how many were shown.
-
-    On a terminal (``display.clear``) each frame is redrawn in place: cursor home, the frame
-    with every line cleared to its end, the rest of the screen cleared (no flicker from a full
-    clear). Elsewhere frames follow each other, separated by a blank line, so a log reads top
-    to bottom.
-    """
-    n = 0
-    if display.clear:
-        out.write(HIDE_CURSOR + CLEAR_SCREEN)
-    try:
-        for text in frames:
-            if n and display.delay > 0:
-                sleep(display.delay)
-            if display.clear:
-                out.write(CURSOR_HOME + text.replace("\n", CLEAR_TO_EOL + "\n") + CLEAR_TO_EOL + "\n" + CLEAR_BELOW)
-            else:
-                out.write(("\n" if n else "") + text + "\n")
-            out.flush()
-            n += 1
-    finally:
-        if display.clear:
-            out.write(SHOW_CURSOR)
-            out.flush()
-    return n
 
 
 # ------------------------------------------------------------------------ levels
