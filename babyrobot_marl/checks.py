@@ -29,7 +29,7 @@ import numpy as np
 MAX_LEVEL_CELLS = 65_536  # width * height: a 256x256 maze, or a one-row corridor 65,536 cells long
 MAX_LEVEL_TEXT_CHARS = 2 * 1024 * 1024  # a level text (or file, in bytes): the largest level takes under 700 kB, CRLF included
 MAX_DENSE_STATES = 2_500  # planning's dense P[s, a, s']: 5 * S * S floats, 250 MB at 2,500 states (50x50)
-MAX_FRAME_PIXELS = 100_000_000  # an rgb_array frame: 300 MB of uint8 RGB (maze-256x256 fits up to cell_size 38)
+MAX_FRAME_PIXELS = 4096 * 4096  # an rgb_array frame (48 MB of RGB): a 256x256 maze at 16-pixel cells, as render.rgb
 
 
 def check_int(value: object, name: str, lo: int | None = None, hi: int | None = None) -> int:
