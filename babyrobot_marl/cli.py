@@ -38,6 +38,7 @@ from .cli_args import int_at_least, non_negative_int, policy_list, positive_floa
 from .core.actions import Action
 from .core.level import Level
 from .core.rules import COLLISION_MODES
+from .envs.common import OUTCOME_NAMES
 from .envs.race import START_MODES, RaceEnv
 from .envs.single import BabyRobotEnv
 from .level_files import load_level
@@ -194,7 +195,8 @@ def _episode_frames(env: BabyRobotEnv, policy: Callable, summary: EpisodeSummary
         summary.steps += 1
         summary.ret += reward
         summary.reached_exit = terminated
-        status = f"step {summary.steps}/{env.max_steps}  return {summary.ret:g}  {Action(action).name} -> {info['outcome']}"
+        outcome = OUTCOME_NAMES[info["outcome"]]
+        status = f"step {summary.steps}/{env.max_steps}  return {summary.ret:g}  {Action(action).name} -> {outcome}"
         yield frame(env.level, [env.robot_cell], status, colour=colour)
         if terminated or truncated:
             return
