@@ -166,8 +166,8 @@ def _add_play_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--policy",
         default="shortest",
-        choices=policies.POLICY_NAMES,
-        help="random: uniform actions; shortest: the shortest path to the exit (default: shortest)",
+        choices=(*policies.POLICY_NAMES, "keys"),
+        help="random: uniform actions; shortest: the shortest path to the exit; keys: you drive (arrow keys) (default: shortest)",
     )
     _add_seed_arg(p)
     p.add_argument(
@@ -206,6 +206,10 @@ def _cmd_play(args: argparse.Namespace, out: TextIO) -> int:
     level = load_level(args.level)
     env = BabyRobotEnv(level=level, max_steps=args.max_steps)
     seed = _fresh_seed() if args.seed is None else args.seed
+    if args.policy == "keys":  # the keyboard game: babyrobot_marl.play.terminal
+        from .play.terminal import play_keys
+
+        return play_keys(env, seed, level.name or args.level, _display(args, out).colour, out)
     policy = policies.make(args.policy, env.table, seed)
     display = _display(args, out)
     summary = EpisodeSummary(seed=seed)
@@ -255,6 +259,7 @@ def _add_race_parser(sub: argparse._SubParsersAction) -> None:
     )
     _add_seed_arg(p)
     p.add_argument("--max-cycles", type=_positive_int, default=None, metavar="N", help="truncate the race after N steps")
+    p.add_argument("--human", type=_non_negative_int, default=None, metavar="N", help="drive robot N yourself (arrow keys)")
     p.add_argument("--races", type=_positive_int, default=None, metavar="N", help="run N seeded races; print metrics, no frames")
     _add_display_args(p)
     p.set_defaults(func=_cmd_race)
@@ -299,15 +304,29 @@ def _cmd_race(args: argparse.Namespace, out: TextIO) -> int:
     names = args.policies * args.robots if len(args.policies) == 1 else args.policies
     seed = _fresh_seed() if args.seed is None else args.seed
     if args.races:  # experiments: the metrics table of N races (babyrobot_marl.experiments)
+        if args.human is not None:
+            raise ValueError("--human: you drive one race with frames; drop --races (N races without frames) or --human")
         from .experiments import run_races
 
         kw = {"collisions": args.collisions, "start": args.start, "max_cycles": args.max_cycles}
         out.write(f"{run_races(level, names, args.races, seed, **kw).table()}\nseed {seed}\n")
         return 0
     robot_policies = [policies.make(name, env.table, seed=seed + 7919 * (i + 1)) for i, name in enumerate(names)]
+    if args.human is not None and args.human < args.robots:
+        names[args.human] = "keys"
     results = [RobotResult(robot_glyph(i, args.robots) + f" {agent}", names[i]) for i, agent in enumerate(env.possible_agents)]
     display = _display(args, out)
-    _animate(_race_frames(env, robot_policies, results, seed, display.colour), display, out)
+    frames = _race_frames(env, robot_policies, results, seed, display.colour)
+    if args.human is not None:  # babyrobot_marl.play: your keys for one robot; a paced, legended race on a terminal
+        from .play.terminal import race_keys
+
+        race_keys(env, robot_policies, args.human, seed, results, display.delay, display.colour, out)
+    elif display.clear:
+        from .play.watch import watch_race
+
+        watch_race(env, robot_policies, seed, frames, names, display.delay, display.colour, out)
+    else:
+        _animate(frames, display, out)
     out.write(
         f"\nrace on {level.name or args.level}, {args.robots} robots, collisions {args.collisions}, seed {seed}, "
         f"{env.elapsed_steps} steps\n\n{_results_table(results)}\n"

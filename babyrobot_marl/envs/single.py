@@ -219,6 +219,12 @@ class BabyRobotEnv(SingleDrawing, gym.Env):
         self._render_human()
         return None
 
+    def get_keys_to_action(self) -> dict[tuple[int, ...], int]:
+        """Keys for ``gymnasium.utils.play.play(env)`` (render_mode="rgb_array"): arrows and WASD, space stays."""
+        from ..play.keys import keys_to_action
+
+        return keys_to_action()
+
     # ------------------------------------------------------------------------ helpers
     @property
     def robot_cell(self) -> Cell | None:
