@@ -103,11 +103,11 @@ def option(files: dict[str, str]) -> st.SearchStrategy[list[str]]:
     modes = st.sampled_from(["block", "fill", "value", "x"])
     reals = st.sampled_from(["0.9", "0", "1", "2", "nan", "-1", "1e-9"])
     paths = st.sampled_from(sorted(files.values()))  # a policy may be a file too: the same special files
-    policy_names = st.sampled_from(["random", "shortest", "", "x", "a" * 300, "x/" * 200])
+    policy_names = st.sampled_from(["random", "shortest", "keys", "", "x", "a" * 300, "x/" * 200])
     policy_lists = st.sampled_from(["random", "shortest,random", ",", "x,y", "random," * 50, "a" * 300])
     return st.one_of(
         st.tuples(st.just("--level"), level_specs(files)).map(list),
-        st.tuples(st.sampled_from(["--seed", "--robots", "--max-steps", "--max-cycles", "--decimals"]), num).map(list),
+        st.tuples(st.sampled_from(["--seed", "--robots", "--max-steps", "--max-cycles", "--decimals", "--human"]), num).map(list),
         st.tuples(st.just("--policy"), st.one_of(policy_names, paths)).map(list),
         st.tuples(st.just("--policies"), policy_lists).map(list),
         st.tuples(st.sampled_from(["--collisions", "--start", "--method"]), modes).map(list),
