@@ -12,83 +12,54 @@
 
 Each subcommand is a ``_add_<name>_parser`` function that registers its arguments and a
 ``_cmd_<name>(args, out)`` handler; the shared pieces (``--level``, ``--seed``, the display
-options and ``_animate``) are small functions so that further subcommands reuse them.
+options; ``animation.animate`` shows the frames) are small functions so that further
+subcommands reuse them.
 
-Bad input (an unknown level or policy, a negative seed, a bad delay, a broken level file)
-ends with exit status 2 and one line on stderr, ``babyrobot-marl: error: ...``, never a
-traceback.
+Bad input (an unknown level or policy, a negative seed, a bad delay, a broken level file, a
+directory or FIFO or device given as a level, a level past the size limits) ends with exit
+status 2 and one line on stderr, ``babyrobot-marl: error: ...``, never a traceback. Argument
+types live in ``cli_args``, level loading (bounded file reads) in ``level_files``.
 """
 
 from __future__ import annotations
 
 import argparse
-import math
 import os
 import sys
-import time
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
-from pathlib import Path
 from typing import NoReturn, TextIO
 
 from . import __version__, levels, policies
+from .animation import DEFAULT_DELAY, Display
+from .animation import animate as _animate
+from .animation import isatty as _isatty
+from .cli_args import int_at_least, non_negative_int, policy_list, positive_float, positive_int, probability, seconds
 from .core.actions import Action
 from .core.level import Level
 from .core.rules import COLLISION_MODES
 from .envs.common import OUTCOME_NAMES
 from .envs.race import START_MODES, RaceEnv
 from .envs.single import BabyRobotEnv
+from .level_files import load_level
 from .render.ansi import frame, robot_glyph
 
 PROG = "babyrobot-marl"
-DEFAULT_DELAY = 0.15  # seconds between frames on a terminal: fast, yet each move is visible
 EXIT_USAGE = 2  # bad input, as argparse uses
 EXIT_INTERRUPTED = 130  # Ctrl-C, as a shell reports it
-
-# ANSI control sequences, written only to a terminal.
-CLEAR_SCREEN = "\x1b[2J"
-CURSOR_HOME = "\x1b[H"
-CLEAR_TO_EOL = "\x1b[K"
-CLEAR_BELOW = "\x1b[J"
-HIDE_CURSOR = "\x1b[?25l"
-SHOW_CURSOR = "\x1b[?25h"
 
 
 class _Parser(argparse.ArgumentParser):
     """An ``ArgumentParser`` whose errors are one line: no usage block, no traceback."""
 
     def error(self, message: str) -> NoReturn:
-        self.exit(EXIT_USAGE, f"{self.prog}: error: {message} (see '{self.prog} --help')\n")
+        # argparse quotes the arguments it rejects: keep a newline or a huge argument from breaking the one line
+        self.exit(EXIT_USAGE, f"{self.prog}: error: {_one_line(message)} (see '{self.prog} --help')\n")
 
 
-# ------------------------------------------------------------------------ argument types
-def _int_at_least(minimum: int) -> Callable[[str], int]:
-    """An argparse type: an integer >= ``minimum``."""
-
-    def parse(text: str) -> int:
-        try:
-            value = int(text)
-        except ValueError:
-            value = minimum - 1
-        if value < minimum:
-            raise argparse.ArgumentTypeError(f"must be an integer >= {minimum}, got {text!r}")
-        return value
-
-    return parse
-
-
-_non_negative_int = _int_at_least(0)
-_positive_int = _int_at_least(1)
-
-
-def _seconds(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        value = math.nan
-    if not math.isfinite(value) or value < 0:  # nan, inf and negative delays make no animation
-        raise argparse.ArgumentTypeError(f"must be a number of seconds >= 0, got {text!r}")
-    return value
+# Argument types live in cli_args (kept importable here under their former names).
+_int_at_least, _non_negative_int, _positive_int = int_at_least, non_negative_int, positive_int
+_seconds, _probability, _positive_float, _policy_list = seconds, probability, positive_float, policy_list
 
 
 # ------------------------------------------------------------------------ shared arguments
@@ -125,80 +96,11 @@ def _add_display_args(p: argparse.ArgumentParser) -> None:
 
 
 # ------------------------------------------------------------------------ shared helpers
-def load_level(spec: str) -> Level:
-    """A level from a built-in name, ``maze-WxH[-sSEED]``, or the path of a level text file."""
-    path = Path(spec)
-    if path.is_file():
-        try:
-            text = path.read_text(encoding="utf-8-sig")  # a BOM from some editors is not part of the level
-        except (OSError, UnicodeDecodeError) as err:
-            raise ValueError(f"level: cannot read the level file {spec!r}: {err}") from None
-        try:
-            return Level.from_ascii(text, name=path.stem)
-        except ValueError as err:
-            raise ValueError(f"level file {spec}: {err}") from None
-    if path.suffix or os.sep in spec or "/" in spec:  # meant as a file: say so rather than "unknown level"
-        raise ValueError(f"level: no such level file {spec!r}")
-    try:
-        return levels.get(spec)
-    except ValueError as err:
-        if not str(err).startswith("level: unknown level"):
-            raise ValueError(f"level {spec!r}: {err}") from None  # e.g. a maze size out of range
-        raise ValueError(
-            f"level: unknown level {spec!r} and no file of that name; known levels: {', '.join(levels.names())} "
-            "(and maze-WxH or maze-WxH-sSEED for any size and seed)"
-        ) from None
-
-
-@dataclass(frozen=True)
-class Display:
-    """How frames reach the terminal: colour, clearing between frames, pause between frames."""
-
-    colour: bool
-    clear: bool
-    delay: float
-
-
 def _display(args: argparse.Namespace, out: TextIO) -> Display:
     tty = _isatty(out)
     colour = tty and not args.no_color and not os.environ.get("NO_COLOR")
     delay = args.delay if args.delay is not None else (DEFAULT_DELAY if tty else 0.0)
     return Display(colour=colour, clear=tty, delay=delay)
-
-
-def _isatty(out: TextIO) -> bool:
-    try:
-        return out.isatty()
-    except (AttributeError, ValueError):  # a closed or unusual stream: treat as a file
-        return False
-
-
-def _animate(frames: Iterable[str], display: Display, out: TextIO, sleep: Callable[[float], None] = time.sleep) -> int:
-    """Show text frames one after another; returns how many were shown.
-
-    On a terminal (``display.clear``) each frame is redrawn in place: cursor home, the frame
-    with every line cleared to its end, the rest of the screen cleared (no flicker from a full
-    clear). Elsewhere frames follow each other, separated by a blank line, so a log reads top
-    to bottom.
-    """
-    n = 0
-    if display.clear:
-        out.write(HIDE_CURSOR + CLEAR_SCREEN)
-    try:
-        for text in frames:
-            if n and display.delay > 0:
-                sleep(display.delay)
-            if display.clear:
-                out.write(CURSOR_HOME + text.replace("\n", CLEAR_TO_EOL + "\n") + CLEAR_TO_EOL + "\n" + CLEAR_BELOW)
-            else:
-                out.write(("\n" if n else "") + text + "\n")
-            out.flush()
-            n += 1
-    finally:
-        if display.clear:
-            out.write(SHOW_CURSOR)
-            out.flush()
-    return n
 
 
 # ------------------------------------------------------------------------ levels
@@ -333,16 +235,6 @@ class RobotResult:
     collisions: int = 0
 
 
-def _policy_list(text: str) -> list[str]:
-    names = [p.strip() for p in text.split(",")]
-    bad = [p for p in names if p not in policies.POLICY_NAMES]
-    if bad:
-        raise argparse.ArgumentTypeError(
-            f"unknown policy {bad[0]!r}; give a comma-separated list of {', '.join(policies.POLICY_NAMES)}"
-        )
-    return names
-
-
 def _add_race_parser(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "race",
@@ -403,12 +295,13 @@ def _results_table(results: list[RobotResult]) -> str:
 
 def _cmd_race(args: argparse.Namespace, out: TextIO) -> int:
     level = load_level(args.level)
-    names = args.policies * args.robots if len(args.policies) == 1 else args.policies
-    if len(names) != args.robots:
-        raise ValueError(f"policies: give one policy for all robots or one per robot ({args.robots}), got {len(names)}")
+    if len(args.policies) not in (1, args.robots):
+        raise ValueError(f"policies: give one policy for all robots or one per robot ({args.robots}), got {len(args.policies)}")
+    # The env checks the robots against the level's starts and free cells before anything per robot exists.
     env = RaceEnv(
         level=level, n_robots=args.robots, collisions=args.collisions, start=args.start, max_cycles=args.max_cycles
     )
+    names = args.policies * args.robots if len(args.policies) == 1 else args.policies
     seed = _fresh_seed() if args.seed is None else args.seed
     if args.races:  # experiments: the metrics table of N races (babyrobot_marl.experiments)
         if args.human is not None:
@@ -442,26 +335,6 @@ def _cmd_race(args: argparse.Namespace, out: TextIO) -> int:
 
 
 # ------------------------------------------------------------------------ solve
-def _probability(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        value = math.nan
-    if not 0.0 < value <= 1.0:
-        raise argparse.ArgumentTypeError(f"must be a number in (0, 1], got {text!r}")
-    return value
-
-
-def _positive_float(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        value = math.nan
-    if not 0.0 < value < math.inf:
-        raise argparse.ArgumentTypeError(f"must be a number > 0, got {text!r}")
-    return value
-
-
 def _add_solve_parser(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "solve",
@@ -605,7 +478,15 @@ def main(argv: list[str] | None = None) -> int:
         # Python's flush at exit does not raise again.
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 1
+    except OSError as err:  # e.g. an output path that cannot be written
+        print(f"{PROG}: error: {_one_line(err)}", file=sys.stderr)
+        return EXIT_USAGE
+    except MemoryError:  # the last resort: the limits (README "Limits") should stop large inputs before this
+        print(f"{PROG}: error: out of memory; try a smaller level or fewer robots", file=sys.stderr)
+        return EXIT_USAGE
 
 
-def _one_line(err: BaseException) -> str:
-    return " ".join(str(err).split()) or type(err).__name__
+def _one_line(err: BaseException | str, limit: int = 1000) -> str:
+    """The message on one line, at most ``limit`` characters."""
+    text = " ".join(str(err).split()) or type(err).__name__
+    return text if len(text) <= limit else f"{text[: limit - 40]}... ({len(text):,} characters)"

@@ -54,7 +54,7 @@ def test_train_without_the_extra_says_how_to_install_it(monkeypatch, capsys):
 
 
 def test_train_single_robot_end_to_end_saves_the_model_and_a_gif(tmp_path, capsys):
-    pytest.importorskip("stable_baselines3", reason="the train extra is not installed")  # CI installs it (test extra)
+    pytest.importorskip("stable_baselines3", reason="the train extra is not installed")  # CI installs it (train extra)
     pytest.importorskip("imageio", reason="the train extra is not installed")
     gif, zipped = tmp_path / "p.gif", tmp_path / "m.zip"
     argv = ["train", "--level", "default", "--steps", "256", "--episodes", "2", "--gif", str(gif), "--save", str(zipped)]
@@ -65,7 +65,7 @@ def test_train_single_robot_end_to_end_saves_the_model_and_a_gif(tmp_path, capsy
 
 
 def test_train_race_end_to_end(capsys):
-    pytest.importorskip("supersuit", reason="the train extra is not installed")  # CI installs it (test extra)
+    pytest.importorskip("supersuit", reason="the train extra is not installed")  # CI installs it (train extra)
     assert run(["train", "--level", "race-2", "--robots", "2", "--steps", "512", "--episodes", "2"]) == 0
     out = capsys.readouterr().out
     assert "vs random: win rate" in out and "vs shortest: win rate" in out

@@ -34,7 +34,7 @@ def test_gymnasium_check_env_passes_without_warnings(mode):
 
 @pytest.mark.parametrize("mode", MODES)
 def test_stable_baselines3_check_env_passes_without_warnings(mode):
-    sb3_checker = pytest.importorskip("stable_baselines3.common.env_checker")
+    sb3_checker = pytest.importorskip("stable_baselines3.common.env_checker", reason="needs the train extra (Stable-Baselines3)")
     env = make(collisions=mode)
     with warnings.catch_warnings():
         warnings.simplefilter("error")

@@ -188,8 +188,8 @@ def test_aec_env_rejects_an_out_of_range_action_naming_the_agent_and_goes_on():
 
 # ------------------------------------------------------------------------ SuperSuit
 def _vec(finished: str, max_cycles: int = 30):
-    supersuit = pytest.importorskip("supersuit")
-    pytest.importorskip("stable_baselines3")
+    supersuit = pytest.importorskip("supersuit", reason="needs the train extra (SuperSuit)")
+    pytest.importorskip("stable_baselines3", reason="needs the train extra (Stable-Baselines3)")
     env = race_v0.parallel_env(level="race-2", finished=finished, max_cycles=max_cycles)
     vec = supersuit.pettingzoo_env_to_vec_env_v1(env)
     return supersuit.concat_vec_envs_v1(vec, 2, num_cpus=0, base_class="stable_baselines3")

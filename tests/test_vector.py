@@ -70,7 +70,7 @@ def single_vector(level: str, n: int, **kwargs) -> SyncVectorEnv:
 
 
 def sb3():
-    return pytest.importorskip("stable_baselines3")
+    return pytest.importorskip("stable_baselines3", reason="needs the train extra (Stable-Baselines3)")
 
 
 # ---------------------------------------------------------------------------- single robot: SyncVectorEnv

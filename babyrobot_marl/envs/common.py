@@ -9,9 +9,10 @@ from typing import Any
 import numpy as np
 
 from .. import levels
+from ..checks import check_int
 from ..core.actions import N_ACTIONS, Action
 from ..core.engine import OUTCOMES
-from ..core.level import Level
+from ..core.level import Level, looks_like_level_text
 from ..core.rules import RULE_NAMES, Rules
 
 ACTION_HELP = ", ".join(f"{a.value}={a.name}" for a in Action)
@@ -22,7 +23,7 @@ def resolve_level(level: str | Level) -> Level:
     if isinstance(level, Level):
         return level
     if isinstance(level, str):
-        return Level.from_ascii(level) if "\n" in level else levels.get(level)
+        return Level.from_ascii(level) if looks_like_level_text(level) else levels.get(level)
     raise TypeError(f"level: expected a level name, a level text or a Level, got {type(level).__name__}")
 
 
@@ -111,13 +112,7 @@ def check_render_mode(render_mode: str | None, modes: list[str]) -> str | None:
 
 def check_positive_int(value: object, what: str) -> int:
     """A count such as ``max_steps``: an integer >= 1 (numpy integers too, bools not)."""
-    try:
-        v = None if isinstance(value, bool) else operator.index(value)
-    except TypeError:
-        v = None
-    if v is None or v < 1:
-        raise ValueError(f"{what}: must be an integer >= 1, got {value!r}")
-    return v
+    return check_int(value, what, lo=1)
 
 
 def check_options(options: object, known: Collection[str] = ()) -> Mapping[str, Any]:
