@@ -134,17 +134,23 @@ def train_race(
 @dataclass(frozen=True)
 class RaceResult:
     """The learnt robot against scripted opponents: races won (rank 1, ties included), its mean
-    finishing steps (over races it finished) and the opponents'."""
+    finishing steps (over races it finished) and the opponents', and the ties among the wins
+    (another robot finished first in the same step)."""
 
     races: int
     wins: int
     finished: int
     mean_steps: float
     opponent_mean_steps: float
+    ties: int = 0
 
     @property
     def win_rate(self) -> float:
         return self.wins / self.races
+
+    @property
+    def tie_rate(self) -> float:
+        return self.ties / self.races
 
 
 def evaluate_race(
@@ -161,7 +167,7 @@ def evaluate_race(
     if opponent not in policies.POLICY_NAMES:
         raise ValueError(f"opponent: must be one of {', '.join(policies.POLICY_NAMES)}, got {opponent!r}")
     env = RaceEnv(level=level, n_robots=n_robots, **{"start": "random", **race_kwargs})
-    wins = finished = 0
+    wins = finished = ties = 0
     steps, other_steps = [], []
     for i in range(races):
         obs, _ = env.reset(seed=seed + i)
@@ -177,10 +183,11 @@ def evaluate_race(
                 if info.get("rank"):
                     finish[env.possible_agents.index(a)] = env.elapsed_steps
         wins += env.ranks[0] == 1
+        ties += env.ranks[0] == 1 and 1 in env.ranks[1:]
         if finish[0]:
             finished += 1
             steps.append(finish[0])
         other_steps += [f for f in finish[1:] if f]
     return RaceResult(races, wins, finished, float(np.mean(steps)) if steps else float("nan"),
-                      float(np.mean(other_steps)) if other_steps else float("nan"))
+                      float(np.mean(other_steps)) if other_steps else float("nan"), ties)
 
