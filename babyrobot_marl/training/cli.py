@@ -195,34 +195,31 @@ RACE_TARGET = 0.95  # win rate against random robots
 
 
 def _race_eval(level: Level, args: argparse.Namespace) -> tuple[Any, float, str, Any]:
-    from .race import evaluate_race
+    from .evaluate import race_rates
 
     n, seed = args.robots, args.seed + 1
     races = args.episodes or 100
 
     def evaluate(result: Any) -> float:
-        return evaluate_race(result.policy(), level, n_robots=n, opponent="random", races=20, seed=seed, start="fill").win_rate
+        return race_rates(result.policy(), level, n, "random", races=50, seed=seed, threads=args.threads or None).win_rate
 
     def finish(agent: Any, out: TextIO, args: argparse.Namespace, reached: tuple[int, float] | None) -> dict[str, Any]:
-        return _race_figures(agent, level, args, races, seed, out)
+        rates = {o: race_rates(agent, level, n, o, races, seed, threads=args.threads or None) for o in ("random", "shortest")}
+        return _race_figures(rates, level, args, out)
 
     return evaluate, RACE_TARGET, "win rate vs random", finish
 
 
-def _race_figures(agent: Any, level: Level, args: argparse.Namespace, races: int, seed: int, out: TextIO) -> dict[str, Any]:
-    from .race import evaluate_race
-
+def _race_figures(rates: dict[str, Any], level: Level, args: argparse.Namespace, out: TextIO) -> dict[str, Any]:
+    """The race's lines and JSON figures from win and tie rates against each kind of opponent."""
     n = args.robots
     out.write(f"{args.backend} PPO, one policy for {n} robots on {_name(level, args)}; robot_0 from the level's start "
-              f"against {n - 1} scripted robots:\n")
-    rates = {}
-    for opponent in ("random", "shortest"):
-        res = evaluate_race(agent, level, n_robots=n, opponent=opponent, races=races, seed=seed, start="fill")
-        rates[opponent] = res
-        out.write(f"  vs {opponent}: win rate {res.win_rate:.2f} ({res.wins}/{res.races}, ties {res.ties}), "
-                  f"mean finishing steps {res.mean_steps:.1f} (opponents {res.opponent_mean_steps:.1f})\n")
+              f"against {n - 1} scripted robots, {rates['random'].races} races each:\n")
+    for opponent, res in rates.items():
+        out.write(f"  vs {opponent}: win rate {res.win_rate:.3f} (ties included), tie rate {res.tie_rate:.3f}\n")
     r, s = rates["random"], rates["shortest"]
-    return {"win_rate": _round(r.win_rate), "tie_rate": _round(r.tie_rate), "opponents": ["random"] * (n - 1), "races": races,
+    return {"win_rate": _round(r.win_rate), "tie_rate": _round(r.tie_rate), "opponents": ["random"] * (n - 1),
+            "races": r.races,
             "vs_shortest": {"win_rate": _round(s.win_rate), "tie_rate": _round(s.tie_rate), "opponents": ["shortest"] * (n - 1)}}
 
 
@@ -294,7 +291,12 @@ def _sb3(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> dict
     if single:
         figures.update(finish(agent, out, args, reached))
     else:
-        figures.update(_race_figures(agent, level, args, args.episodes or 100, args.seed + 1, out))
+        from .race import evaluate_race
+
+        races = args.episodes or 100
+        rates = {o: evaluate_race(agent, level, n_robots=args.robots, opponent=o, races=races, seed=args.seed + 1, start="fill")
+                 for o in ("random", "shortest")}
+        figures.update(_race_figures(rates, level, args, out))
     if args.curve and not points:
         out.write("no learning curve: the sb3 race backend runs no evaluations while training\n")
         args.curve = None
