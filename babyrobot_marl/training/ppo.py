@@ -61,11 +61,11 @@ class PPOConfig:
     ``eval_every``: timesteps between evaluations (0: only at the end).
     """
 
-    n_envs: int = 64
-    n_steps: int = 32
-    batch_size: int = 512
+    n_envs: int = 1024
+    n_steps: int = 16
+    batch_size: int = 4096
     n_epochs: int = 4
-    learning_rate: float = 1e-3
+    learning_rate: float = 3e-3
     gamma: float = 0.99
     gae_lambda: float = 0.95
     clip_range: float = 0.2
@@ -76,7 +76,7 @@ class PPOConfig:
     net_arch: tuple[int, ...] = (64, 64)
     start: str = "random"
     threads: int | None = 1
-    eval_every: int = 8192
+    eval_every: int = 65536
     eval_episodes: int = 10
 
     def __post_init__(self) -> None:

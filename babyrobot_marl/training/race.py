@@ -191,3 +191,37 @@ def evaluate_race(
     return RaceResult(races, wins, finished, float(np.mean(steps)) if steps else float("nan"),
                       float(np.mean(other_steps)) if other_steps else float("nan"), ties)
 
+
+
+def race_cell_features_class() -> type:
+    """An SB3 features extractor giving a race robot's observation the fast trainer's input: the
+    one-hot of its own cell, then the counts of the other racing robots per cell (2 * W * H floats).
+
+    SB3 one-hot encodes each ``MultiDiscrete`` entry; this decodes them back to cells. With it,
+    SB3 PPO and ``training.ppo`` train the same network on the same input (``bench_train.py``).
+    """
+    (th,) = require_train("torch")
+    from stable_baselines3.common.torch_layers import BaseFeaturesExtractor
+
+    class RaceCellFeatures(BaseFeaturesExtractor):
+        def __init__(self, observation_space: Any, width: int, height: int, n_robots: int):
+            super().__init__(observation_space, features_dim=2 * width * height)
+            self.width, self.height, self.n_robots = width, height, n_robots
+
+        def forward(self, obs: Any) -> Any:
+            w, h = self.width, self.height
+            n_cells = w * h
+
+            def cell(at: int) -> Any:
+                return obs[:, at + w : at + w + h].argmax(dim=1) * w + obs[:, at : at + w].argmax(dim=1)
+
+            own = th.nn.functional.one_hot(cell(0), n_cells).float()
+            others = th.zeros_like(own)
+            at = w + h
+            for _ in range(self.n_robots - 1):
+                racing = obs[:, at + w + h]  # the one-hot of finished == 0
+                others += th.nn.functional.one_hot(cell(at), n_cells).float() * racing[:, None]
+                at += w + h + 2
+            return th.cat([own, others], dim=1)
+
+    return RaceCellFeatures
