@@ -332,7 +332,9 @@ class RobotResult:
 
 def _policy_spec(text: str) -> str:
     if not is_policy_spec(text):
-        raise argparse.ArgumentTypeError(f"unknown policy {text!r}: {', '.join(policies.POLICY_NAMES)} or a saved policy's path")
+        raise argparse.ArgumentTypeError(
+            f"invalid choice: {text!r} (choose from {', '.join(policies.POLICY_NAMES)}, or the path of a saved policy)"
+        )
     return text
 
 
