@@ -272,7 +272,8 @@ def _sb3(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> dict
                                                    features_extractor_kwargs={"width": w, "height": h})
             t0 = time.perf_counter()
             agent = train_single(level, args.algo, steps=args.steps, seed=args.seed, progress_bar=tty, callback=cb,
-                                 env_kwargs={"start": "random"}, **({"n_envs": n_envs} if n_envs else {}), **ppo_kwargs)
+                                 env_kwargs={"start": "random"}, threads=args.threads or None,
+                                 **({"n_envs": n_envs} if n_envs else {}), **ppo_kwargs)
             wall = time.perf_counter() - t0
             seconds = wall - cb._eval_seconds
             timesteps = int(agent.num_timesteps)
@@ -283,7 +284,7 @@ def _sb3(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> dict
 
             t0 = time.perf_counter()
             agent = train_race(level, n_robots=args.robots, steps=args.steps, seed=args.seed, progress_bar=tty,
-                               **({"n_envs": n_envs} if n_envs else {}), **ppo_kwargs)
+                               threads=args.threads or None, **({"n_envs": n_envs} if n_envs else {}), **ppo_kwargs)
             seconds = time.perf_counter() - t0
             timesteps, reached, points, target, score_name = int(agent.num_timesteps), None, [], RACE_TARGET, "win rate vs random"
     figures = {"backend": "sb3", "level": _name(level, args), "robots": args.robots, "timesteps": timesteps,

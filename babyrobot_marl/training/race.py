@@ -119,15 +119,20 @@ def train_race(
     progress_bar: bool = False,
     callback: Any = None,
     race_kwargs: dict[str, Any] | None = None,
+    threads: int | None = 1,
     **ppo_kwargs: Any,
 ) -> Any:
     """Train one PPO policy shared by all robots; returns the SB3 model. Robots start on random
-    free cells (``start="random"``) unless ``race_kwargs`` say otherwise."""
+    free cells (``start="random"``) unless ``race_kwargs`` say otherwise. ``threads``: torch threads
+    while training (default 1: more stall for minutes on a busy machine; None: torch's setting)."""
+    from .ppo import torch_threads
+
     if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 1:
         raise ValueError(f"steps: must be an integer >= 1, got {steps!r}")
     venv = make_race_vec_env(level, n_robots, n_envs, seed, backend, **{"start": "random", **(race_kwargs or {})})
-    agent = make_algo("ppo", venv, seed, **{**RACE_PPO_KWARGS, **ppo_kwargs})
-    agent.learn(total_timesteps=int(steps), progress_bar=progress_bar, callback=callback)
+    with torch_threads(threads):
+        agent = make_algo("ppo", venv, seed, **{**RACE_PPO_KWARGS, **ppo_kwargs})
+        agent.learn(total_timesteps=int(steps), progress_bar=progress_bar, callback=callback)
     return agent
 
 
