@@ -185,6 +185,7 @@ def make_net(n_in: int, net_arch: tuple[int, ...] = (64, 64)) -> Any:
     """
     torch = _torch()
     nn = torch.nn
+    one = torch.ones(())
 
     class MLP(nn.Module):
         def __init__(self, out: int, head_gain: float):
@@ -203,12 +204,17 @@ def make_net(n_in: int, net_arch: tuple[int, ...] = (64, 64)) -> Any:
                     nn.init.zeros_(layer.bias)
 
         def forward(self, idx: Any) -> Any:
-            return self.forward_cached(idx)[0]
+            return self.forward_cached(idx, dense_input(idx, n_in))[0]
 
-        def forward_cached(self, idx: Any) -> tuple[Any, list[Any]]:
+        def forward_cached(self, idx: Any, dense: Any = None) -> tuple[Any, list[Any]]:
+            """The output and the activations; ``dense``: the one-hot counts of ``idx`` (``dense_input``),
+            faster than row look-ups for several indices per row."""
             b, k = idx.shape
-            h = self.first.index_select(0, idx.reshape(-1))
-            h = (h if k == 1 else h.view(b, k, -1).sum(1)) + self.first_bias
+            if dense is not None:
+                h = torch.addmm(self.first_bias, dense, self.first)
+            else:
+                h = self.first.index_select(0, idx.reshape(-1))
+                h = (h if k == 1 else h.view(b, k, -1).sum(1)) + self.first_bias
             acts = []
             for layer in self.layers:
                 h = torch.tanh(h)
@@ -216,15 +222,18 @@ def make_net(n_in: int, net_arch: tuple[int, ...] = (64, 64)) -> Any:
                 h = torch.addmm(layer.bias, h, layer.weight.T)
             return h, acts
 
-        def backward(self, idx: Any, acts: list[Any], d: Any) -> None:
+        def backward(self, idx: Any, acts: list[Any], d: Any, dense: Any = None) -> None:
             """Set every parameter's ``.grad`` from ``d``, the loss's gradient at the output."""
             for layer, a in zip(reversed(self.layers), reversed(acts)):
                 layer.weight.grad = d.T @ a
                 layer.bias.grad = d.sum(0)
-                d = (d @ layer.weight) * (1.0 - a * a)  # through tanh
-            k = idx.shape[1]
-            grad = torch.zeros_like(self.first)
-            grad.index_add_(0, idx.reshape(-1), d if k == 1 else d.repeat_interleave(k, 0))
+                d = (d @ layer.weight).mul_(torch.addcmul(one, a, a, value=-1.0))  # through tanh: 1 - a^2
+            if dense is not None:
+                grad = dense.T @ d
+            else:
+                k = idx.shape[1]
+                grad = torch.zeros_like(self.first)
+                grad.index_add_(0, idx.reshape(-1), d if k == 1 else d.repeat_interleave(k, 0))
             grad[n_in] = 0.0  # the padding row stays zero
             self.first.grad = grad
             self.first_bias.grad = d.sum(0)
@@ -246,6 +255,18 @@ def log_softmax(z: Any) -> Any:
     torch = _torch()
     s = z - z.amax(1, keepdim=True)  # torch.log_softmax is several times slower along a dim of 5
     return s - torch.log(torch.exp(s).sum(1, keepdim=True))
+
+
+DENSE_LIMIT = 1024  # inputs up to which a race's one-hot is built densely in updates (faster than row look-ups)
+
+
+def dense_input(rows: Any, n_in: int) -> Any:
+    """The one-hot counts of rows of several indices, ``(B, n_in + 1)``; None for one index per row
+    (a look-up is cheapest) or a wide input (the dense matrix would be large)."""
+    if rows.shape[1] == 1 or n_in > DENSE_LIMIT:
+        return None
+    torch = _torch()
+    return torch.zeros(rows.shape[0], n_in + 1).scatter_add_(1, rows, torch.ones(rows.shape))
 
 
 def grads_of(params: list[Any]) -> list[Any]:
@@ -271,8 +292,9 @@ def ppo_gradients(
     torch = _torch()
     B, U = actions.shape[0], rows.shape[0]
     with torch.no_grad():
-        z, actor_acts = net.actor.forward_cached(rows)
-        v_rows, critic_acts = net.critic.forward_cached(rows)
+        dense = dense_input(rows, net.n_in)
+        z, actor_acts = net.actor.forward_cached(rows, dense)
+        v_rows, critic_acts = net.critic.forward_cached(rows, dense)
         logp_rows = log_softmax(z)
         p = torch.exp(logp_rows)
         entropy = -(p * logp_rows).sum(1)
@@ -292,8 +314,8 @@ def ppo_gradients(
         dz -= per_row[:, None] * p
         dz += (cfg.ent_coef / B) * count[:, None] * p * (logp_rows + entropy[:, None])
         dv = (2.0 * cfg.vf_coef / B) * (v_rows[:, 0].take(inv) - returns)
-        net.actor.backward(rows, actor_acts, dz)
-        net.critic.backward(rows, critic_acts, torch.zeros(U, dtype=dv.dtype).index_add_(0, inv, dv)[:, None])
+        net.actor.backward(rows, actor_acts, dz, dense)
+        net.critic.backward(rows, critic_acts, torch.zeros(U, dtype=dv.dtype).index_add_(0, inv, dv)[:, None], dense)
 
 
 # ---------------------------------------------------------------------------- training
