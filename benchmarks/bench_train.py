@@ -173,7 +173,7 @@ def main() -> int:
     torch.set_num_threads(1)
     quick = a.quick
     speed_steps = 4096 if quick else 262144
-    budget8, budget16, every = (4096, 4096, 2048) if quick else (300_000, 2_000_000, 8192)
+    budget8, budget16, every = (4096, 4096, 2048) if quick else (5_000_000, 30_000_000, 32768)
     sb3_budget8, sb3_budget16 = (2048, 2048) if quick else (200_000, 400_000)
     race_seconds, race_every, races = (2.0, 8192, 20) if quick else (RACE_SECONDS, 32768, 500)
     rows: dict[str, list] = {}
