@@ -64,7 +64,7 @@ class PPOConfig:
 
     n_envs: int = 1024
     n_steps: int = 16
-    batch_size: int = 4096
+    batch_size: int = 16384
     n_epochs: int = 4
     learning_rate: float = 3e-3
     gamma: float = 0.99
@@ -469,11 +469,10 @@ def train_ppo(
         t_train = time.perf_counter()
 
         def values_of(idx: np.ndarray) -> np.ndarray:
-            """Critic values of rows of indices (one robot: once per distinct cell)."""
-            flat = idx.reshape(-1, K)
+            """Critic values of rows of indices (one robot: a table over the cells, looked up)."""
             if n == 1:
-                uniq, inv = np.unique(flat[:, 0], return_inverse=True)
-                return net.critic(torch.from_numpy(uniq[:, None])).squeeze(-1).numpy()[inv].reshape(idx.shape[:-1])
+                return net.critic(all_cells).squeeze(-1).numpy()[idx[..., 0]]
+            flat = idx.reshape(-1, K)
             return net.critic(torch.from_numpy(flat)).squeeze(-1).numpy().reshape(idx.shape[:-1])
 
         def run_evaluation() -> bool:
@@ -502,7 +501,7 @@ def train_ppo(
                     obs = encode_batch(batch.cells, batch.racing, n_cells)
                     if n == 1:
                         cells = batch.cells[:, 0]
-                        cdf, logp_all = cdf_table[cells], logp_table[cells]
+                        cdf = cdf_table[cells]
                     else:
                         logp_all = log_softmax(net.actor(torch.from_numpy(obs.reshape(-1, K)))).numpy()
                         cdf = np.cumsum(np.exp(logp_all), axis=1)
@@ -511,7 +510,10 @@ def train_ppo(
                     racing = batch.racing.copy()
                     rewards, finishing, _, _, over = batch.step(actions.reshape(E, n))
                     obs_buf[t], act_buf[t], valid_buf[t] = obs, actions.reshape(E, n), racing
-                    logp_buf[t] = logp_all[np.arange(actions.size), actions].reshape(E, n)
+                    if n == 1:
+                        logp_buf[t, :, 0] = logp_table[cells, actions]
+                    else:
+                        logp_buf[t] = logp_all[np.arange(actions.size), actions].reshape(E, n)
                     rew_buf[t] = rewards
                     ended = racing & (finishing | over[:, None])
                     done_buf[t] = ended | ~racing  # parked steps end nothing: isolated, masked out
@@ -544,12 +546,12 @@ def train_ppo(
 
             # ---- update: n_epochs passes over the decisions of the rollout, in minibatches
             net.train()
-            keep = valid_buf
-            b_obs = torch.from_numpy(obs_buf[keep])
-            b_act = torch.from_numpy(act_buf[keep])
-            b_logp = torch.from_numpy(logp_buf[keep])
-            b_adv = torch.from_numpy(adv[keep])
-            b_ret = torch.from_numpy(returns[keep].astype(np.float32))
+            keep = slice(None) if n == 1 else valid_buf  # one robot: every step is a decision
+            b_obs = torch.from_numpy(obs_buf[keep].reshape(-1, K))
+            b_act = torch.from_numpy(act_buf[keep].reshape(-1))
+            b_logp = torch.from_numpy(logp_buf[keep].reshape(-1))
+            b_adv = torch.from_numpy(adv[keep].reshape(-1))
+            b_ret = torch.from_numpy(returns[keep].reshape(-1).astype(np.float32))
             size = b_act.shape[0]
             for _ in range(cfg.n_epochs):
                 order = rng.permutation(size)
