@@ -554,9 +554,10 @@ def train_ppo(
             b_ret = torch.from_numpy(returns[keep].reshape(-1).astype(np.float32))
             size = b_act.shape[0]
             for _ in range(cfg.n_epochs):
-                order = rng.permutation(size)
+                whole = size <= cfg.batch_size  # one minibatch holds the rollout: its order changes nothing
+                order = None if whole else rng.permutation(size)
                 for start in range(0, size, cfg.batch_size):
-                    mb = torch.from_numpy(order[start : start + cfg.batch_size])
+                    mb = slice(None) if order is None else torch.from_numpy(order[start : start + cfg.batch_size])
                     mb_obs = b_obs[mb]
                     if n == 1 and n_cells <= cfg.batch_size:  # one robot: the net runs once per cell
                         rows, inv = all_cells, mb_obs[:, 0]
@@ -564,7 +565,7 @@ def train_ppo(
                         cells, inv = torch.unique(mb_obs[:, 0], return_inverse=True)
                         rows = cells[:, None]
                     else:
-                        rows, inv = mb_obs, torch.arange(mb.shape[0])
+                        rows, inv = mb_obs, torch.arange(mb_obs.shape[0])
                     ppo_gradients(net, rows, inv, b_act[mb], b_logp[mb], b_adv[mb], b_ret[mb], cfg)
                     clip_grad_norm(grads_of(params), cfg.max_grad_norm)
                     optim.step()
