@@ -180,7 +180,7 @@ def make_net(n_in: int, net_arch: tuple[int, ...] = (64, 64)) -> Any:
     Each MLP's first layer is a ``Linear(n_in, width)`` on the one-hot of a row of indices, stored
     as its weight's rows (``first``, row ``n_in``: padding, kept zero). ``forward_cached`` and
     ``backward`` are the MLP's forward pass keeping its activations and its gradient written out:
-    autograd costs 2-3x more per update on nets this small (``tests/test_ppo.py`` holds the two to
+    autograd took 1.6-2.5x as long per update on nets this small (``tests/test_ppo.py`` holds the two to
     the same gradients).
     """
     torch = _torch()
