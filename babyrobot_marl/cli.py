@@ -8,7 +8,7 @@
     babyrobot-marl race --level race-4 --robots 4 --policies shortest,shortest,random,random
     python -m babyrobot_marl play --level default --policy random --no-delay
     babyrobot-marl solve --level puddles       # value iteration: the value grid and the policy arrows
-    babyrobot-marl train --level maze-8x8 --steps 200000 --save ppo.pt   # PPO (the 'train' extra)
+    babyrobot-marl train --level maze-8x8 --steps 3000000 --save ppo.pt  # PPO (the 'train' extra)
     babyrobot-marl play --level maze-8x8 --policy ppo.pt       # replay a saved policy
 
 Each subcommand is a ``_add_<name>_parser`` function that registers its arguments and a

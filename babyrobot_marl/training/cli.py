@@ -2,7 +2,7 @@
 
 ::
 
-    babyrobot-marl train --level maze-8x8 --steps 200000 --save ppo.pt --curve curve.png
+    babyrobot-marl train --level maze-8x8 --steps 3000000 --save ppo.pt --curve curve.png
     babyrobot-marl train --level race-4 --robots 4 --steps 2000000      # one shared policy
     babyrobot-marl train --level maze-8x8 --steps 100000 --backend sb3 --save ppo.zip
     babyrobot-marl play --level maze-8x8 --policy ppo.pt                 # replay a saved policy
