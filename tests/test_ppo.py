@@ -191,7 +191,9 @@ def test_training_runs_on_the_threads_it_is_given_and_restores_torchs_setting():
 def test_bad_settings_are_clear_errors(change, message):
     with pytest.raises(ValueError, match=message):
         PPOConfig().replace(**change)
-    with pytest.raises(TypeError, match="unexpected keyword argument 'lr'"):
+    with pytest.raises(TypeError, match=r"^replace\(\) got an unexpected keyword argument 'lr'; PPO settings are: .*learning"):
         PPOConfig().replace(lr=0.1)
+    with pytest.raises(TypeError, match=r"^train_ppo\(\) got an unexpected keyword argument 'epochs'"):
+        train_ppo("default", 1, 10, epochs=2)
     with pytest.raises(ValueError, match="timesteps: must be an integer >= 1"):
         train_ppo("default", 1, 0)

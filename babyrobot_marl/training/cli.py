@@ -84,8 +84,8 @@ def add_train_parser(sub: argparse._SubParsersAction) -> None:
                    "stalling; 0: torch's own setting)")
     p.add_argument("--no-progress", action="store_true", help="neither a progress bar nor evaluation lines")
     knobs = p.add_argument_group("PPO settings (default: the backend's)")
-    for flag, (_, kind) in KNOBS.items():
-        knobs.add_argument("--" + flag.replace("_", "-"), type=kind, default=None, metavar="X")
+    for flag, (name, kind) in KNOBS.items():
+        knobs.add_argument("--" + flag.replace("_", "-"), type=kind, default=None, metavar="X", help=f"SB3's {name}")
     knobs.add_argument("--net-arch", type=_net_arch, default=None, metavar="H1,H2", help="hidden layers (default: 64,64)")
     knobs.add_argument("--eval-every", type=base._positive_int, default=None, metavar="N", help="timesteps between evaluations")
     p.set_defaults(func=cmd_train)

@@ -106,11 +106,17 @@ class PPOConfig:
             raise ValueError(f"start: must be one of {', '.join(map(repr, START_CHOICES))}, got {self.start!r}")
 
     def replace(self, **changes: Any) -> PPOConfig:
-        known = {f.name for f in fields(self)}
-        unknown = sorted(set(changes) - known)
-        if unknown:
-            raise TypeError(f"PPOConfig got an unexpected keyword argument {unknown[0]!r}; known: {', '.join(sorted(known))}")
-        return PPOConfig(**{**asdict(self), **changes})
+        return PPOConfig(**{**asdict(self), **_known_settings(changes, "replace")})
+
+
+def _known_settings(changes: dict[str, Any], caller: str) -> dict[str, Any]:
+    """``changes`` if every key is a ``PPOConfig`` field, else Python's own ``TypeError`` and the known names."""
+    known = {f.name for f in fields(PPOConfig)}
+    unknown = sorted(set(changes) - known)
+    if unknown:
+        names = ", ".join(sorted(known))
+        raise TypeError(f"{caller}() got an unexpected keyword argument {unknown[0]!r}; PPO settings are: {names}")
+    return changes
 
 
 def _check_int(value: object, name: str, minimum: int) -> int:
@@ -430,7 +436,9 @@ def train_ppo(
     ``env_kwargs`` go to the env (``max_steps``/``max_cycles``, rules, ``collisions``).
     """
     torch = _torch()
-    cfg = (config or PPOConfig()).replace(**overrides) if overrides else (config or PPOConfig())
+    cfg = config or PPOConfig()
+    if overrides:
+        cfg = cfg.replace(**_known_settings(overrides, "train_ppo"))
     level = resolve_level(level)
     n = _check_int(n_robots, "n_robots", 1)
     total = _check_int(timesteps, "timesteps", 1)
