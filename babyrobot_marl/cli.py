@@ -36,6 +36,7 @@ from . import __version__, levels, policies
 from .core.actions import Action
 from .core.level import Level
 from .core.rules import COLLISION_MODES
+from .envs.common import OUTCOME_NAMES
 from .envs.race import START_MODES, RaceEnv
 from .envs.single import BabyRobotEnv
 from .render.ansi import frame, robot_glyph
@@ -266,8 +267,8 @@ def _add_play_parser(sub: argparse._SubParsersAction) -> None:
         "--policy",
         default="shortest",
         type=_policy_spec,
-        help="random: uniform actions; shortest: the shortest path to the exit; or the path of a policy saved by "
-        "'train --save' (default: shortest)",
+        help="random: uniform actions; shortest: the shortest path to the exit; keys: you drive (arrow keys); or the "
+        "path of a policy saved by 'train --save' (default: shortest)",
     )
     _add_seed_arg(p)
     p.add_argument(
@@ -295,7 +296,8 @@ def _episode_frames(env: BabyRobotEnv, policy: Callable, summary: EpisodeSummary
         summary.steps += 1
         summary.ret += reward
         summary.reached_exit = terminated
-        status = f"step {summary.steps}/{env.max_steps}  return {summary.ret:g}  {Action(action).name} -> {info['outcome']}"
+        outcome = OUTCOME_NAMES[info["outcome"]]
+        status = f"step {summary.steps}/{env.max_steps}  return {summary.ret:g}  {Action(action).name} -> {outcome}"
         yield frame(env.level, [env.robot_cell], status, colour=colour)
         if terminated or truncated:
             return
@@ -305,6 +307,10 @@ def _cmd_play(args: argparse.Namespace, out: TextIO) -> int:
     level = load_level(args.level)
     env = BabyRobotEnv(level=level, max_steps=args.max_steps)
     seed = _fresh_seed() if args.seed is None else args.seed
+    if args.policy == "keys":  # the keyboard game: babyrobot_marl.play.terminal
+        from .play.terminal import play_keys
+
+        return play_keys(env, seed, level.name or args.level, _display(args, out).colour, out)
     policy = make_policy(args.policy, env.table, seed)
     display = _display(args, out)
     summary = EpisodeSummary(seed=seed)
@@ -331,9 +337,9 @@ class RobotResult:
 
 
 def _policy_spec(text: str) -> str:
-    if not is_policy_spec(text):
+    if text != "keys" and not is_policy_spec(text):
         raise argparse.ArgumentTypeError(
-            f"invalid choice: {text!r} (choose from {', '.join(policies.POLICY_NAMES)}, or the path of a saved policy)"
+            f"invalid choice: {text!r} (choose from {', '.join(policies.POLICY_NAMES)}, keys, or the path of a saved policy)"
         )
     return text
 
@@ -373,6 +379,8 @@ def _add_race_parser(sub: argparse._SubParsersAction) -> None:
     )
     _add_seed_arg(p)
     p.add_argument("--max-cycles", type=_positive_int, default=None, metavar="N", help="truncate the race after N steps")
+    p.add_argument("--human", type=_non_negative_int, default=None, metavar="N", help="drive robot N yourself (arrow keys)")
+    p.add_argument("--races", type=_positive_int, default=None, metavar="N", help="run N seeded races; print metrics, no frames")
     _add_display_args(p)
     p.set_defaults(func=_cmd_race)
 
@@ -414,10 +422,30 @@ def _cmd_race(args: argparse.Namespace, out: TextIO) -> int:
         level=level, n_robots=args.robots, collisions=args.collisions, start=args.start, max_cycles=args.max_cycles
     )
     seed = _fresh_seed() if args.seed is None else args.seed
+    if args.races:  # experiments: the metrics table of N races (babyrobot_marl.experiments)
+        if args.human is not None:
+            raise ValueError("--human: you drive one race with frames; drop --races (N races without frames) or --human")
+        from .experiments import run_races
+
+        kw = {"collisions": args.collisions, "start": args.start, "max_cycles": args.max_cycles}
+        out.write(f"{run_races(level, names, args.races, seed, **kw).table()}\nseed {seed}\n")
+        return 0
     robot_policies = [make_policy(name, env.table, seed=seed + 7919 * (i + 1)) for i, name in enumerate(names)]
+    if args.human is not None and args.human < args.robots:
+        names[args.human] = "keys"
     results = [RobotResult(robot_glyph(i, args.robots) + f" {agent}", names[i]) for i, agent in enumerate(env.possible_agents)]
     display = _display(args, out)
-    _animate(_race_frames(env, robot_policies, results, seed, display.colour), display, out)
+    frames = _race_frames(env, robot_policies, results, seed, display.colour)
+    if args.human is not None:  # babyrobot_marl.play: your keys for one robot; a paced, legended race on a terminal
+        from .play.terminal import race_keys
+
+        race_keys(env, robot_policies, args.human, seed, results, display.delay, display.colour, out)
+    elif display.clear:
+        from .play.watch import watch_race
+
+        watch_race(env, robot_policies, seed, frames, names, display.delay, display.colour, out)
+    else:
+        _animate(frames, display, out)
     out.write(
         f"\nrace on {level.name or args.level}, {args.robots} robots, collisions {args.collisions}, seed {seed}, "
         f"{env.elapsed_steps} steps\n\n{_results_table(results)}\n"

@@ -128,7 +128,7 @@ def test_reset_mask_restarts_only_the_masked_envs_like_sync_vector_env():
 
 # ---------------------------------------------------------------------------- races: separate frozen races
 def race_infos_row(info: dict) -> tuple:
-    return (info["cell"], info["outcome"], info["blocked"], info["finished"], info.get("rank", 0))
+    return (tuple(info["cell"].tolist()), info["outcome"], info["blocked"], info["finished"], info["rank"])
 
 
 def vector_infos_row(infos: dict, k: int) -> tuple:
