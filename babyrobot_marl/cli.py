@@ -8,7 +8,8 @@
     babyrobot-marl race --level race-4 --robots 4 --policies shortest,shortest,random,random
     python -m babyrobot_marl play --level default --policy random --no-delay
     babyrobot-marl solve --level puddles       # value iteration: the value grid and the policy arrows
-    babyrobot-marl train --level maze-8x8 --steps 50000    # PPO (needs the 'train' extra)
+    babyrobot-marl train --level maze-8x8 --steps 3000000 --save ppo.pt  # PPO (the 'train' extra)
+    babyrobot-marl play --level maze-8x8 --policy ppo.pt       # replay a saved policy
 
 Each subcommand is a ``_add_<name>_parser`` function that registers its arguments and a
 ``_cmd_<name>(args, out)`` handler; the shared pieces (``--level``, ``--seed``, the display
@@ -30,11 +31,20 @@ from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from typing import NoReturn, TextIO
 
-from . import __version__, levels, policies
+from . import __version__, levels
 from .animation import DEFAULT_DELAY, Display
 from .animation import animate as _animate
 from .animation import isatty as _isatty
-from .cli_args import int_at_least, non_negative_int, policy_list, positive_float, positive_int, probability, seconds
+from .cli_args import (
+    int_at_least,
+    non_negative_int,
+    policy_list,
+    policy_spec,
+    positive_float,
+    positive_int,
+    probability,
+    seconds,
+)
 from .core.actions import Action
 from .core.level import Level
 from .core.rules import COLLISION_MODES
@@ -43,6 +53,7 @@ from .envs.race import START_MODES, RaceEnv
 from .envs.single import BabyRobotEnv
 from .level_files import load_level
 from .render.ansi import frame, robot_glyph
+from .training.policy import make_policy
 
 PROG = "babyrobot-marl"
 EXIT_USAGE = 2  # bad input, as argparse uses
@@ -59,7 +70,8 @@ class _Parser(argparse.ArgumentParser):
 
 # Argument types live in cli_args (kept importable here under their former names).
 _int_at_least, _non_negative_int, _positive_int = int_at_least, non_negative_int, positive_int
-_seconds, _probability, _positive_float, _policy_list = seconds, probability, positive_float, policy_list
+_seconds, _probability, _positive_float = seconds, probability, positive_float
+_policy_list, _policy_spec = policy_list, policy_spec
 
 
 # ------------------------------------------------------------------------ shared arguments
@@ -166,8 +178,9 @@ def _add_play_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--policy",
         default="shortest",
-        choices=(*policies.POLICY_NAMES, "keys"),
-        help="random: uniform actions; shortest: the shortest path to the exit; keys: you drive (arrow keys) (default: shortest)",
+        type=_policy_spec,
+        help="random: uniform actions; shortest: the shortest path to the exit; keys: you drive (arrow keys); or the "
+        "path of a policy saved by 'train --save' (default: shortest)",
     )
     _add_seed_arg(p)
     p.add_argument(
@@ -210,7 +223,7 @@ def _cmd_play(args: argparse.Namespace, out: TextIO) -> int:
         from .play.terminal import play_keys
 
         return play_keys(env, seed, level.name or args.level, _display(args, out).colour, out)
-    policy = policies.make(args.policy, env.table, seed)
+    policy = make_policy(args.policy, env.table, seed)
     display = _display(args, out)
     summary = EpisodeSummary(seed=seed)
     _animate(_episode_frames(env, policy, summary, display.colour), display, out)
@@ -248,7 +261,7 @@ def _add_race_parser(sub: argparse._SubParsersAction) -> None:
         type=_policy_list,
         default=["shortest"],
         metavar="P1,P2,...",
-        help="one policy per robot (random or shortest), or one for all (default: shortest)",
+        help="one policy per robot (random, shortest or a saved policy's path), or one for all (default: shortest)",
     )
     p.add_argument("--collisions", choices=COLLISION_MODES, default="block", help="collision rule (default: block)")
     p.add_argument(
@@ -311,7 +324,7 @@ def _cmd_race(args: argparse.Namespace, out: TextIO) -> int:
         kw = {"collisions": args.collisions, "start": args.start, "max_cycles": args.max_cycles}
         out.write(f"{run_races(level, names, args.races, seed, **kw).table()}\nseed {seed}\n")
         return 0
-    robot_policies = [policies.make(name, env.table, seed=seed + 7919 * (i + 1)) for i, name in enumerate(names)]
+    robot_policies = [make_policy(name, env.table, seed=seed + 7919 * (i + 1)) for i, name in enumerate(names)]
     if args.human is not None and args.human < args.robots:
         names[args.human] = "keys"
     results = [RobotResult(robot_glyph(i, args.robots) + f" {agent}", names[i]) for i, agent in enumerate(env.possible_agents)]
@@ -369,80 +382,6 @@ def _cmd_solve(args: argparse.Namespace, out: TextIO) -> int:
     return 0
 
 
-# ------------------------------------------------------------------------ train
-def _add_train_parser(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser(
-        "train",
-        help="train a PPO (or DQN) agent, evaluate it against the optimum or scripted opponents (needs the 'train' extra)",
-        description="One robot (--robots 1): PPO or DQN on BabyRobot-v0, then its mean return against value iteration's "
-        "optimum. Several robots: one shared PPO policy through SuperSuit, then its win rate against 'random' and "
-        "'shortest' opponents. Needs the 'train' extra: pip install 'babyrobot_marl[train]'.",
-    )
-    _add_level_arg(p, default="maze-8x8")
-    p.add_argument("--robots", type=_positive_int, default=1, metavar="N", help="1: single robot; more: a race (default: 1)")
-    p.add_argument("--steps", type=_positive_int, required=True, metavar="N", help="training timesteps")
-    p.add_argument("--algo", choices=("ppo", "dqn"), default="ppo", help="single robot only (default: ppo)")
-    p.add_argument("--seed", type=_non_negative_int, default=0, metavar="N", help="seed of training and evaluation (default: 0)")
-    p.add_argument("--episodes", type=_positive_int, default=20, metavar="N", help="evaluation episodes or races (default: 20)")
-    p.add_argument("--save", metavar="PATH", help="save the trained model here (SB3 .zip)")
-    p.add_argument("--gif", metavar="PATH", help="single robot: write a GIF of the learnt policy here")
-    p.add_argument("--no-progress", action="store_true", help="no progress bar")
-    p.set_defaults(func=_cmd_train)
-
-
-def _cmd_train(args: argparse.Namespace, out: TextIO) -> int:
-    from .training import MissingTrainExtraError, require_train
-
-    try:
-        require_train()
-    except MissingTrainExtraError as err:
-        print(f"{PROG}: error: {err}", file=sys.stderr)
-        return 1
-    level = load_level(args.level)
-    progress = not args.no_progress and _isatty(sys.stderr)
-    if args.robots == 1:
-        agent = _train_single(args, level, progress, out)
-    else:
-        if args.algo != "ppo" or args.gif:
-            raise ValueError("train: a race (--robots > 1) trains PPO and writes no GIF; drop --algo/--gif")
-        agent = _train_race(args, level, progress, out)
-    if args.save:
-        agent.save(args.save)
-        out.write(f"model saved to {args.save}\n")
-    return 0
-
-
-def _train_single(args: argparse.Namespace, level: Level, progress: bool, out: TextIO):
-    from .render.video import episode_frames, save_gif
-    from .training.single import evaluate_single, optimal_return, train_single, within
-
-    agent = train_single(level, args.algo, steps=args.steps, seed=args.seed, progress_bar=progress,
-                         env_kwargs={"start": "random"})
-    env = BabyRobotEnv(level=level)
-    ev = evaluate_single(agent, env, episodes=args.episodes, seed=args.seed + 1_000_000)
-    optimum = optimal_return(env)
-    out.write(f"{args.algo.upper()} on {level.name or args.level}, {args.steps} steps: learnt return {ev.mean:g} "
-              f"(+- {ev.std:g}, {ev.reached_exit}/{ev.episodes} reached the exit), optimal {optimum:g}, "
-              f"within 95%: {'yes' if within(ev.mean, optimum) else 'no'}\n")
-    if args.gif:
-        genv = BabyRobotEnv(level=level, render_mode="rgb_array")
-        frames = episode_frames(genv, lambda obs: int(agent.predict(obs, deterministic=True)[0]), seed=args.seed)
-        out.write(f"GIF of the learnt policy: {save_gif(frames, args.gif)}\n")
-    return agent
-
-
-def _train_race(args: argparse.Namespace, level: Level, progress: bool, out: TextIO):
-    from .training.race import evaluate_race, train_race
-
-    agent = train_race(level, n_robots=args.robots, steps=args.steps, seed=args.seed, progress_bar=progress)
-    out.write(f"shared PPO, race on {level.name or args.level}, {args.robots} robots, {args.steps} steps\n")
-    for opponent in ("random", "shortest"):
-        res = evaluate_race(agent, level, n_robots=args.robots, opponent=opponent, races=args.episodes, seed=args.seed + 1)
-        out.write(f"  vs {opponent}: win rate {res.win_rate:.2f} ({res.wins}/{res.races}), "
-                  f"mean finishing steps {res.mean_steps:.1f} (opponents {res.opponent_mean_steps:.1f})\n")
-    return agent
-
-
 # ------------------------------------------------------------------------ entry point
 def build_parser() -> argparse.ArgumentParser:
     """The parser of ``babyrobot-marl`` with all subcommands."""
@@ -453,7 +392,9 @@ def build_parser() -> argparse.ArgumentParser:
     _add_play_parser(sub)
     _add_race_parser(sub)
     _add_solve_parser(sub)
-    _add_train_parser(sub)  # each further subcommand: one _add_<name>_parser(sub) line here
+    from .training.cli import add_train_parser  # the train command lives with the trainers
+
+    add_train_parser(sub)  # each further subcommand: one _add_<name>_parser(sub) line here
     return parser
 
 

@@ -8,6 +8,7 @@ from __future__ import annotations
 import argparse
 import math
 from collections.abc import Callable
+from pathlib import Path
 
 from . import policies
 from .checks import shown
@@ -60,12 +61,27 @@ def positive_float(text: str) -> float:
     return value
 
 
+def _is_policy(spec: str) -> bool:
+    """A scripted policy's name, or an existing file (a policy saved by ``train --save``)."""
+    return spec in policies.POLICY_NAMES or Path(spec).is_file()
+
+
+def policy_spec(text: str) -> str:
+    """``--policy``: a scripted policy, ``keys`` (you drive), or the path of a saved policy."""
+    if text != "keys" and not _is_policy(text):
+        raise argparse.ArgumentTypeError(
+            f"invalid choice: {shown(text)} (choose from {', '.join(policies.POLICY_NAMES)}, keys, or the path of a saved policy)"
+        )
+    return text
+
+
 def policy_list(text: str) -> list[str]:
-    """``random,shortest,...``: scripted policy names, comma-separated."""
+    """``random,shortest,...``: scripted policy names or saved policies' paths, comma-separated."""
     names = [p.strip() for p in text.split(",")]
-    bad = [p for p in names if p not in policies.POLICY_NAMES]
+    bad = [p for p in names if not _is_policy(p)]
     if bad:
         raise argparse.ArgumentTypeError(
-            f"unknown policy {shown(bad[0])}; give a comma-separated list of {', '.join(policies.POLICY_NAMES)}"
+            f"unknown policy {shown(bad[0])}; give a comma-separated list of {', '.join(policies.POLICY_NAMES)} "
+            "or paths of saved policies"
         )
     return names
