@@ -63,7 +63,12 @@ def positive_float(text: str) -> float:
 
 def _is_policy(spec: str) -> bool:
     """A scripted policy's name, or an existing file (a policy saved by ``train --save``)."""
-    return spec in policies.POLICY_NAMES or Path(spec).is_file()
+    if spec in policies.POLICY_NAMES:
+        return True
+    try:
+        return Path(spec).is_file()
+    except (OSError, ValueError):  # a name too long for a path, a NUL byte: no such file
+        return False
 
 
 def policy_spec(text: str) -> str:

@@ -153,3 +153,10 @@ def test_running_out_of_memory_is_one_error_line_not_a_traceback(capsys, monkeyp
     monkeypatch.setattr(cli, "_cmd_levels", fail)
     assert run(["levels"]) == 2
     assert "out of memory" in one_error_line(capsys.readouterr().err)
+
+
+@pytest.mark.parametrize("argv", [["play", "--policy", "x" * 300], ["race", "--policies", "shortest," + "y" * 300]])
+def test_a_policy_name_too_long_for_a_path_is_an_unknown_policy_not_a_traceback(argv, capsys):
+    assert run(argv) == 2
+    err = capsys.readouterr().err
+    assert "Traceback" not in err and "policy" in err and len(err.strip().splitlines()) == 1

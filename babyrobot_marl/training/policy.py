@@ -151,4 +151,9 @@ def is_policy_spec(spec: str) -> bool:
     """A scripted policy's name or an existing file (for argument checks)."""
     from .. import policies
 
-    return spec in policies.POLICY_NAMES or Path(spec).is_file()
+    if spec in policies.POLICY_NAMES:
+        return True
+    try:
+        return Path(spec).is_file()
+    except (OSError, ValueError):  # a name too long for a path, a NUL byte: no such file
+        return False
