@@ -13,6 +13,8 @@ from typing import Any
 
 import numpy as np
 
+from ..checks import check_int
+
 
 def _imageio() -> Any:
     try:
@@ -81,16 +83,14 @@ def episode_frames(
     """
     if getattr(env, "render_mode", None) != "rgb_array":
         raise ValueError(f"env: needs render_mode='rgb_array' to give frames, got {getattr(env, 'render_mode', None)!r}")
-    if isinstance(max_steps, bool) or not isinstance(max_steps, int) or max_steps < 0:
-        raise ValueError(f"max_steps: must be an integer >= 0, got {max_steps!r}")
+    max_steps = check_int(max_steps, "max_steps", 0)
     race = hasattr(env, "possible_agents")
     if isinstance(policy, Mapping):
         if not race or set(policy) != set(env.possible_agents):
             raise ValueError("policy: a dict of policies needs a race and one policy for each of its agents")
     elif not callable(policy):
         raise ValueError(f"policy: expected a function of an observation or a dict of them by agent, got {type(policy).__name__}")
-    if isinstance(animation_frames, bool) or not isinstance(animation_frames, int) or not 0 <= animation_frames <= 60:
-        raise ValueError(f"animation_frames: must be an integer in 0..60, got {animation_frames!r}")
+    animation_frames = check_int(animation_frames, "animation_frames", 0, 60)
     obs, _ = env.reset(seed=seed)
     frames = [env.render()]
 
