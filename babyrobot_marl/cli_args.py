@@ -8,10 +8,10 @@ from __future__ import annotations
 import argparse
 import math
 from collections.abc import Callable
-from pathlib import Path
 
 from . import policies
 from .checks import shown
+from .training.policy import is_policy_spec
 
 
 def int_at_least(minimum: int) -> Callable[[str], int]:
@@ -61,19 +61,9 @@ def positive_float(text: str) -> float:
     return value
 
 
-def _is_policy(spec: str) -> bool:
-    """A scripted policy's name, or an existing file (a policy saved by ``train --save``)."""
-    if spec in policies.POLICY_NAMES:
-        return True
-    try:
-        return Path(spec).is_file()
-    except (OSError, ValueError):  # a name too long for a path, a NUL byte: no such file
-        return False
-
-
 def policy_spec(text: str) -> str:
     """``--policy``: a scripted policy, ``keys`` (you drive), or the path of a saved policy."""
-    if text != "keys" and not _is_policy(text):
+    if text != "keys" and not is_policy_spec(text):
         raise argparse.ArgumentTypeError(
             f"invalid choice: {shown(text)} (choose from {', '.join(policies.POLICY_NAMES)}, keys, or the path of a saved policy)"
         )
@@ -83,7 +73,7 @@ def policy_spec(text: str) -> str:
 def policy_list(text: str) -> list[str]:
     """``random,shortest,...``: scripted policy names or saved policies' paths, comma-separated."""
     names = [p.strip() for p in text.split(",")]
-    bad = [p for p in names if not _is_policy(p)]
+    bad = [p for p in names if not is_policy_spec(p)]
     if bad:
         raise argparse.ArgumentTypeError(
             f"unknown policy {shown(bad[0])}; give a comma-separated list of {', '.join(policies.POLICY_NAMES)} "
