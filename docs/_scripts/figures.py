@@ -36,15 +36,15 @@ COLLISION_LEVEL = """
 +-+-+-+-+-+
 """
 
-# name -> (collisions mode, robot cells, actions, what the caption says happened)
-COLLISIONS: dict[str, tuple[str, list[tuple[int, int]], list[Action], str]] = {
-    "block": ("block", [(1, 1), (3, 1)], [Action.EAST, Action.WEST], "one robot, drawn at random, gets the cell; the other stays"),
-    "bounce": ("bounce", [(1, 1), (3, 1)], [Action.EAST, Action.WEST], "both robots stay"),
-    "pass": ("pass", [(1, 1), (3, 1)], [Action.EAST, Action.WEST], "both robots enter the cell and share it"),
-    "swap": ("block", [(1, 1), (2, 1)], [Action.EAST, Action.WEST], "block and bounce: two robots may not swap; both stay"),
-    "swap-pass": ("pass", [(1, 1), (2, 1)], [Action.EAST, Action.WEST], "pass: the robots go through each other"),
-    "follow": ("block", [(1, 1), (2, 1)], [Action.EAST, Action.EAST], "the front robot leaves its cell, the one behind follows"),
-    "follow-blocked": ("block", [(1, 1), (2, 1)], [Action.EAST, Action.STAY], "the front robot stays: the one behind cannot enter"),
+# name -> (collisions mode, the two robots' cells, their actions); docs/guides/rules.md says what each shows
+COLLISIONS: dict[str, tuple[str, list[tuple[int, int]], list[Action]]] = {
+    "block": ("block", [(1, 1), (3, 1)], [Action.EAST, Action.WEST]),
+    "bounce": ("bounce", [(1, 1), (3, 1)], [Action.EAST, Action.WEST]),
+    "pass": ("pass", [(1, 1), (3, 1)], [Action.EAST, Action.WEST]),
+    "swap": ("block", [(1, 1), (2, 1)], [Action.EAST, Action.WEST]),
+    "swap-pass": ("pass", [(1, 1), (2, 1)], [Action.EAST, Action.WEST]),
+    "follow": ("block", [(1, 1), (2, 1)], [Action.EAST, Action.EAST]),
+    "follow-blocked": ("block", [(1, 1), (2, 1)], [Action.EAST, Action.STAY]),
 }
 COLLISION_SEED = 3
 GAP = 12  # pixels between the frames before and after
@@ -99,7 +99,7 @@ def race_gif() -> bytes:
 
 def collision_picture(name: str, cell_size: int = 48) -> np.ndarray:
     """The frame before the step (the robots' actions as arrows) and the frame after it, side by side."""
-    mode, cells, actions, _ = COLLISIONS[name]
+    mode, cells, actions = COLLISIONS[name]
     env = race_v0.parallel_env(level=COLLISION_LEVEL, n_robots=2, collisions=mode, render_mode="rgb_array", cell_size=cell_size)
     env.reset(seed=COLLISION_SEED)
     env.set_cells(cells)
@@ -111,7 +111,8 @@ def collision_picture(name: str, cell_size: int = 48) -> np.ndarray:
     before = env.render()
     _, _, _, _, infos = env.step({agent: int(a) for agent, a in zip(env.possible_agents, actions)})
     moved = [infos[a]["cell"] != cell for a, cell in zip(env.possible_agents, cells)]
-    env.set_overlay(arrows=None, panel=["after one step"] + [f"{c}: {'moved' if m else 'stayed'}" for c, m in zip(colours, moved)])
+    after_lines = [f"{c}: {'moved' if m else 'stayed'}" for c, m in zip(colours, moved)]
+    env.set_overlay(arrows=None, panel=["after one step", *after_lines])
     after = env.render()
     gap = np.full((before.shape[0], GAP, 3), 255, dtype=np.uint8)
     return np.concatenate([before, gap, after], axis=1)
