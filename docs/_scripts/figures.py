@@ -1,6 +1,6 @@
 """The site's pictures, drawn by the package itself at build time (``rgb_array`` frames).
 
-mkdocs-gen-files runs ``gen_figures.py``, which calls :func:`write_all`; nothing drawn here is
+mkdocs-gen-files runs ``gen_pages.py``, which calls :func:`write_all`; nothing drawn here is
 stored in git except the README's picture, which ``python docs/_scripts/figures.py --readme``
 writes to ``docs/assets/readme/race-4.png``.
 
