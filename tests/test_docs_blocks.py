@@ -131,3 +131,16 @@ def test_console_block_shows_what_the_command_prints(block):
         got = subprocess.run(run, shell=True, capture_output=True, text=True, cwd=ROOT, env=env, timeout=120)
         assert got.returncode == 0, f"{block.id}: '{cmd}' exited {got.returncode}: {got.stderr}"
         assert got.stdout.rstrip("\n") == expected, f"{block.id}: '{cmd}' printed\n{got.stdout}"
+
+
+def test_readme_picture_is_what_its_command_draws():
+    # README's picture is stored in git; `python docs/_scripts/figures.py --readme` must redraw it exactly
+    iio = pytest.importorskip("imageio.v3", reason="drawing the README picture needs the video extra (imageio)")
+    sys.path.insert(0, str(ROOT / "docs" / "_scripts"))
+    try:
+        import figures
+    finally:
+        sys.path.remove(str(ROOT / "docs" / "_scripts"))
+    stored = iio.imread(ROOT / "docs" / "assets" / "readme" / "baby-robot.png")
+    assert stored.dtype == "uint8" and stored.shape == figures.readme_picture().shape
+    assert (stored[..., :3] == figures.readme_picture()).all()

@@ -2,7 +2,7 @@
 
 mkdocs-gen-files runs ``gen_pages.py``, which calls :func:`write_all`; nothing drawn here is
 stored in git except the README's picture, which ``python docs/_scripts/figures.py --readme``
-writes to ``docs/assets/readme/race-4.png``.
+writes to ``docs/assets/readme/baby-robot.png``.
 
 Every animation is one seeded episode of the env named on its page, recorded with
 ``babyrobot_marl.render.video.episode_frames`` and written with ``save_gif``. The collision
@@ -119,8 +119,20 @@ def collision_picture(name: str, cell_size: int = 48) -> np.ndarray:
 
 
 def readme_picture() -> np.ndarray:
-    """The README's picture: the race-4 race of the race_v0 page, its frame after 3 steps."""
-    return race_frames()[3]
+    """The README's picture: the race of the race_v0 page after 5 steps, beside one robot on
+    mixed-8x8 with value iteration's values and greedy arrows overlaid (BabyRobot-v0)."""
+    from babyrobot_marl.planning import model, value_iteration
+
+    race = race_frames()[5]
+    env = gym.make("babyrobot_marl/BabyRobot-v0", level="mixed-8x8", render_mode="rgb_array", cell_size=32)
+    env.reset(seed=0)
+    sol = value_iteration(model(env.unwrapped), gamma=1.0)
+    env.unwrapped.set_overlay(values=sol.value_grid, arrows=sol.policy_grid)
+    single = env.render()
+    height = max(race.shape[0], single.shape[0])
+    pad = [np.pad(img, ((0, height - img.shape[0]), (0, 0), (0, 0)), constant_values=255) for img in (race, single)]
+    gap = np.full((height, 2 * GAP, 3), 255, dtype=np.uint8)
+    return np.concatenate([pad[0], gap, pad[1]], axis=1)
 
 
 FIGURES: dict[str, Callable[[], bytes]] = {
@@ -142,7 +154,7 @@ def write_all(open_file: Callable[[str, str], io.IOBase]) -> list[str]:
 if __name__ == "__main__":
     if sys.argv[1:] != ["--readme"]:
         sys.exit("usage: python docs/_scripts/figures.py --readme   (the site's figures are drawn by mkdocs build)")
-    out = Path(__file__).resolve().parents[1] / "assets" / "readme" / "race-4.png"
+    out = Path(__file__).resolve().parents[1] / "assets" / "readme" / "baby-robot.png"
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_bytes(png_bytes(readme_picture()))
     print(out)
