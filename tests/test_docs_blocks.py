@@ -3,7 +3,8 @@
 Each ```` ```python ```` block of ``docs/**/*.md`` and ``README.md`` runs alone, in a fresh
 namespace and a temporary working directory (a reader copies one block, not the page). A block
 that needs an extra starts with a comment ``# requires: train`` (or ``rllib``, ``notebook``,
-``video``, several separated by commas) and is skipped only when that extra is not installed.
+``video``, ``play``, ``plot``, several separated by commas) and is skipped only when that extra is
+not installed; a snippet for another library (``# requires: torchrl``, ...) only without that library.
 
 Each ```` ```console ```` block is a terminal session: every ``$ command`` line runs (with
 ``babyrobot-marl`` as ``python -m babyrobot_marl``) and its output must be the lines shown
@@ -31,7 +32,11 @@ EXTRAS = {
     "rllib": ("ray",),
     "notebook": ("ipycanvas", "ipywidgets"),
     "video": ("imageio",),
+    "play": ("pygame",),
+    "plot": ("matplotlib",),
 }
+# libraries that are no extra of the package: their snippets run in their own venvs (tests_integrations/)
+LIBRARIES = ("torchrl", "benchmarl", "agilerl", "tianshou")
 REQUIRES = re.compile(r"^#\s*requires:\s*(.+)$")
 
 
@@ -78,9 +83,10 @@ def required_extras(block: Block) -> list[str]:
 
 def missing_extra(block: Block) -> str | None:
     for extra in required_extras(block):
-        if extra not in EXTRAS:
-            raise AssertionError(f"{block.id}: '# requires: {extra}' names no known extra; known: {', '.join(EXTRAS)}")
-        gone = [m for m in EXTRAS[extra] if importlib.util.find_spec(m) is None]
+        if extra not in EXTRAS and extra not in LIBRARIES:
+            known = ", ".join([*EXTRAS, *LIBRARIES])
+            raise AssertionError(f"{block.id}: '# requires: {extra}' names no known extra or library; known: {known}")
+        gone = [m for m in EXTRAS.get(extra, (extra,)) if importlib.util.find_spec(m) is None]
         if gone:
             return f"{block.id} needs the {extra} extra ({', '.join(gone)} not installed)"
     return None
