@@ -5,6 +5,7 @@ namespace and a temporary working directory (a reader copies one block, not the 
 that needs an extra starts with a comment ``# requires: train`` (or ``rllib``, ``notebook``,
 ``video``, ``play``, ``plot``, several separated by commas) and is skipped only when that extra is
 not installed; a snippet for another library (``# requires: torchrl``, ...) only without that library.
+``# requires: display`` marks a block that opens a window and waits for a person: never run here.
 
 Each ```` ```console ```` block is a terminal session: every ``$ command`` line runs (with
 ``babyrobot-marl`` as ``python -m babyrobot_marl``) and its output must be the lines shown
@@ -82,8 +83,10 @@ def required_extras(block: Block) -> list[str]:
 
 
 def missing_extra(block: Block) -> str | None:
+    if "display" in required_extras(block):  # a window waiting for a person's keys: not for a test run
+        return f"{block.id} opens a window and waits for the keyboard (# requires: display)"
     for extra in required_extras(block):
-        if extra not in EXTRAS and extra not in LIBRARIES:
+        if extra not in EXTRAS and extra not in LIBRARIES and extra != "display":
             known = ", ".join([*EXTRAS, *LIBRARIES])
             raise AssertionError(f"{block.id}: '# requires: {extra}' names no known extra or library; known: {known}")
         gone = [m for m in EXTRAS.get(extra, (extra,)) if importlib.util.find_spec(m) is None]
