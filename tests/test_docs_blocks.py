@@ -117,7 +117,19 @@ def test_python_block_runs_alone(block, tmp_path, monkeypatch, capsys):
         pytest.skip(why)
     monkeypatch.chdir(tmp_path)  # blocks that save files (GIFs, models) write here
     code = compile(block.text, block.id, "exec")
-    exec(code, {"__name__": "__main__"})
+    if "train" not in required_extras(block):
+        exec(code, {"__name__": "__main__"})
+        return
+    # torch on one thread, as the package's trainers run it: on a busy 2-core machine torch's own
+    # thread pool makes these short runs 5-10x slower (its threads wait on each other)
+    import torch
+
+    threads = torch.get_num_threads()
+    torch.set_num_threads(1)
+    try:
+        exec(code, {"__name__": "__main__"})
+    finally:
+        torch.set_num_threads(threads)
 
 
 def console_sessions(block: Block) -> list[tuple[str, str]]:
