@@ -76,7 +76,7 @@ def single_robot_gif() -> bytes:
 
 
 def race_gym_gif() -> bytes:
-    """BabyRobotRace-v0 on race-4: robot 0 (red) takes the shortest path against shortest, random, random."""
+    """BabyRobotRace-v0 on race-4: robot 0 takes the shortest path against shortest, random, random."""
     env = gym.make(
         "babyrobot_marl/BabyRobotRace-v0", level="race-4", opponents=["shortest", "random", "random"], render_mode="rgb_array"
     )
@@ -106,12 +106,12 @@ def collision_picture(name: str, cell_size: int = 48) -> np.ndarray:
     arrows = np.zeros((env.level.height, env.level.width), dtype=np.int64)
     for (x, y), a in zip(cells, actions):
         arrows[y, x] = int(a)
-    colours = ("red", "blue")
-    env.set_overlay(arrows=arrows, panel=[f"{mode}: before"] + [f"{c}: {a.name.lower()}" for c, a in zip(colours, actions)])
+    names = ("robot 0", "robot 1")
+    env.set_overlay(arrows=arrows, panel=[f"{mode}: before"] + [f"{n}: {a.name.lower()}" for n, a in zip(names, actions)])
     before = env.render()
     _, _, _, _, infos = env.step({agent: int(a) for agent, a in zip(env.possible_agents, actions)})
     moved = [infos[a]["cell"] != cell for a, cell in zip(env.possible_agents, cells)]
-    after_lines = [f"{c}: {'moved' if m else 'stayed'}" for c, m in zip(colours, moved)]
+    after_lines = [f"{n}: {'moved' if m else 'stayed'}" for n, m in zip(names, moved)]
     env.set_overlay(arrows=None, panel=["after one step", *after_lines])
     after = env.render()
     gap = np.full((before.shape[0], GAP, 3), 255, dtype=np.uint8)
