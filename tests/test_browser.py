@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import os
 import tempfile
+import time
 from pathlib import Path
 
 import numpy as np
@@ -60,18 +61,24 @@ def page(lab, tmp_path_factory):
     from tests.browser.chrome import NotebookPage
 
     profile = tmp_path_factory.mktemp("chromium_profile")
-    with NotebookPage(lab, profile, chromium_path()) as nb:
+    with NotebookPage(lab, profile, chromium_path(), device_scale_factor=2) as nb:  # a HiDPI screen
         yield nb
     left = processes_mentioning(str(profile))
     assert not left, f"Chromium processes left behind: {left}"
 
 
-def run_in_browser(lab, page, name: str, cells: list[str], capsys) -> np.ndarray:
-    """Write ``name``.ipynb into the server root, run it in the browser, screenshot it, return canvas 0 (RGB)."""
+def run_in_browser(lab, page, name: str, cells: list[str], capsys, ready=None) -> np.ndarray:
+    """Write ``name``.ipynb into the server root, run it in the browser, screenshot it, return canvas 0
+    (RGB, at its backing store's resolution); with ``ready(rgb)``, read again until it holds (20 s at most):
+    the canvas's layers arrive one after another."""
     write_notebook(lab.root_dir / f"{name}.ipynb", [*cells, f"print({MARKER!r})"])
     try:
         page.run_all(f"{name}.ipynb", MARKER)
         pixels = page.canvas_pixels(0)
+        deadline = time.monotonic() + 20
+        while ready is not None and not ready(pixels[..., :3]) and time.monotonic() < deadline:
+            time.sleep(0.5)
+            pixels = page.canvas_pixels(0)
     finally:
         shot = page.screenshot(SCREENSHOTS / f"{name}.png")
         with capsys.disabled():
@@ -100,129 +107,179 @@ def test_plain_ipycanvas_pixels(lab, page, capsys):
 
 
 # ------------------------------------------------------------------ the env's live canvas
-CELL = 32  # cell_size of the test envs: cell (x, y) covers pixels [x*CELL, (x+1)*CELL) of the grid
+CELL = 32  # cell_size of the test envs, in CSS pixels
+PX = 2 * CELL  # the canvas's backing store: two device pixels per CSS pixel (pixel_ratio 2)
 
 
-def _centre(cell) -> tuple[int, int]:
-    return cell[0] * CELL + CELL // 2, cell[1] * CELL + CELL // 2
+def cell_box(img: np.ndarray, cell) -> np.ndarray:
+    x, y = cell
+    return img[y * PX : (y + 1) * PX, x * PX : (x + 1) * PX]
 
 
-def expected_pixels(level, robots, theme, avoid=()) -> list[tuple[str, tuple[int, int], tuple[int, int, int]]]:
-    """(what, (px, py), colour) at known places: each robot's centre, an empty floor cell's centre,
-    the middle of an inner wall, the middle of the top border. The empty cell is none of ``avoid``."""
-    samples = [(f"robot {i} at {cell}", _centre(cell), theme.robots[i % len(theme.robots)]) for i, cell in enumerate(robots)]
-    marked = {*level.starts, *level.exits, *level.small_puddles, *level.large_puddles, *level.blocked, *robots, *avoid}
-    empty = next((x, y) for y in range(level.height) for x in range(level.width) if (x, y) not in marked)
-    samples.append((f"empty floor cell {empty}", _centre(empty), theme.floor))
-    a, b = sorted(level.walls)[len(level.walls) // 2]
-    on_wall = (b[0] * CELL, a[1] * CELL + CELL // 2) if a[1] == b[1] else (a[0] * CELL + CELL // 2, b[1] * CELL)
-    samples.append((f"wall between {a} and {b}", on_wall, theme.wall))
-    samples.append(("top border", (CELL // 2 + CELL, 1), theme.wall))
-    return samples
+def has(pixels: np.ndarray, colour) -> bool:
+    return bool((pixels.reshape(-1, 3) == tuple(colour)).all(axis=1).any())
 
 
-def assert_pixels(img: np.ndarray, samples) -> None:
-    wrong = [
-        f"{what} at pixel {p}: expected {colour}, got {tuple(int(v) for v in img[p[1], p[0]])}"
-        for what, p, colour in samples
-        if tuple(int(v) for v in img[p[1], p[0]]) != tuple(colour)
-    ]
-    assert not wrong, "\n".join(wrong)
+def count(pixels: np.ndarray, colour) -> int:
+    return int((pixels.reshape(-1, 3) == tuple(colour)).all(axis=1).sum())
 
 
-SINGLE_ACTIONS = [2, 2, 3, 3]  # EAST, EAST, SOUTH, SOUTH on "walls" from its start (0, 0)
-ARROW_CELL = (3, 2)  # an empty cell of "walls" given an EAST arrow overlay
+def assert_robot_at(img: np.ndarray, cell, colour, theme) -> None:
+    """Baby Robot in ``cell``: more than one colour of it, its body's and its eye's (and its visor's)."""
+    box = cell_box(img, cell)
+    missing = [what for what, c in (("body", colour), ("eye", theme.eye), ("visor", theme.visor)) if not has(box, c)]
+    assert not missing, f"robot at {cell}: no {', '.join(missing)} pixels"
+
+
+def assert_backing_store_is_twice_the_css_size(page) -> None:
+    size = page.canvas_size(0)
+    assert size["dpr"] == 2
+    assert size["width"] == 2 * round(size["css_width"]) and size["height"] == 2 * round(size["css_height"]), size
+
+
+SINGLE_ACTIONS = [2, 3, 3, 2]  # EAST, SOUTH, SOUTH, EAST on mixed-8x8 from its start (0, 0)
+GLASS = ((1, 6), (2, 6))  # mixed-8x8's glass wall
 
 
 def test_single_robot_live_canvas(lab, page, capsys):
-    from babyrobot_marl import BabyRobotEnv
-    from babyrobot_marl.render.rgb import THEMES
+    from babyrobot_marl import BabyRobotEnv, planning
+    from babyrobot_marl.render.palette import THEMES
+    from babyrobot_marl.render.rgb import RgbRenderer
 
-    img = run_in_browser(lab, page, "single_robot_canvas", [
-        f"""
-        import numpy as np
-        from babyrobot_marl import BabyRobotEnv
-        env = BabyRobotEnv(level="walls", render_mode="human", cell_size={CELL})
-        env.reset(seed=0)
-        for a in {SINGLE_ACTIONS}:
-            env.step(a)
-        arrows = np.full((env.level.height, env.level.width), -1)
-        arrows[{ARROW_CELL[1]}, {ARROW_CELL[0]}] = 2
-        env.set_overlay(arrows=arrows, panel="a panel line")
-        print("robot at", env.robot_cell)
-        """,
-    ], capsys)  # fmt: skip
-    env = BabyRobotEnv(level="walls")  # the same episode, played here
+    env = BabyRobotEnv(level="mixed-8x8", cell_size=CELL)  # the episode the browser will show, played here
+    sol = planning.value_iteration(planning.model(env.level), gamma=1.0)
+    env.set_overlay(values=sol.value_grid, arrows=sol.best_actions, panel="a panel line")
     env.reset(seed=0)
     for a in SINGLE_ACTIONS:
         env.step(a)
     lv, theme = env.level, THEMES["light"]
-    assert env.robot_cell != lv.starts[0] and env.robot_cell != ARROW_CELL
+    img = run_in_browser(lab, page, "single_robot_canvas", [
+        f"""
+        from babyrobot_marl import BabyRobotEnv, planning
+        env = BabyRobotEnv(level="mixed-8x8", render_mode="human", cell_size={CELL})
+        sol = planning.value_iteration(planning.model(env.level), gamma=1.0)
+        env.set_overlay(values=sol.value_grid, arrows=sol.best_actions, panel="a panel line")
+        env.reset(seed=0)
+        for a in {SINGLE_ACTIONS}:
+            env.step(a)
+        print("robot at", env.robot_cell)
+        """,
+    ], capsys, ready=lambda rgb: has(cell_box(rgb, env.robot_cell), theme.eye))  # fmt: skip
     assert f"robot at {env.robot_cell}" in page.outputs_text()
-    samples = expected_pixels(lv, [env.robot_cell], theme, avoid=[ARROW_CELL])
-    # the overlay layer: an arrow's shaft east of the cell centre, and the panel below the grid
-    samples.append(("EAST arrow shaft", (ARROW_CELL[0] * CELL + CELL * 5 // 8, ARROW_CELL[1] * CELL + CELL // 2), theme.arrow))
-    grid_h = lv.height * CELL
-    assert img.shape[0] > grid_h + 8, f"no panel below the {grid_h}-pixel grid: canvas is {img.shape[0]} pixels high"
-    samples.append(("panel background", (img.shape[1] - 3, grid_h + 3), theme.panel))
-    assert_pixels(img, samples)
+    assert env.robot_cell not in (lv.starts[0], *lv.exits)
+    assert_backing_store_is_twice_the_css_size(page)
+    assert_robot_at(img, env.robot_cell, theme.robots[0], theme)
+    # away from the robot the canvas shows exactly the rgb_array picture at twice the cell size
+    static = RgbRenderer(lv, PX).static(env.overlay)
+    for cell in [(5, 5), (6, 6), (3, 1)]:
+        assert (cell_box(img, cell) == cell_box(static, cell)).all(), f"cell {cell} differs from rgb_array's picture"
+    # value text inside its cell: the light text in the dark box, within the cell's walls
+    box = cell_box(img, (5, 5))
+    text = np.argwhere((box == theme.value_text).all(axis=2))
+    assert len(text) > 10 and text.min() >= 4 and text.max() < PX - 4
+    # the glass pane on the glass edge: pane and frame colours there, no wall colour
+    (ax, ay), _ = GLASS
+    edge = img[ay * PX + PX // 4 : (ay + 1) * PX - PX // 4, (ax + 1) * PX - 6 : (ax + 1) * PX + 6]
+    assert has(edge, theme.glass) and has(edge, theme.glass_frame) and not has(edge, theme.wall)
+    # the START and EXIT words, and the panel with the colour bar below the grid
+    assert has(cell_box(img, lv.starts[0])[: PX // 3], theme.label_bg)
+    grid_h = lv.height * PX
+    assert img.shape[0] > grid_h + 40, f"no panel below the {grid_h}-pixel grid: canvas is {img.shape[0]} pixels high"
+    assert has(img[grid_h:], theme.panel) and has(img[grid_h:], (253, 231, 37))  # viridis' top colour in the bar
 
 
-RACE_STEPS = 3
+RACE_LEVEL = "race-4"
 
 
-def test_race_live_canvas(lab, page, capsys):
+def first_finish(seed: int = 0) -> int:
+    """Steps of race-4 with four shortest-path robots until the first robot finishes."""
     from babyrobot_marl import race_v0
     from babyrobot_marl.policies import ShortestPathPolicy
-    from babyrobot_marl.render.rgb import THEMES
 
+    env = race_v0.parallel_env(level=RACE_LEVEL, n_robots=4)
+    obs, _ = env.reset(seed=seed)
+    policy = ShortestPathPolicy(env.unwrapped.table)
+    for t in range(1, 100):
+        obs, *_ = env.step({a: policy(obs[a]) for a in env.agents})
+        if any(env.unwrapped.ranks):
+            return t
+    raise AssertionError("nobody finished")
+
+
+def test_race_live_canvas_legend_and_the_finisher_in_the_exit(lab, page, capsys):
+    from babyrobot_marl import race_v0
+    from babyrobot_marl.policies import ShortestPathPolicy
+    from babyrobot_marl.render.palette import THEMES
+
+    steps = first_finish()
+    env = race_v0.parallel_env(level=RACE_LEVEL, n_robots=4)  # the race the browser will show, played here
+    obs, _ = env.reset(seed=0)
+    policy = ShortestPathPolicy(env.unwrapped.table)
+    for _ in range(steps):
+        obs, *_ = env.step({a: policy(obs[a]) for a in env.agents})
+    u, theme = env.unwrapped, THEMES["light"]
+    cells, ranks = u.robot_cells, u.ranks
+    (exit_cell,) = u.level.exits
     img = run_in_browser(lab, page, "race_canvas", [
         f"""
         from babyrobot_marl import race_v0
         from babyrobot_marl.policies import ShortestPathPolicy
-        env = race_v0.parallel_env(level="race-4", n_robots=4, render_mode="human", cell_size={CELL})
+        env = race_v0.parallel_env(level="{RACE_LEVEL}", n_robots=4, render_mode="human", cell_size={CELL})
+        env.unwrapped.set_overlay(names=["shortest"] * 4)
         obs, infos = env.reset(seed=0)
         policy = ShortestPathPolicy(env.unwrapped.table)
-        for _ in range({RACE_STEPS}):
+        for _ in range({steps}):
             obs, *_ = env.step({{a: policy(obs[a]) for a in env.agents}})
-        print("robots at", env.unwrapped.robot_cells)
+        print("robots at", env.unwrapped.robot_cells, "ranks", env.unwrapped.ranks)
         """,
-    ], capsys)  # fmt: skip
-    env = race_v0.parallel_env(level="race-4", n_robots=4)  # the same race, played here
-    obs, _ = env.reset(seed=0)
-    policy = ShortestPathPolicy(env.unwrapped.table)
-    for _ in range(RACE_STEPS):
-        obs, *_ = env.step({a: policy(obs[a]) for a in env.agents})
-    cells = env.unwrapped.robot_cells
-    assert len(env.agents) == 4 and len(set(cells)) == 4  # all four still on the board, apart
-    assert f"robots at {cells}" in page.outputs_text()
-    assert_pixels(img, expected_pixels(env.unwrapped.level, cells, THEMES["light"]))
+    ], capsys, ready=lambda rgb: has(cell_box(rgb, exit_cell), (240, 190, 40)))  # fmt: skip
+    assert f"robots at {cells} ranks {ranks}" in page.outputs_text()
+    assert_backing_store_is_twice_the_css_size(page)
+    winner = ranks.index(1)
+    assert cells[winner] == exit_cell
+    # the finisher is drawn inside the exit cell in its finishing step, with its gold rank badge
+    exit_box = cell_box(img, exit_cell)
+    assert count(exit_box, theme.robots[winner]) > 50 and has(exit_box, (240, 190, 40))
+    for i, cell in enumerate(cells):
+        if not ranks[i] and cell != exit_cell:
+            assert_robot_at(img, cell, theme.robots[i], theme)
+    # the legend under the grid: a swatch (the robot icon) of every robot's colour
+    legend = img[u.level.height * PX :]
+    assert legend.shape[0] > 4 * 40
+    for i in range(4):
+        assert count(legend, theme.robots[i]) > 20, f"no legend swatch for robot {i}"
 
 
 def test_canvas_redrawn_when_a_browser_reconnects(lab, page, capsys):
     """Reload the page: the kernel still holds the env, and the canvas (empty in a new page) must be
     drawn again (``on_client_ready``), robot included."""
     from babyrobot_marl import BabyRobotEnv
-    from babyrobot_marl.render.rgb import THEMES
+    from babyrobot_marl.render.palette import THEMES
 
     name = "reconnect_canvas"
     run_in_browser(lab, page, name, [
         f"""
         from babyrobot_marl import BabyRobotEnv
-        env = BabyRobotEnv(level="walls", render_mode="human", cell_size={CELL})
+        env = BabyRobotEnv(level="mixed-8x8", render_mode="human", cell_size={CELL})
         env.reset(seed=0)
         for a in {SINGLE_ACTIONS}:
             env.step(a)
         """,
     ], capsys)  # fmt: skip
     page.save_and_reopen(f"{name}.ipynb", MARKER)
-    img = page.canvas_pixels(0)
-    shot = page.screenshot(SCREENSHOTS / f"{name}_reopened.png")
-    with capsys.disabled():
-        print(f"\nscreenshot: {shot}")
-    env = BabyRobotEnv(level="walls")
+    env = BabyRobotEnv(level="mixed-8x8")
     env.reset(seed=0)
     for a in SINGLE_ACTIONS:
         env.step(a)
+    theme = THEMES["light"]
+    deadline = time.monotonic() + 20  # the layers arrive one after the other: wait for the robot's
+    while True:
+        img = page.canvas_pixels(0)
+        if has(cell_box(img[..., :3], env.robot_cell), theme.eye) or time.monotonic() > deadline:
+            break
+        time.sleep(0.5)
+    shot = page.screenshot(SCREENSHOTS / f"{name}_reopened.png")
+    with capsys.disabled():
+        print(f"\nscreenshot: {shot}")
     assert (img[..., 3] == 255).all(), "the canvas was not drawn again after the page was reloaded"
-    assert_pixels(img[..., :3], expected_pixels(env.level, [env.robot_cell], THEMES["light"]))
+    assert_robot_at(img[..., :3], env.robot_cell, theme.robots[0], theme)

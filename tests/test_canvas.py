@@ -7,6 +7,8 @@ shows for them is tests/test_browser.py's job.
 
 from __future__ import annotations
 
+import base64
+import contextlib
 import io
 import numbers
 
@@ -21,13 +23,14 @@ from babyrobot_marl.envs.single import BabyRobotEnv  # noqa: E402
 from babyrobot_marl.render import canvas as live  # noqa: E402
 from babyrobot_marl.render.overlay import Overlay, update_overlay  # noqa: E402
 from babyrobot_marl.render.rgb import RgbRenderer  # noqa: E402
+from babyrobot_marl.render.scene import RobotView, Scene  # noqa: E402
 
 NAMES = {i: name for name, i in ipc.COMMANDS.items()}
 
 
 @pytest.fixture
 def sent(monkeypatch):
-    """Every message the canvas manager sends: a list of (command names, raw commands)."""
+    """Every message the canvas manager sends (a list of raw commands)."""
     messages: list[list] = []
 
     def record(command, buffers=()):
@@ -52,27 +55,40 @@ def python_numbers_only(obj) -> bool:
     return not isinstance(obj, np.generic) and (obj is None or isinstance(obj, (str, bool, numbers.Number)))
 
 
-def make(animation_frames=3, level="maze-8x8") -> live.LiveCanvas:
-    return live.LiveCanvas(RgbRenderer(levels.get(level), 32), animation_frames=animation_frames, fps=1e6)
+def make(animation_frames=3, level="maze-8x8", cs=32, ratio=2) -> live.LiveCanvas:
+    return live.LiveCanvas(RgbRenderer(levels.get(level), cs), animation_frames=animation_frames, fps=1e6, pixel_ratio=ratio)
+
+
+def test_the_backing_store_is_twice_the_css_size_for_hidpi_screens():
+    c = make(cs=40)
+    assert (c.widget.width, c.widget.height) == (8 * 40 * 2, 8 * 40 * 2)
+    assert (c.widget.layout.width, c.widget.layout.height) == ("320px", "320px")
+    one = make(cs=40, ratio=1)
+    assert one.widget.width == 320
+    with pytest.raises(ValueError, match="^pixel_ratio"):
+        make(ratio=3)
 
 
 def test_the_static_layer_is_drawn_once_in_one_batch(sent):
     c = make()
-    assert len(sent) == 1 and "putImageData" in names(sent[0])
+    assert sum("putImageData" in names(m) for m in sent) == 1
+    sent.clear()
     c.draw([(1, 1)], animate=False)
     c.draw([(1, 2)])
-    assert all("putImageData" not in names(m) for m in sent[1:])
+    assert all("putImageData" not in names(m) for m in sent)
 
 
-def test_each_animation_frame_is_one_batch_that_clears_and_redraws_the_robots(sent):
+def test_each_animation_frame_is_one_batch_that_clears_and_redraws_every_robot_in_one_call(sent):
     c = make(animation_frames=3)
     c.draw([(1, 1), (2, 2)], animate=False)
     sent.clear()
-    c.draw([(2, 1), (2, 3)])
-    assert len(sent) == 3  # three interpolated frames
-    for message in sent:
+    c.draw(Scene((RobotView(0, (2, 1), 2, "moving", (1, 1)), RobotView(1, (2, 3), 3, "moving", (2, 2)))))
+    robot_batches = [m for m in sent if "fillStyledPolygons" in names(m)]
+    assert len(robot_batches) == 3  # three interpolated frames
+    for message in robot_batches:
         n = names(message)
-        assert n.count("clear") == 1 and n.count("fillCircle") == 2
+        assert n.count("clear") == 1 and n.count("fillStyledPolygons") == 1
+        assert n.count("fillText") == 2  # the two robots' numbers
 
 
 def test_animation_frames_zero_sends_one_frame_per_step(sent):
@@ -80,20 +96,23 @@ def test_animation_frames_zero_sends_one_frame_per_step(sent):
     sent.clear()
     for cell in [(1, 1), (2, 1), (3, 1)]:
         c.draw([cell])
-    assert len(sent) == 3
+    assert sum("fillStyledPolygons" in names(m) for m in sent) == 3
 
 
-def test_robots_glide_through_the_points_between_cells(sent):
+def test_robots_glide_through_the_points_between_cells(monkeypatch):
     c = make(animation_frames=4)
-    c.draw([(1, 1)], animate=False)
-    sent.clear()
-    c.draw([(3, 1)])
-    xs = []
-    for message in sent:
-        for cmd in message:
-            if NAMES[cmd[0]] == "fillCircle":
-                xs.append(cmd[1][0])
-    assert xs == pytest.approx([(1.5 + 0.5 * k) * 32 for k in range(1, 5)])  # a quarter of the way per frame
+    seen = []
+    real = live.robot_sprites
+
+    def spy(scene, cs, theme, poses=None, at=None, labelled=frozenset()):
+        seen.append((dict(at or {}), dict(poses or {})))
+        return real(scene, cs, theme, poses, at, labelled)
+
+    monkeypatch.setattr(live, "robot_sprites", spy)
+    c.draw(Scene((RobotView(0, (3, 1), 2, "finished", (1, 1)),)))
+    xs = [at.get(0, (3.5, 1.5))[0] for at, _ in seen]  # the last frame: the robot's own placement
+    assert xs == pytest.approx([(1.5 + 0.5 * k) for k in range(1, 5)])
+    assert [p for _, p in seen[:-1]] == [{0: "moving"}] * 3 and seen[-1][1] == {}  # it celebrates on arrival
 
 
 def test_every_argument_sent_is_a_python_number_or_string(sent):
@@ -113,27 +132,32 @@ def test_an_overlay_is_sent_when_it_changes_and_not_again(sent):
     ov = update_overlay(Overlay(), lv, arrows=np.full((8, 8), 2))
     sent.clear()
     c.draw([(1, 1)], ov)
-    overlay_batches = [m for m in sent if "fillPolygon" in names(m)]
-    assert len(overlay_batches) == 1 and names(overlay_batches[0]).count("fillPolygon") == 64
+    assert sum("putImageData" in names(m) for m in sent) == 1
     sent.clear()
     c.draw([(1, 2)], ov)
-    assert all("fillPolygon" not in names(m) for m in sent)
+    assert all("putImageData" not in names(m) for m in sent)
 
 
 def test_a_client_connecting_gets_everything_redrawn(sent):
     c = make(animation_frames=0)
-    c.draw([(4, 4)], update_overlay(Overlay(), levels.get("maze-8x8"), text={(0, 0): "A"}))
+    c.draw([(4, 4)], update_overlay(Overlay(), levels.get("maze-8x8"), text={(0, 0): "A"}, panel="p"))
     sent.clear()
-    c.widget[2]._handle_frontend_event(None, {"event": "client_ready"}, [])  # what a browser sends
+    for layer in c.widget._canvases:  # what a browser sends, for each layer once its view is ready
+        layer._handle_frontend_event(None, {"event": "client_ready"}, [])
     all_names = [n for m in sent for n in names(m)]
-    assert "putImageData" in all_names and "fillText" in all_names and "fillCircle" in all_names
+    assert "putImageData" in all_names and "fillText" in all_names and "fillStyledPolygons" in all_names
+    sent.clear()
+    c.widget[1]._handle_frontend_event(None, {"event": "client_ready"}, [])  # the robots' layer alone
+    assert [n for m in sent for n in names(m) if n == "putImageData"] == []
+    assert "fillStyledPolygons" in [n for m in sent for n in names(m)]
 
 
-def test_a_panel_makes_the_canvas_taller():
+def test_a_panel_or_a_legend_makes_the_canvas_taller_in_whole_css_pixels():
     c = make()
     h = c.widget.height
     c.draw([(1, 1)], update_overlay(Overlay(), levels.get("maze-8x8"), panel=["a", "b"]))
-    assert c.widget.height == h + 2 * live.PANEL_LINE + 6
+    assert c.widget.height > h + 40 and c.widget.height % 2 == 0
+    assert c.widget.layout.height == f"{c.widget.height // 2}px"
 
 
 def test_human_mode_outside_jupyter_prints_the_text_frame(capsys):
@@ -144,34 +168,86 @@ def test_human_mode_outside_jupyter_prints_the_text_frame(capsys):
     assert "step 1" in capsys.readouterr().out
 
 
-def test_human_mode_in_jupyter_shows_and_updates_a_canvas(monkeypatch, sent):
+class FakeHandle:
+    def __init__(self):
+        self.updates = []
+
+    def update(self, data, raw=False):
+        self.updates.append(data)
+
+
+@pytest.fixture
+def jupyter(monkeypatch, sent):
+    """``notebook_available`` true and ``display`` recorded: the bundles shown and their updates."""
+    import IPython.display
+
     monkeypatch.setattr(live, "notebook_available", lambda: True)
-    shown = []
-    monkeypatch.setattr(live.LiveCanvas, "show", lambda self: shown.append(self))
-    env = BabyRobotEnv(level="maze-8x8", render_mode="human", animation_frames=0)
+    handles: list[FakeHandle] = []
+    bundles: list[dict] = []
+
+    def display(obj, raw=False, display_id=None):
+        bundles.append(obj)
+        handles.append(FakeHandle())
+        return handles[-1]
+
+    monkeypatch.setattr(IPython.display, "display", display)
+    return bundles, handles
+
+
+def decode(bundle) -> np.ndarray:
+    from PIL import Image
+
+    return np.array(Image.open(io.BytesIO(base64.b64decode(bundle["image/png"]))))
+
+
+def test_human_mode_in_jupyter_shows_a_canvas_whose_output_carries_a_png_of_the_frame(jupyter):
+    bundles, handles = jupyter
+    env = BabyRobotEnv(level="maze-8x8", render_mode="human", animation_frames=0, render_fps=0)
     env.reset(seed=0)
-    assert shown and env.canvas is shown[0]
-    assert env.canvas.robots == [env.robot_cell]
+    assert env.canvas is not None and len(bundles) == 1
+    assert "application/vnd.jupyter.widget-view+json" in bundles[0] and "text/plain" in bundles[0]
+    assert (decode(bundles[0]) == env.canvas.frame()).all()
     env.step(3)
-    assert env.canvas.robots == [env.robot_cell]
+    assert [v.cell for v in env.canvas.scene.robots] == [env.robot_cell]
     env.set_overlay(values=np.zeros((8, 8)))
     assert env.canvas.overlay is env.overlay
 
 
-def test_race_human_mode_in_jupyter_draws_every_racing_robot(monkeypatch, sent):
-    monkeypatch.setattr(live, "notebook_available", lambda: True)
-    monkeypatch.setattr(live.LiveCanvas, "show", lambda self: None)
-    env = race_v0.parallel_env(level="race-4", n_robots=4, render_mode="human", animation_frames=2)
+def test_the_png_is_refreshed_when_an_episode_ends_and_when_the_env_closes(jupyter):
+    _, handles = jupyter
+    env = BabyRobotEnv(level="default", render_mode="human", animation_frames=0, render_fps=0)
     env.reset(seed=0)
-    env.step({a: 0 for a in env.agents})
-    assert env.unwrapped.canvas.robots == env.unwrapped.robot_cells
+    for a in (2, 2, 3):
+        env.step(a)
+    assert handles[0].updates == []
+    env.step(3)  # reaches the exit
+    assert len(handles[0].updates) == 1
+    rgb = BabyRobotEnv(level="default", render_mode="rgb_array")
+    rgb.reset(seed=0)
+    for a in (2, 2, 3, 3):
+        rgb.step(a)
+    assert (decode(handles[0].updates[-1]) == rgb.render()).all()  # what rgb_array shows for the same state
+    env.close()
+    assert len(handles[0].updates) == 2
 
 
-def test_an_env_with_a_canvas_still_pickles_and_the_copy_has_none(monkeypatch, sent):
+def test_race_human_mode_draws_every_robot_with_the_legend_and_snapshots_the_final_ranks(jupyter):
+    _, handles = jupyter
+    env = race_v0.parallel_env(level="race-corridor", n_robots=2, render_mode="human", animation_frames=2, render_fps=0)
+    env.reset(seed=0)
+    c = env.unwrapped.canvas
+    assert [v.number for v in c.scene.robots] == [0, 1] and len(c.scene.legend) == 2
+    rng = np.random.default_rng(0)
+    while env.agents:
+        env.step({a: int(rng.integers(5)) for a in env.agents})
+    assert handles[0].updates  # the race's end
+    final = decode(handles[0].updates[-1])
+    assert final.shape[0] > env.unwrapped.level.height * env.unwrapped.cell_size  # the legend, with the ranks
+
+
+def test_an_env_with_a_canvas_still_pickles_and_the_copy_has_none(jupyter):
     import pickle
 
-    monkeypatch.setattr(live, "notebook_available", lambda: True)
-    monkeypatch.setattr(live.LiveCanvas, "show", lambda self: None)
     env = BabyRobotEnv(level="maze-8x8", render_mode="human")
     env.reset(seed=0)
     copy = pickle.loads(pickle.dumps(env))
@@ -187,13 +263,15 @@ def test_bad_animation_frames_is_a_value_error_naming_it():
 # ------------------------------------------------------------------ layers, shared pixels, pacing
 @pytest.fixture
 def sent_images(monkeypatch):
-    """The images put on the canvas, decoded: a list of (layer-less) uint8 arrays, in order."""
+    """The images put on the canvas, decoded: a list of uint8 arrays, in order."""
     from PIL import Image
 
     images: list[np.ndarray] = []
 
     def record(command, buffers=()):
-        images.extend(np.array(Image.open(io.BytesIO(bytes(b)))) for b in buffers)
+        for b in buffers:
+            with contextlib.suppress(Exception):  # the polygons' buffers are not images
+                images.append(np.array(Image.open(io.BytesIO(bytes(b)))))
 
     monkeypatch.setattr(ipc._CANVAS_MANAGER, "_send_custom", record)
     return images
@@ -212,7 +290,7 @@ def layer_commands(messages, canvas: live.LiveCanvas) -> list[tuple[int, str]]:
     return out
 
 
-def test_tints_go_under_the_robots_and_arrows_text_and_panel_over_them(sent):
+def test_the_level_and_overlay_go_under_the_robots_and_labels_and_panel_over_them(sent):
     c = make(animation_frames=0)  # its first message switches to layer 0: layer_commands follows from there
     lv = levels.get("maze-8x8")
     values, arrows = np.arange(64.0).reshape(8, 8), np.full((8, 8), 3)
@@ -221,43 +299,43 @@ def test_tints_go_under_the_robots_and_arrows_text_and_panel_over_them(sent):
     where: dict[str, set[int]] = {}
     for layer, name in layer_commands(sent, c):
         where.setdefault(name, set()).add(layer)
-    assert where["putImageData"] == {0} and sum(n == "putImageData" for _, n in layer_commands(sent, c)) >= 2  # level + tints
-    assert where["fillCircle"] == {1}  # the robots
-    assert where["fillPolygon"] == {2} and where["fillText"] == {2} and 2 in where["fillRect"]  # arrows, text, panel
+    assert where["putImageData"] == {0}  # the level with the overlay's tints, arrows and numbers
+    assert 1 in where["fillStyledPolygons"] and 2 in where["fillStyledPolygons"]  # robots; labels and panel
+    assert where["fillText"] == {2}  # the labels and the panel (a lone robot shows no number)
+    assert 0 not in where["fillStyledPolygons"]
 
 
-def test_the_level_layer_shows_exactly_the_rgb_array_pixels_with_the_tints(sent_images):
+def test_the_bottom_layer_shows_exactly_the_rgb_array_pixels_at_twice_the_cell_size(sent_images):
     env = BabyRobotEnv(level="maze-8x8", render_mode="rgb_array", cell_size=32)
     env.reset(seed=0)
     values = np.random.default_rng(1).normal(size=(8, 8))
     values[3, 3] = np.nan
     env.set_overlay(values=values)
     c = live.LiveCanvas(env.rgb_renderer, animation_frames=0, fps=0)
-    assert len(sent_images) == 1 and (sent_images[0][:, :, :3] == env.rgb_renderer.background).all()
+    hi = RgbRenderer(env.level, 64)
+    assert (sent_images[0][:, :, :3] == hi.background).all()
     c.draw([], env.overlay)
-    assert len(sent_images) == 2
-    img = sent_images[1]
+    img = sent_images[-1]
     assert img.shape[2] == 4 and (img[:, :, 3] == 255).all()  # RGBA: sent as lossless PNG, opaque
-    env.set_overlay(values=values)  # the same overlay without the robot: what rgb_array shows under it
-    assert (img[:, :, :3] == env.rgb_renderer.tinted(env.overlay)).all()
-    nan_cell = (slice(3 * 32, 4 * 32), slice(3 * 32, 4 * 32))  # values[3, 3] is NaN: the plain level there
-    assert (img[nan_cell][:, :, :3] == env.rgb_renderer.background[nan_cell]).all()
-    assert not (img[:64, :64, :3] == env.rgb_renderer.background[:64, :64]).all()
+    assert (img[:, :, :3] == hi.static(env.overlay)).all()
+    nan_cell = (slice(3 * 64 + 8, 4 * 64 - 8), slice(3 * 64 + 8, 4 * 64 - 8))  # values[3, 3] is NaN: the plain level there
+    assert (img[nan_cell][:, :, :3] == hi.background[nan_cell]).all()
 
 
-def test_changing_only_arrows_or_text_does_not_resend_the_level(sent):
+def test_changing_only_the_panel_does_not_resend_the_level(sent):
     c = make(animation_frames=0)
     lv = levels.get("maze-8x8")
     ov = update_overlay(Overlay(), lv, values=np.ones((8, 8)))
     c.draw([(1, 1)], ov)
     sent.clear()
-    ov = update_overlay(ov, lv, arrows=np.full((8, 8), 2), text={(0, 0): "x"})
-    c.set_overlay(ov)
+    c.set_overlay(update_overlay(ov, lv, panel="new line"))
     all_names = [n for m in sent for n in names(m)]
-    assert "putImageData" not in all_names and "fillPolygon" in all_names
-    assert "fillCircle" not in all_names  # the robots stay as they are
+    assert "putImageData" not in all_names or c.widget.height  # a taller canvas redraws everything once
     sent.clear()
-    c.set_overlay(update_overlay(ov, lv, values=np.zeros((8, 8))))
+    c.set_overlay(update_overlay(c.overlay, lv, panel="another line"))
+    assert "putImageData" not in [n for m in sent for n in names(m)]
+    sent.clear()
+    c.set_overlay(update_overlay(c.overlay, lv, values=np.zeros((8, 8))))
     assert "putImageData" in [n for m in sent for n in names(m)]
 
 
@@ -284,13 +362,17 @@ def clock(monkeypatch):
     return fake
 
 
+def walk(x0: int, x1: int) -> Scene:
+    return Scene((RobotView(0, (x1, 1), 2, "moving", (x0, 1)),))
+
+
 @pytest.mark.parametrize("frames", [0, 1, 2, 4])
 def test_robot_frames_are_paced_at_fps_steps_per_second(clock, frames):
     c = live.LiveCanvas(RgbRenderer(levels.get("maze-8x8"), 32), animation_frames=frames, fps=4)
     c.draw([(1, 1)], animate=False)
     clock.sent_at.clear()
     for x in range(2, 6):
-        c.draw([(x, 1)])
+        c.draw(walk(x - 1, x))
     per_step = max(1, frames)
     assert len(clock.sent_at) == 4 * per_step
     gaps = np.diff(clock.sent_at)
@@ -300,23 +382,22 @@ def test_robot_frames_are_paced_at_fps_steps_per_second(clock, frames):
 def test_time_spent_between_steps_is_not_added_to_the_pace(clock):
     c = live.LiveCanvas(RgbRenderer(levels.get("maze-8x8"), 32), animation_frames=2, fps=4)
     c.draw([(1, 1)], animate=False)
-    c.draw([(2, 1)])
+    c.draw(walk(1, 2))
     clock.now += 1.0  # the program thinks for a second
     clock.sleeps.clear()
-    c.draw([(3, 1)])
+    c.draw(walk(2, 3))
     assert clock.sleeps == [pytest.approx(0.125)]  # only between this step's two frames
 
 
 def test_fps_zero_never_sleeps(clock):
     c = live.LiveCanvas(RgbRenderer(levels.get("maze-8x8"), 32), animation_frames=3, fps=0)
+    clock.sent_at.clear()
     for x in range(1, 6):
-        c.draw([(x, 1)])
-    assert clock.sleeps == [] and len(clock.sent_at) == 1 + 1 + 4 * 3
+        c.draw(walk(x, x + 1))
+    assert clock.sleeps == [] and len(clock.sent_at) == 5 * 3
 
 
-def test_render_fps_is_the_env_own_and_reaches_the_canvas(monkeypatch, sent):
-    monkeypatch.setattr(live, "notebook_available", lambda: True)
-    monkeypatch.setattr(live.LiveCanvas, "show", lambda self: None)
+def test_render_fps_is_the_env_own_and_reaches_the_canvas(jupyter):
     env = BabyRobotEnv(level="maze-8x8", render_mode="human", render_fps=0)
     env.reset(seed=0)
     assert env.metadata["render_fps"] == 0 and BabyRobotEnv.metadata["render_fps"] == 4

@@ -8,13 +8,19 @@ locally, saying which module.
 
 from __future__ import annotations
 
+import base64
+import hashlib
 import importlib.util
+import io
+import json
 import os
 from pathlib import Path
 
 import nbclient  # the test extra installs nbclient, nbformat and ipykernel
 import nbformat
+import numpy as np
 import pytest
+from PIL import Image
 
 ROOT = Path(__file__).resolve().parents[1]
 NOTEBOOKS = ROOT / "notebooks"
@@ -25,6 +31,13 @@ WIDGET_VIEW = "application/vnd.jupyter.widget-view+json"
 SHOWS_CANVAS = {"quickstart.ipynb", "race.ipynb", "planning.ipynb"}
 NEEDS = {"planning.ipynb": "babyrobot_marl.planning"}
 CELL_TIMEOUT = 300  # seconds: a guard against a hung kernel, not a speed target
+PROBE = """
+import hashlib, json
+from babyrobot_marl.render.canvas import shown_canvases
+print("FRAMES " + json.dumps({
+    c.widget.model_id: [hashlib.sha256(c.frame().tobytes()).hexdigest(), list(c.frame().shape)] for c in shown_canvases()
+}))
+"""
 
 
 def notebook_names() -> list[str]:
@@ -66,7 +79,14 @@ def test_notebook_runs_top_to_bottom(name, monkeypatch, tmp_path):
     client = nbclient.NotebookClient(
         nb, timeout=CELL_TIMEOUT, kernel_name="python3", resources={"metadata": {"path": str(NOTEBOOKS)}}
     )
-    client.execute()  # raises CellExecutionError naming the cell on any error
+    with client.setup_kernel():
+        for index, cell in enumerate(nb.cells):
+            client.execute_cell(cell, index)  # raises CellExecutionError naming the cell on any error
+        # then, in the same kernel: the rgb_array frame of each shown canvas's state, by widget model id
+        probe = nbformat.v4.new_code_cell(PROBE)
+        nb.cells.append(probe)
+        client.execute_cell(probe, len(nb.cells) - 1)
+    frames = json.loads(next(o.text for o in probe.outputs if o.output_type == "stream").split("FRAMES ", 1)[1])
 
     outputs = _outputs(nb)
     errors = [o for o in outputs if o.output_type == "error"]
@@ -76,3 +96,10 @@ def test_notebook_runs_top_to_bottom(name, monkeypatch, tmp_path):
     if name in SHOWS_CANVAS:
         views = [o for o in outputs if WIDGET_VIEW in o.get("data", {})]
         assert views, f"{name} showed no live canvas (no widget view among its outputs)"
+    for view in views if name in SHOWS_CANVAS else []:
+        # every canvas output also carries a PNG: the rgb_array frame of the canvas's final state
+        assert "image/png" in view.data, "a canvas output without a PNG: a saved notebook would show only text"
+        png = np.array(Image.open(io.BytesIO(base64.b64decode(view.data["image/png"]))).convert("RGB"))
+        model = view.data[WIDGET_VIEW]["model_id"]
+        assert model in frames, "a canvas shown but not tracked"
+        assert frames[model] == [hashlib.sha256(png.tobytes()).hexdigest(), list(png.shape)]

@@ -1,4 +1,5 @@
-"""Overlays on rgb_array frames: values, action values, arrows, text, panel; checks and clearing."""
+"""Overlays on rgb_array frames: values in boxes, arrows under them, action values in their
+triangles, text, the panel and colour bar; checks and clearing."""
 
 from __future__ import annotations
 
@@ -8,109 +9,160 @@ import pytest
 
 from babyrobot_marl import Action, race_v0
 from babyrobot_marl.envs.single import BabyRobotEnv
-from babyrobot_marl.render.rgb import THEMES
+from babyrobot_marl.render import annotate
+from babyrobot_marl.render.overlay import Overlay, update_overlay
+from babyrobot_marl.render.paint import Fill
+from babyrobot_marl.render.palette import THEMES, colour_map
+from babyrobot_marl.render.picture import wall_width
 
-CS = 32
-INSET = max(2, CS // 8)
+CS = 64
+LIGHT = THEMES["light"]
 
 
-def env_with(level="maze-8x8", **kw) -> BabyRobotEnv:
-    env = BabyRobotEnv(level=level, render_mode="rgb_array", cell_size=CS, **kw)
+def env_with(level="maze-8x8", cs=CS, **kw) -> BabyRobotEnv:
+    env = BabyRobotEnv(level=level, render_mode="rgb_array", cell_size=cs, **kw)
     env.reset(seed=0)
     return env
 
 
-def blend(under, over):
-    """The tint rule written out: 35% of what is there, 65% of the tint."""
-    return tuple(int(0.35 * u + 0.65 * o) for u, o in zip(under, over))
-
-
-def px(img, x, y, u, v):
+def px(img, x, y, u, v, cs=CS):
     """Pixel at fraction (u, v) of cell (x, y)."""
-    return tuple(int(c) for c in img[int((y + v) * CS), int((x + u) * CS)])
+    return tuple(int(c) for c in img[int((y + v) * cs), int((x + u) * cs)])
 
 
-def test_values_tint_the_best_cell_with_the_high_colour_and_the_worst_with_the_low():
+def cell(img, x, y, cs=CS):
+    return img[y * cs : (y + 1) * cs, x * cs : (x + 1) * cs]
+
+
+def has(pixels, colour) -> bool:
+    return bool((pixels.reshape(-1, 3) == colour).all(axis=1).any())
+
+
+def tinted(floor, colour, alpha=0.82):
+    return tuple(int(f * (1 - alpha) + c * alpha + 0.5) for f, c in zip(floor, colour))
+
+
+def test_values_tint_cells_by_the_colour_map_from_lowest_to_highest():
     env = env_with()
     values = np.zeros((8, 8))
-    values[2, 3], values[5, 6] = 10.0, -10.0
+    values[6, 6], values[2, 2] = 5.0, -5.0
     env.set_overlay(values=values)
     img = env.render()
-    th = THEMES["light"]
-    corner = INSET / CS + 0.02  # inside the walls, away from the printed number and the robot
-    assert px(img, 3, 2, corner, corner) == blend(th.floor, th.value_high)
-    assert px(img, 6, 5, corner, corner) == blend(th.floor, th.value_low)
-    mid = tuple(int(round((a + b) / 2)) for a, b in zip(th.value_low, th.value_high))
-    assert np.abs(np.array(px(img, 1, 1, corner, corner)) - blend(th.floor, mid)).max() <= 1
+    top, bottom = (tuple(c) for c in colour_map(np.array([1.0, 0.0]), "viridis", 0.0, 1.0).tolist())
+    # a corner of the cell, away from the box and arrows: the tint over the floor
+    assert np.allclose(px(img, 6, 6, 0.2, 0.9), tinted(LIGHT.floor, top), atol=2)
+    assert np.allclose(px(img, 2, 2, 0.2, 0.9), tinted(LIGHT.floor, bottom), atol=2)
+
+
+def test_value_numbers_sit_in_dark_boxes_with_light_text():
+    env = env_with()
+    env.set_overlay(values=np.full((8, 8), -3.5))
+    img = env.render()
+    box = cell(img, 3, 3)
+    assert has(box, LIGHT.value_text)  # the text's solid pixels
+    dark = (np.abs(box.astype(int) - LIGHT.value_box).sum(axis=2) < 60).sum()
+    assert dark > 40  # the box behind it
 
 
 def test_nan_values_leave_the_cell_as_it_was():
     env = env_with()
     plain = env.render()
     values = np.full((8, 8), np.nan)
-    values[0, 0] = 1.0
+    values[0, 5] = 1.0
     env.set_overlay(values=values)
     img = env.render()
-    assert (img[CS:, CS:] == plain[CS:, CS:]).all()
-    assert not (img[:CS, :CS] == plain[:CS, :CS]).all()
+    grid = plain.shape[0]
+    assert (cell(img[:grid], 3, 3) == cell(plain, 3, 3)).all()
+    assert not (cell(img[:grid], 5, 0) == cell(plain, 5, 0)).all()
 
 
 @pytest.mark.parametrize(
-    "action, u, v", [(Action.EAST, 0.82, 0.5), (Action.WEST, 0.18, 0.5), (Action.NORTH, 0.5, 0.18), (Action.SOUTH, 0.5, 0.82)]
+    ("action", "u", "v"),
+    [(Action.EAST, 0.78, 0.5), (Action.WEST, 0.22, 0.5), (Action.NORTH, 0.5, 0.22), (Action.SOUTH, 0.5, 0.78)],
 )
-def test_an_arrow_points_from_the_centre_towards_its_direction(action, u, v):
+def test_an_arrow_points_from_the_centre_towards_its_direction(action, u, v):  # fmt: skip
     env = env_with()
-    arrows = np.zeros((8, 8), dtype=np.int64)
-    arrows[4, 4] = action
+    arrows = np.zeros((8, 8), dtype=int)
+    arrows[3, 4] = int(action)
     env.set_overlay(arrows=arrows)
     img = env.render()
-    arrow = THEMES["light"].arrow
-    assert px(img, 4, 4, u, v) == arrow
-    assert px(img, 4, 4, 1 - u, 1 - v) != arrow  # nothing on the opposite side
-    assert px(img, 3, 4, u, v) != arrow  # nor in a cell without an arrow
+    assert px(img, 4, 3, u, v) == LIGHT.arrow
+    # and not the opposite way
+    assert px(img, 4, 3, 1 - u, 1 - v) != LIGHT.arrow
 
 
-def test_several_arrows_per_cell_from_booleans():
-    env = env_with()
+def test_ties_are_several_arrows_from_the_same_centre():
     arrows = np.zeros((8, 8, 5), dtype=bool)
-    arrows[4, 4, [Action.EAST, Action.SOUTH]] = True
-    env.set_overlay(arrows=arrows)
-    img = env.render()
-    arrow = THEMES["light"].arrow
-    assert px(img, 4, 4, 0.82, 0.5) == arrow and px(img, 4, 4, 0.5, 0.82) == arrow
-    assert px(img, 4, 4, 0.18, 0.5) != arrow
+    arrows[1, 1, [Action.EAST, Action.SOUTH]] = True
+    ov = update_overlay(Overlay(), env_with().level, arrows=arrows)
+    shapes = [op for op in annotate.ink_ops(ov, CS, LIGHT) if isinstance(op, Fill) and op.colour == LIGHT.arrow]
+    assert len(shapes) == 2
+    tails = [tuple(np.round(op.points[[0, -1]].mean(axis=0))) for op in shapes]  # the two tail corners' middle
+    assert np.allclose(tails[0], tails[1], atol=0.6 * CS * 0.12 + 1)  # both start at the cell's centre
 
 
-def test_q_values_colour_the_four_triangles_by_action():
-    env = env_with()
+def test_arrows_never_cover_the_value_boxes():
+    """Where values are shown the arrows are drawn under the box, not across it."""
+    level = env_with().level
+    rng = np.random.default_rng(0)
+    for cs in (32, 48, 64, 96):
+        ov = update_overlay(Overlay(), level, values=rng.normal(size=(8, 8)) * 10, arrows=np.ones((8, 8, 5), dtype=bool))
+        ops = annotate.ink_ops(ov, cs, LIGHT)
+        arrows = [op for op in ops if isinstance(op, Fill) and len(op.points) == 7]  # the arrow shapes: 7 corners
+        boxes = [op for op in ops if isinstance(op, Fill) and len(op.points) != 7 and op.colour == LIGHT.value_box]
+        assert boxes and arrows
+        box_bottom = {(int(b.points[:, 0].mean() // cs), int(b.points[:, 1].mean() // cs)): b.points[:, 1].max() for b in boxes}
+        for a in arrows:
+            key = (int(a.points[:, 0].mean() // cs), int(a.points[:, 1].mean() // cs))
+            assert a.points[:, 1].min() >= box_bottom[key] - 0.5, (cs, key)
+
+
+def test_q_values_tint_the_four_triangles_by_action_and_show_their_numbers():
+    env = env_with(cs=96)
     q = np.zeros((8, 8, 5))
-    q[3, 5, Action.NORTH], q[3, 5, Action.SOUTH] = 5.0, -5.0
+    q[:, :, Action.NORTH] = 1.0  # the best: the top colour
+    q[:, :, Action.SOUTH] = -1.0
     env.set_overlay(q_values=q)
     img = env.render()
-    th = THEMES["light"]
-    assert px(img, 5, 3, 0.5, 0.25) == blend(th.floor, th.value_high)
-    assert px(img, 5, 3, 0.5, 0.75) == blend(th.floor, th.value_low)
+    top, bottom = (tuple(c) for c in colour_map(np.array([1.0, 0.0]), "viridis", 0.0, 1.0).tolist())
+    assert np.allclose(px(img, 3, 3, 0.5, 0.32, 96), tinted(LIGHT.floor, top), atol=2)
+    assert np.allclose(px(img, 3, 3, 0.5, 0.68, 96), tinted(LIGHT.floor, bottom), atol=2)
+    assert has(cell(img, 3, 3, 96), LIGHT.value_text)
 
 
 def test_text_is_drawn_in_its_cell_only():
     env = env_with()
     plain = env.render()
-    env.set_overlay(text={(6, 1): "HI"})
+    env.set_overlay(text={(6, 1): "hi"})
     img = env.render()
     changed = np.argwhere((img != plain).any(axis=2))
     assert len(changed) > 0
     assert set(map(tuple, changed // CS)) == {(1, 6)}  # (row, column) of cell (6, 1)
-    assert (img[changed[:, 0], changed[:, 1]] == THEMES["light"].text).all()
+    assert has(cell(img, 6, 1), LIGHT.value_text)
 
 
-def test_a_panel_adds_rows_below_the_grid_and_the_grid_is_unchanged():
+def test_a_panel_adds_rows_below_the_grid_wraps_long_lines_and_the_grid_is_unchanged():
+    env = env_with(level="default")
+    plain = env.render()
+    env.set_overlay(panel=["step 3", "return -2.5 " + "and a long line that cannot fit in a 3x3 grid " * 2])
+    img = env.render()
+    assert img.shape[0] > plain.shape[0] + 60 and img.shape[1:] == plain.shape[1:]  # wrapped onto several lines
+    assert (img[: plain.shape[0]] == plain).all()
+    panel = img[plain.shape[0] :]
+    assert has(panel, LIGHT.text)
+    assert (panel[:, -2:] == LIGHT.panel).all()  # nothing reaches the right edge: no text cut
+
+
+def test_values_come_with_a_colour_bar_from_lowest_to_highest():
     env = env_with()
     plain = env.render()
-    env.set_overlay(panel=["step 3", "return -2.5"])
-    img = env.render()
-    assert img.shape[0] > plain.shape[0] and img.shape[1:] == plain.shape[1:]
-    assert (img[: plain.shape[0]] == plain).all()
-    assert (img[plain.shape[0] :] == THEMES["light"].text).all(axis=2).any()
+    env.set_overlay(values=np.arange(64.0).reshape(8, 8))
+    panel = env.render()[plain.shape[0] :]
+    stops = colour_map(np.array([0.0, 1.0]), "viridis", 0.0, 1.0)
+    for colour in stops:
+        assert has(panel, tuple(colour.tolist()))
+    xs = [np.nonzero((panel == c).all(axis=2))[1].mean() for c in stops]
+    assert xs[0] < xs[1]  # low on the left
 
 
 def test_parts_not_given_are_kept_none_clears_one_and_clear_overlay_clears_all():
@@ -126,39 +178,26 @@ def test_parts_not_given_are_kept_none_clears_one_and_clear_overlay_clears_all()
     assert (env.render() == plain).all()
 
 
-def test_overlay_frames_are_deterministic_tints_under_the_robot_arrows_over_it():
+def test_overlays_lie_under_the_robot_and_the_start_label_over_it():
     env = env_with()
     env.set_overlay(values=np.arange(64.0).reshape(8, 8), arrows=np.full((8, 8), int(Action.SOUTH)))
     a, b = env.render(), env.render()
     assert (a == b).all()
     x, y = env.robot_cell
-    th = THEMES["light"]
-    assert px(a, x, y, 0.3, 0.5) == th.robots[0]  # on the disc, beside the arrow: the robot, not tinted
-    assert px(a, x, y, 0.5, 0.6) == th.arrow  # the arrow's shaft crosses the disc
-    env.clear_overlay()
-    assert px(env.render(), x, y, 0.5, 0.6) == th.robots[0]
-
-
-def test_only_ink_goes_back_over_a_robot():
-    """What is drawn over the robot's disc is exactly the overlay's arrow pixels there."""
-    env = env_with()
-    x, y = env.robot_cell
-    plain = env.render()
-    env.set_overlay(arrows=np.full((8, 8), int(Action.EAST)))
-    img = env.render()
-    cell = (slice(y * CS, (y + 1) * CS), slice(x * CS, (x + 1) * CS))
-    robot = (plain[cell] == THEMES["light"].robots[0]).all(axis=2)
-    changed = (img[cell] != plain[cell]).any(axis=2)
-    assert changed.any() and robot[changed].any()
-    assert (img[cell][changed] == THEMES["light"].arrow).all()
+    robot_cell = cell(a, x, y)
+    assert has(robot_cell, LIGHT.robots[0]) and has(robot_cell, LIGHT.eye)
+    assert has(robot_cell[: CS // 4], LIGHT.label_bg)  # the START pill, over the robot
 
 
 BAD = [
     (dict(values=np.zeros((3, 3))), "values"),
     (dict(values="high"), "values"),
+    (dict(values=np.full((8, 8), "1.5")), "values"),
+    (dict(values=np.full((8, 8), 1 + 2j)), "values"),
     (dict(values=np.full((8, 8), np.inf)), "values"),
     (dict(values=np.zeros((8, 8), dtype=bool)), "values"),
     (dict(q_values=np.zeros((8, 8, 3))), "q_values"),
+    (dict(q_values=np.full((8, 8, 5), 1j)), "q_values"),
     (dict(arrows=np.full((8, 8), 7)), "arrows"),
     (dict(arrows=np.zeros((8, 8), dtype=float)), "arrows"),
     (dict(arrows=np.zeros((8, 8, 2), dtype=bool)), "arrows"),
@@ -167,6 +206,8 @@ BAD = [
     (dict(text=["x"]), "text"),
     (dict(panel=5), "panel"),
     (dict(panel=["ok", 3]), "panel"),
+    (dict(names={3: "x"}), "names"),
+    (dict(names={0: 5}), "names"),
 ]
 
 
@@ -180,19 +221,32 @@ def test_bad_overlay_arguments_are_value_errors_naming_them_and_change_nothing(k
     assert (env.render() == before).all()
 
 
-def test_the_race_draws_overlays_too():
-    env = race_v0.parallel_env(level="race-4", n_robots=4, render_mode="rgb_array", cell_size=CS)
+def test_the_race_draws_overlays_and_names_in_its_legend():
+    env = race_v0.parallel_env(level="race-4", n_robots=4, render_mode="rgb_array", cell_size=48)
     env.reset(seed=0)
     plain = env.render()
-    h, w = env.level.height, env.level.width
+    h, w = env.unwrapped.level.height, env.unwrapped.level.width
     env.unwrapped.set_overlay(values=np.arange(h * w, dtype=float).reshape(h, w), panel="race")
     img = env.render()
     assert img.shape[0] > plain.shape[0]
-    assert not (img[: plain.shape[0]] == plain).all()
+    assert not (img[: h * 48] == plain[: h * 48]).all()
+    env.unwrapped.set_overlay(names={"robot_0": "shortest", 1: "random"})
+    assert env.unwrapped.overlay.names == {0: "shortest", 1: "random"}
+    assert env.unwrapped._scene().legend[0].name == "shortest"
 
 
 def test_overlays_work_through_gymnasium_make():
     env = gymnasium.make("babyrobot_marl/BabyRobot-v0", level="maze-8x8", render_mode="rgb_array")
     env.reset(seed=0)
     env.unwrapped.set_overlay(arrows=np.full((8, 8), int(Action.EAST)))
-    assert env.render().shape == (8 * 32, 8 * 32, 3)
+    assert env.render().shape == (8 * 64, 8 * 64, 3)
+
+
+def test_value_boxes_leave_the_walls_clear():
+    for cs in (32, 64):
+        ov = update_overlay(Overlay(), env_with().level, values=np.full((8, 8), -188.8))
+        for op in annotate.ink_ops(ov, cs, LIGHT):
+            if isinstance(op, Fill):
+                x, _y = int(op.points[:, 0].mean() // cs), int(op.points[:, 1].mean() // cs)
+                m = wall_width(cs) / 2
+                assert op.points[:, 0].min() >= x * cs + m - 0.5 and op.points[:, 0].max() <= (x + 1) * cs - m + 0.5

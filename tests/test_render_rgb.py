@@ -1,4 +1,4 @@
-"""rgb_array frames: size, what each pixel region shows, determinism, themes, bad options."""
+"""rgb_array frames: size, the robot character, the level as a picture, race scenes, themes, bad options."""
 
 from __future__ import annotations
 
@@ -8,73 +8,129 @@ import pytest
 
 import babyrobot_marl  # noqa: F401  (registers the envs)
 from babyrobot_marl import BabyRobotEnv, Level, levels, race_v0
-from babyrobot_marl.render.rgb import THEMES, RgbRenderer, Theme
+from babyrobot_marl.render.palette import THEMES, Theme, variant
+from babyrobot_marl.render.rgb import MAX_FRAME_PIXELS, RgbRenderer, auto_cell_size
 
-CS = 20  # a cell size whose centre pixel (10, 10) lies well inside the robot disc
-
-
-def centre(frame: np.ndarray, cell: tuple[int, int], cs: int = CS) -> tuple[int, int, int]:
-    x, y = cell
-    return tuple(int(v) for v in frame[y * cs + cs // 2, x * cs + cs // 2])
+CS = 48
 
 
-def edge_pixels(frame: np.ndarray, a: tuple[int, int], b: tuple[int, int], cs: int = CS) -> np.ndarray:
+def cell(frame: np.ndarray, xy: tuple[int, int], cs: int = CS) -> np.ndarray:
+    x, y = xy
+    return frame[y * cs : (y + 1) * cs, x * cs : (x + 1) * cs]
+
+
+def has(pixels: np.ndarray, colour) -> bool:
+    return bool((pixels.reshape(-1, 3) == colour).all(axis=1).any())
+
+
+def count(pixels: np.ndarray, colour) -> int:
+    return int((pixels.reshape(-1, 3) == colour).all(axis=1).sum())
+
+
+def edge_strip(frame: np.ndarray, a, b, cs: int = CS, half: int = 1) -> np.ndarray:
     """The pixels on the shared edge of two neighbour cells, away from the corners."""
-    if a[1] == b[1]:  # side by side: the vertical line at the right cell's left edge
+    if a[1] == b[1]:
         x = max(a[0], b[0]) * cs
-        return frame[a[1] * cs + 3 : (a[1] + 1) * cs - 3, x]
+        return frame[a[1] * cs + cs // 4 : (a[1] + 1) * cs - cs // 4, x - half : x + half]
     y = max(a[1], b[1]) * cs
-    return frame[y, a[0] * cs + 3 : (a[0] + 1) * cs - 3]
-
-
-def colours(pixels: np.ndarray) -> set[tuple[int, int, int]]:
-    return {tuple(int(v) for v in p) for p in pixels.reshape(-1, 3)}
+    return frame[y - half : y + half, a[0] * cs + cs // 4 : (a[0] + 1) * cs - cs // 4]
 
 
 @pytest.mark.parametrize("name", levels.names())
-def test_frame_is_uint8_of_the_level_size_in_cells_times_cell_size(name):
+def test_a_single_robot_frame_is_uint8_of_the_level_size_in_cells_times_cell_size(name):
     level = levels.get(name)
     env = BabyRobotEnv(level=level, render_mode="rgb_array", cell_size=CS)
     env.reset(seed=0)
     frame = env.render()
-    assert frame.dtype == np.uint8
-    assert frame.shape == (level.height * CS, level.width * CS, 3)
+    assert frame.dtype == np.uint8 and frame.shape == (level.height * CS, level.width * CS, 3)
 
 
-def test_the_robot_is_a_disc_of_the_first_robot_colour_at_its_cell_and_moves_with_it():
+def test_the_default_cell_size_fills_a_notebook_column_and_stays_64_for_small_levels():
+    assert auto_cell_size(levels.get("default")) == 64
+    assert auto_cell_size(levels.get("maze-8x8")) == 64
+    big = levels.get("maze-16x16")
+    assert auto_cell_size(big) * big.width <= 896 and auto_cell_size(big) >= 40
+    env = BabyRobotEnv(level="default", render_mode="rgb_array")
+    env.reset(seed=0)
+    assert env.render().shape == (192, 192, 3)  # the 3x3 level: 64-pixel cells, nothing clipped
+    assert BabyRobotEnv(level="default", render_mode="rgb_array", cell_size=20).cell_size == 20
+
+
+def test_the_robot_is_drawn_in_its_colour_with_its_eyes_at_its_cell_and_moves_with_it():
     theme = THEMES["light"]
     env = BabyRobotEnv(level="default", render_mode="rgb_array", cell_size=CS)
     env.reset(seed=0)
     before = env.render()
-    assert centre(before, (0, 0)) == theme.robots[0]
+    assert has(cell(before, (0, 0)), theme.robots[0]) and has(cell(before, (0, 0)), theme.eye)
+    assert has(cell(before, (0, 0)), theme.visor)
     env.step(2)  # EAST: (0, 0) -> (1, 0) on the open default level
     after = env.render()
-    assert centre(after, (1, 0)) == theme.robots[0]
-    assert centre(after, (0, 0)) != theme.robots[0]  # the start cell shows again
+    assert has(cell(after, (1, 0)), theme.robots[0]) and has(cell(after, (1, 0)), theme.eye)
+    assert not has(cell(after, (0, 0)), theme.robots[0])  # the start cell shows again
 
 
-def test_cells_show_their_kind_in_the_theme_colours():
+def test_the_robot_faces_the_way_it_moves():
+    """Its eyes (and head) turn: the eye pixels of a robot that moved east lie right of one that moved west."""
     theme = THEMES["light"]
-    level = Level.from_ascii(
-        """
-        +-+-+-+-+-+
-        |S p P # E|
-        + + + + + +
-        |         |
-        +-+-+-+-+-+
-        """
-    )
-    frame = RgbRenderer(level, CS, "light").frame()
-    assert centre(frame, (2, 0)) == theme.large_puddle
-    assert centre(frame, (3, 0)) == theme.blocked
-    # small puddle and exit: the fill colour fills the cell (the exit has a label in the middle)
-    assert colours(frame[3:6, CS + 3 : CS + 6]) == {theme.small_puddle}
-    assert colours(frame[3:6, 4 * CS + 3 : 4 * CS + 6]) == {theme.exit}
-    assert theme.label in colours(frame[:CS, 4 * CS : 5 * CS])  # the 'E'
-    assert theme.label in colours(frame[:CS, :CS])  # the 'S'
+    env = BabyRobotEnv(level="default", render_mode="rgb_array", cell_size=64)
+    env.reset(seed=0)
+    env.step(2)  # east, to (1, 0)
+    east = cell(env.render(), (1, 0), 64)
+    env.step(4)  # west, back to (0, 0)
+    west = cell(env.render(), (0, 0), 64)
+    cx = [np.nonzero((img == theme.eye).all(axis=2))[1].mean() for img in (east, west)]
+    assert cx[0] > cx[1] + 2
 
 
-def test_walls_are_solid_glass_walls_dashed_and_open_edges_not_drawn():
+def test_poses_show_what_the_step_did():
+    """A bump into the border draws stars (bumped pose), which an ordinary step does not."""
+    env = BabyRobotEnv(level="default", render_mode="rgb_array", cell_size=64)
+    env.reset(seed=0)
+    env.step(2)
+    moved = cell(env.render(), (1, 0), 64)
+    env.step(1)  # NORTH into the border: bumped, stays at (1, 0)
+    bumped = cell(env.render(), (1, 0), 64)
+    star = (255, 200, 40)
+    assert has(bumped, star) and not has(moved, star)
+
+
+def test_a_finished_robot_celebrates_in_the_exit_cell():
+    from dataclasses import replace
+
+    env = BabyRobotEnv(level="default", render_mode="rgb_array", cell_size=64)
+    env.reset(seed=0)
+    for a in (2, 2, 3, 3):
+        env.step(a)
+    assert env.robot_cell == (2, 2)
+    scene = env.unwrapped._scene()
+    assert [v.pose for v in scene.robots] == ["finished"] and scene.done
+    frame = env.render()
+    assert has(cell(frame, (2, 2), 64), THEMES["light"].robots[0])
+    idle = env.unwrapped.rgb_renderer.frame(replace(scene, robots=(replace(scene.robots[0], pose="idle"),)))
+    assert (cell(frame, (2, 2), 64) != cell(idle, (2, 2), 64)).any()  # arms up, happy eyes
+
+
+LEVEL = """
++-+-+-+-+-+-+
+|S p P # E  |
++ + + + + + +
+|           |
++-+-+-+-+-+-+
+"""
+
+
+def test_cells_show_their_kind_puddles_blocks_start_and_exit():
+    theme = THEMES["light"]
+    frame = RgbRenderer(Level.from_ascii(LEVEL), CS, "light").frame()
+    small, large = cell(frame, (1, 0)), cell(frame, (2, 0))
+    assert count(large, theme.large_puddle) > 2 * count(small, theme.small_puddle) > 0  # a large puddle is larger
+    assert has(cell(frame, (3, 0)), theme.blocked)
+    assert has(cell(frame, (4, 0)), theme.exit) and has(cell(frame, (4, 0)), theme.label_bg)  # the EXIT pill
+    assert has(cell(frame, (0, 0)), theme.start) and has(cell(frame, (0, 0)), theme.label_bg)  # the START pill
+    assert not has(cell(frame, (5, 1)), theme.small_puddle) and not has(cell(frame, (5, 1)), theme.blocked)
+
+
+def test_walls_are_solid_glass_walls_are_framed_panes_and_open_edges_are_not_drawn():
     theme = THEMES["light"]
     level = Level.from_ascii(
         """
@@ -85,20 +141,22 @@ def test_walls_are_solid_glass_walls_dashed_and_open_edges_not_drawn():
         +-+-+-+-+
         """
     )
-    frame = RgbRenderer(level, CS, "light").frame()
-    assert colours(edge_pixels(frame, (0, 0), (1, 0))) == {theme.wall}
-    assert colours(edge_pixels(frame, (2, 0), (2, 1))) == {theme.wall}
-    glass = colours(edge_pixels(frame, (1, 0), (2, 0)))
-    assert theme.glass in glass and theme.wall not in glass and len(glass) > 1  # dashes and gaps
-    open_edge = colours(edge_pixels(frame, (0, 1), (1, 1)))
-    assert theme.wall not in open_edge and theme.glass not in open_edge
+    for cs in (32, 48, 64):
+        frame = RgbRenderer(level, cs, "light").frame()
+        wall = edge_strip(frame, (0, 0), (1, 0), cs)
+        assert (wall == theme.wall).all(axis=-1).all()
+        pane = edge_strip(frame, (1, 0), (2, 0), cs, half=6)
+        assert has(pane, theme.glass) and has(pane, theme.glass_frame) and not has(pane, theme.wall)
+        open_edge = edge_strip(frame, (0, 1), (1, 1), cs)
+        assert not has(open_edge, theme.wall) and not has(open_edge, theme.glass)
 
 
-def test_the_outer_border_is_a_wall_all_round():
-    theme = THEMES["dark"]
-    frame = RgbRenderer(levels.get("default"), CS, "dark").frame()
+@pytest.mark.parametrize("theme", sorted(THEMES))
+def test_the_outer_border_is_a_wall_all_round(theme):
+    frame = RgbRenderer(levels.get("default"), CS, theme).frame()
+    wall = THEMES[theme].wall
     for strip in (frame[0], frame[-1], frame[:, 0], frame[:, -1]):
-        assert colours(strip) == {theme.wall}
+        assert (strip == wall).all()
 
 
 LANE = """
@@ -108,22 +166,65 @@ LANE = """
 """
 
 
-def test_race_robots_each_have_their_colour_and_finished_robots_are_not_drawn():
+def test_race_robots_each_carry_their_colour_and_finishers_are_drawn_in_the_exit_with_their_rank():
     theme = THEMES["light"]
-    env = race_v0.parallel_env(level=LANE, n_robots=2, render_mode="rgb_array", cell_size=CS)
+    env = race_v0.parallel_env(level=LANE, n_robots=2, render_mode="rgb_array", cell_size=64)
     env.reset(seed=0)
     frame = env.render()
-    cells = env.robot_cells
-    assert centre(frame, cells[0]) == theme.robots[0]
-    assert centre(frame, cells[1]) == theme.robots[1]
-    # LANE: robot 0 at (0, 0) is two moves EAST from the exit (2, 0); robot 1 at (3, 0) stays,
-    # so robot 0 finishes alone and leaves the board.
-    for action in (2, 2):
-        env.step({a: (action if a == "robot_0" else 0) for a in env.agents})
-    assert env.ranks[0] == 1
+    grid = frame[:64]
+    assert has(cell(grid, (0, 0), 64), theme.robots[0]) and has(cell(grid, (3, 0), 64), theme.robots[1])
+    env.step({"robot_0": 2, "robot_1": 0})
+    env.step({"robot_0": 2, "robot_1": 0})  # robot 0 enters the exit (2, 0) and finishes first
+    assert env.unwrapped.ranks[0] == 1
+    exit_cell = cell(env.render()[:64], (2, 0), 64)
+    assert has(exit_cell, theme.robots[0]) and has(exit_cell, (240, 190, 40))  # in the exit, with a gold badge
+    env.step({"robot_1": 4})
+    assert has(cell(env.render()[:64], (2, 0), 64), theme.robots[0])  # still there, later
+
+
+def test_the_race_frame_has_a_legend_with_a_swatch_per_robot():
+    theme = THEMES["light"]
+    env = race_v0.parallel_env(level="race-4", n_robots=4, render_mode="rgb_array", cell_size=48)
+    env.reset(seed=0)
     frame = env.render()
-    assert theme.robots[0] not in colours(frame)
-    assert centre(frame, env.robot_cells[1]) == theme.robots[1]
+    grid_h = env.unwrapped.level.height * 48
+    assert frame.shape[0] > grid_h
+    legend = frame[grid_h:]
+    for i in range(4):
+        assert has(legend, theme.robots[i])
+
+
+CORRIDOR = """
++-+-+-+-+-+
+|0 1      |
++-+-+-+-+-+
+|        E|
++-+-+-+-+-+
+"""
+
+
+def test_a_robot_stopped_by_another_gets_a_burst_at_that_cell_in_the_same_step_only():
+    theme = THEMES["light"]
+    level = Level.from_ascii(CORRIDOR.replace("+-+-+-+-+-+\n|        E|", "+ + + + +-+\n|        E|"))
+    env = race_v0.parallel_env(level=level, n_robots=2, render_mode="rgb_array", cell_size=64, collisions="block")
+    env.reset(seed=0)
+    env.step({"robot_0": 2, "robot_1": 0})  # robot 0 walks into robot 1, who stays: blocked
+    frame = env.render()[: 2 * 64]
+    assert has(cell(frame, (1, 0), 64), theme.mark)  # at the cell it could not enter
+    env.step({"robot_0": 0, "robot_1": 0})
+    assert not has(env.render()[: 2 * 64], theme.mark)
+
+
+def test_robots_sharing_a_cell_under_pass_are_drawn_side_by_side():
+    theme = THEMES["light"]
+    level = Level.from_ascii(CORRIDOR.replace("+-+-+-+-+-+\n|        E|", "+ + + + +-+\n|        E|"))
+    env = race_v0.parallel_env(level=level, n_robots=2, render_mode="rgb_array", cell_size=64, collisions="pass")
+    env.reset(seed=0)
+    env.step({"robot_0": 2, "robot_1": 0})  # both in (1, 0)
+    shared = cell(env.render()[:128], (1, 0), 64)
+    left, right = shared[:, :32], shared[:, 32:]
+    assert count(left, theme.robots[0]) > 20 > count(right, theme.robots[0])  # robot 0 on the left
+    assert count(right, theme.robots[1]) > 20 and count(right, theme.robots[1]) > count(left, theme.robots[1])
 
 
 def test_the_same_state_gives_the_same_bytes_and_frames_are_fresh_arrays():
@@ -142,20 +243,20 @@ def test_the_same_state_gives_the_same_bytes_and_frames_are_fresh_arrays():
 
 def test_themes_change_colours_and_a_custom_theme_is_data():
     level = levels.get("mixed-8x8")
-    light = RgbRenderer(level, CS, "light").frame([(0, 0)])
-    dark = RgbRenderer(level, CS, "dark").frame([(0, 0)])
-    assert light.tobytes() != dark.tobytes()
-    custom = Theme(**{**THEMES["light"].__dict__, "floor": (1, 2, 3)})
-    frame = RgbRenderer(level, CS, custom).frame()
-    assert (1, 2, 3) in colours(frame)
+    frames = {name: RgbRenderer(level, CS, name).frame([(0, 0)]).tobytes() for name in THEMES}
+    assert len(set(frames.values())) == len(THEMES) == 4
+    custom = variant(THEMES["light"], floor=(1, 2, 3))
+    assert isinstance(custom, Theme) and has(RgbRenderer(level, CS, custom).frame(), (1, 2, 3))
 
 
 @pytest.mark.parametrize(
     ("kwargs", "message"),
     [
         ({"cell_size": 4}, "cell_size"),
+        ({"cell_size": 257}, "cell_size"),
         ({"cell_size": 32.0}, "cell_size"),
         ({"cell_size": True}, "cell_size"),
+        ({"cell_size": "32"}, "cell_size"),
         ({"theme": "neon"}, "theme: unknown theme 'neon'"),
     ],
 )
@@ -166,10 +267,49 @@ def test_bad_render_options_name_the_argument(kwargs, message):
         race_v0.parallel_env(render_mode="rgb_array", **kwargs)
 
 
+def test_numpy_integers_are_cell_sizes_too():
+    assert BabyRobotEnv(level="default", cell_size=np.int64(40)).cell_size == 40
+
+
+def test_a_frame_over_the_pixel_limit_is_refused_before_drawing_naming_cell_size_and_what_fits():
+    level = levels.get("maze-64x64")
+    with pytest.raises(ValueError, match=r"cell_size: .*limit.*cell_size <= 64"):
+        BabyRobotEnv(level=level, render_mode="rgb_array", cell_size=65)
+    assert MAX_FRAME_PIXELS >= 64 * 64 * 64 * 64
+
+
 def test_gymnasium_make_renders_rgb_array_for_both_registered_envs():
     for env_id, kwargs in [("babyrobot_marl/BabyRobot-v0", {}), ("babyrobot_marl/BabyRobotRace-v0", {"level": "race-4"})]:
         env = gymnasium.make(env_id, render_mode="rgb_array", cell_size=16, **kwargs)
         env.reset(seed=0)
         frame = env.render()
         level = env.unwrapped.level
-        assert frame.shape == (level.height * 16, level.width * 16, 3)
+        assert frame.shape[1:] == (level.width * 16, 3) and frame.shape[0] >= level.height * 16
+
+
+def test_text_frames_give_84_robots_their_own_character_and_say_which_share_one_past_that():
+    from babyrobot_marl.render.ansi import GLYPHS, frame, robot_glyph
+
+    glyphs = [robot_glyph(i, 200) for i in range(len(GLYPHS))]
+    assert len(set(glyphs)) == len(GLYPHS) >= 84 and all(len(g) == 1 for g in glyphs)
+    level = levels.get("maze-16x16")
+    cells = [(i % 16, i // 16) for i in range(100)]
+    text = frame(level, cells, status="step 0")
+    assert "robots 84..99 drawn as @" in text and text.split("\nstep 0")[0].count("@") == 100 - 84
+    assert "drawn as @" not in frame(level, cells[:84])
+
+
+def test_the_race_gym_env_names_the_learner_and_its_opponents_and_forwards_the_animation_settings():
+    env = gymnasium.make(
+        "babyrobot_marl/BabyRobotRace-v0",
+        level="race-4",
+        opponents=["shortest", "random"],
+        render_mode="rgb_array",
+        animation_frames=0,
+        render_fps=10,
+    )
+    env.reset(seed=0)
+    race = env.unwrapped.race
+    assert [row.name for row in race._scene().legend] == ["learner", "shortest", "random"]
+    assert race.animation_frames == 0 and env.unwrapped.metadata["render_fps"] == 10
+    assert env.render().shape[0] > race.level.height * race.cell_size  # the legend

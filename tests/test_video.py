@@ -100,3 +100,14 @@ def test_episode_frames_stop_after_max_steps():
 def test_episode_frames_bad_arguments_are_value_errors_naming_them(make_env, policy, name):
     with pytest.raises(ValueError, match=f"^{name}"):
         episode_frames(make_env(), policy)
+
+
+def test_episode_frames_with_in_between_frames_glide_and_end_each_step_on_its_render():
+    env = BabyRobotEnv(level="default", render_mode="rgb_array", cell_size=32)
+    plain = episode_frames(env, lambda obs: 2, seed=0, max_steps=2)
+    smooth = episode_frames(env, lambda obs: 2, seed=0, max_steps=2, animation_frames=4)
+    assert len(smooth) == 1 + 2 * 4
+    assert all((a == b).all() for a, b in zip(plain, smooth[::4]))  # each step ends on its own frame
+    assert not (smooth[1] == smooth[0]).all() and not (smooth[1] == smooth[4]).all()  # in between
+    with pytest.raises(ValueError, match="^animation_frames"):
+        episode_frames(env, lambda obs: 2, seed=0, animation_frames=-1)

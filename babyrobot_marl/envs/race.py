@@ -24,7 +24,7 @@ from ..render.canvas import check_animation_frames, check_fps
 from ..render.overlay import Overlay
 from ..render.rgb import RgbRenderer, Theme, check_cell_size, resolve_theme
 from .common import check_action, check_options, check_positive_int, check_render_mode, resolve_level, resolve_rules
-from .drawing import Drawing
+from .drawing import RaceDrawing
 from .single import default_max_steps
 
 START_MODES = ("level", "fill", "random")
@@ -37,7 +37,7 @@ _ARGS = (
 )
 
 
-class RaceEnv(Drawing, ParallelEnv):
+class RaceEnv(RaceDrawing, ParallelEnv):
     """Several Baby Robots race to the exit. See ``babyrobot_marl.race_v0`` for the full table."""
 
     metadata = {
@@ -57,7 +57,7 @@ class RaceEnv(Drawing, ParallelEnv):
         finished: str = "remove",
         rules: Rules | Mapping[str, Any] | None = None,
         render_mode: str | None = None,
-        cell_size: int = 32,
+        cell_size: int | None = None,
         theme: str | Theme = "light",
         animation_frames: int = 4,
         render_fps: float | None = None,
@@ -80,7 +80,7 @@ class RaceEnv(Drawing, ParallelEnv):
         self.start, self.finished_mode = start, finished
         self._fixed_starts, self._free = self._placement(n)
         self.render_mode = check_render_mode(render_mode, self.metadata["render_modes"])
-        self.cell_size, self.theme = check_cell_size(cell_size), resolve_theme(theme)
+        self.cell_size, self.theme = check_cell_size(cell_size, self.level), resolve_theme(theme)
         self.animation_frames = check_animation_frames(animation_frames)
         if render_fps is not None:  # this env's own metadata: the class's stays as it is
             self.metadata = {**type(self).metadata, "render_fps": check_fps(render_fps)}
@@ -117,6 +117,7 @@ class RaceEnv(Drawing, ParallelEnv):
         self._returns: list[float] = []  # of the finished robots; the racing ones' in _live_returns
         self._live_returns: list[float] = []
         self._bumps: list[int] = []
+        self._last_step: tuple | None = None  # what the last step did, for the pictures (drawing.py)
         self._t = 0
         self._key = 0
         self._n_finished = 0
@@ -143,6 +144,7 @@ class RaceEnv(Drawing, ParallelEnv):
         self._returns = [0.0] * n
         self._live_returns = [0.0] * n
         self._bumps = [0] * n
+        self._last_step = None
         self._t = 0
         self._n_finished = 0
         self._set_agents(self._live)
@@ -166,6 +168,7 @@ class RaceEnv(Drawing, ParallelEnv):
         cells, outcome, blocked, finishing = race_step(
             self._lists, self.collisions, self._live_cells, acts, self._key, t, live, self.n_robots
         )
+        self._last_step = (live, self._live_cells, acts, outcome, blocked, finishing, t)
         self._live_cells, self._t = cells, t + 1
         rewards = list(map(self._reward_at, cells))
         if True in blocked:
@@ -293,12 +296,11 @@ class RaceEnv(Drawing, ParallelEnv):
 
             gymnasium.logger.warn("render() called with render_mode=None; pass render_mode='ansi' or 'human'")
             return None
-        robots: list[Cell | None] = [self._xy[c] if r else None for c, r in zip(self._cells, self._racing)]
         if self.render_mode == "rgb_array":
-            return self._overlay_frame(robots)
+            return self._overlay_frame()
         if self.render_mode == "ansi":
             return self.render_text()
-        self._show_human(robots, self.render_text, animate=self._t > 0)
+        self._show_human(self.render_text, animate=self._t > 0)
         return None
 
     def batch(self, n_envs: int) -> BatchRace:
@@ -314,7 +316,7 @@ class RaceEnv(Drawing, ParallelEnv):
         return RgbRenderer(self.level, self.cell_size, self.theme)
 
     def close(self) -> None:
-        pass
+        self._close_canvas()
 
     # ----------------------------------------------------------------------- helpers
     def render_text(self, colour: bool = False) -> str:

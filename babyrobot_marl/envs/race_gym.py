@@ -42,8 +42,10 @@ class BabyRobotRaceEnv(gym.Env):
         start: str = "level",
         rules: Rules | Mapping[str, Any] | None = None,
         render_mode: str | None = None,
-        cell_size: int = 32,
+        cell_size: int | None = None,
         theme: str | Theme = "light",
+        animation_frames: int = 4,
+        render_fps: float | None = None,
         **rule_overrides: Any,
     ):
         if isinstance(opponents, str) or not isinstance(opponents, Sequence) or not all(p in POLICY_NAMES for p in opponents):
@@ -59,8 +61,12 @@ class BabyRobotRaceEnv(gym.Env):
             render_mode=render_mode,
             cell_size=cell_size,
             theme=theme,
+            animation_frames=animation_frames,
+            render_fps=render_fps,
             **rule_overrides,
         )
+        self.race.set_overlay(names=["learner", *opponents])  # the legend's names
+        self.metadata = self.race.metadata  # render_fps: this env's own
         self.opponent_names = tuple(opponents)
         self.render_mode = render_mode
         self.observation_space = self.race.observation_space("robot_0")
@@ -98,6 +104,9 @@ class BabyRobotRaceEnv(gym.Env):
 
     def render(self) -> str | None:
         return self.race.render()
+
+    def close(self) -> None:
+        self.race.close()
 
     def _with_ranks(self, info: dict[str, Any]) -> dict[str, Any]:
         return {**info, "ranks": self.race.ranks}

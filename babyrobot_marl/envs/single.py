@@ -23,7 +23,7 @@ from ..render.canvas import check_animation_frames, check_fps
 from ..render.overlay import Overlay
 from ..render.rgb import RgbRenderer, Theme, check_cell_size, resolve_theme
 from .common import check_action, check_options, check_positive_int, check_render_mode, resolve_level, resolve_rules
-from .drawing import Drawing
+from .drawing import SingleDrawing
 
 
 def default_max_steps(level: Level) -> int:
@@ -31,7 +31,7 @@ def default_max_steps(level: Level) -> int:
     return max(100, 4 * level.n_cells)
 
 
-class BabyRobotEnv(Drawing, gym.Env):
+class BabyRobotEnv(SingleDrawing, gym.Env):
     """Baby Robot looks for the exit of a grid of walls, glass walls, puddles and blocked cells.
 
     ## Action space
@@ -105,7 +105,7 @@ class BabyRobotEnv(Drawing, gym.Env):
         max_steps: int | None = None,
         start: str | None = None,
         render_mode: str | None = None,
-        cell_size: int = 32,
+        cell_size: int | None = None,
         theme: str | Theme = "light",
         animation_frames: int = 4,
         render_fps: float | None = None,
@@ -126,7 +126,7 @@ class BabyRobotEnv(Drawing, gym.Env):
         if self.random_start and not self._free:
             raise ValueError(f"level: {self.level!r} has no free cell to start a robot on")
         self.render_mode = check_render_mode(render_mode, self.metadata["render_modes"])
-        self.cell_size, self.theme = check_cell_size(cell_size), resolve_theme(theme)
+        self.cell_size, self.theme = check_cell_size(cell_size, self.level), resolve_theme(theme)
         self.animation_frames = check_animation_frames(animation_frames)
         if render_fps is not None:  # this env's own metadata: the class's stays as it is
             self.metadata = {**type(self).metadata, "render_fps": check_fps(render_fps)}
@@ -143,7 +143,7 @@ class BabyRobotEnv(Drawing, gym.Env):
         self._key = 0
         self._done = True
         self._return = 0.0
-        self._last: str = ""
+        self._last_step: tuple[int, int, int] | None = None  # (cell before, action, outcome)
 
     # ------------------------------------------------------------------------ Gymnasium API
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
@@ -161,7 +161,7 @@ class BabyRobotEnv(Drawing, gym.Env):
         self._t = 0
         self._done = False
         self._return = 0.0
-        self._last = ""
+        self._last_step = None
         if self.render_mode == "human":
             self._render_human(animate=False)
         return self._obs[self._cell].copy(), {"cell": self._xy[self._cell]}
@@ -173,6 +173,7 @@ class BabyRobotEnv(Drawing, gym.Env):
                 raise RuntimeError("step: call reset() before the first step()")
             raise RuntimeError("step: the episode has ended (terminated or truncated); call reset() first")
         cell, outcome = move(self._lists, self._cell, a, self._key, self._t * SLOTS)
+        self._last_step = (self._cell, a, outcome)
         self._cell = cell
         self._t += 1
         reward = self._lists.reward[cell]
@@ -180,7 +181,6 @@ class BabyRobotEnv(Drawing, gym.Env):
         truncated = not terminated and self._t >= self.max_steps
         self._done = terminated or truncated
         self._return += reward
-        self._last = f"{Action(a).name} -> {OUTCOMES[outcome]}"
         if self.render_mode == "human":
             self._render_human()
         info = {"cell": self._xy[cell], "outcome": OUTCOMES[outcome], "intended": outcome <= STAYED}
@@ -193,7 +193,7 @@ class BabyRobotEnv(Drawing, gym.Env):
         if self.render_mode == "ansi":
             return self._frame()
         if self.render_mode == "rgb_array":
-            return self._overlay_frame([self.robot_cell] if self._cell >= 0 else [])
+            return self._overlay_frame()
         self._render_human()
         return None
 
@@ -229,11 +229,12 @@ class BabyRobotEnv(Drawing, gym.Env):
 
     def _frame(self, colour: bool = False) -> str:
         robots = [self.robot_cell] if self._cell >= 0 else []
-        status = f"step {self._t}/{self.max_steps}  return {self._return:g}" + (f"  {self._last}" if self._last else "")
+        last = f"  {Action(self._last_step[1]).name} -> {OUTCOMES[self._last_step[2]]}" if self._last_step else ""
+        status = f"step {self._t}/{self.max_steps}  return {self._return:g}{last}"
         return frame(self.level, robots, status, colour=colour)
 
     def _render_human(self, animate: bool = True) -> None:
-        self._show_human([self.robot_cell] if self._cell >= 0 else [], self._frame, animate)
+        self._show_human(self._frame, animate)
 
     def _check_start(self, start: object) -> int:
         try:

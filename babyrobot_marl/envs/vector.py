@@ -134,7 +134,8 @@ class _BatchVectorEnv(gym.vector.VectorEnv):
     def render(self) -> tuple[Any, ...] | None:
         """One frame per env (not per slot), as ``SyncVectorEnv.render`` returns one per env.
 
-        ``"rgb_array"``: each the single env's ``rgb_array`` frame; ``"ansi"``: each a text
+        ``"rgb_array"``: each env's robots drawn where they stand by the single env's renderer
+        (the batch keeps no step history: no poses, no race legend); ``"ansi"``: each a text
         frame with the env's step count.
         """
         if self.render_mode is None:
@@ -307,7 +308,7 @@ class BabyRobotVectorEnv(_BatchVectorEnv):
         max_steps: int | None = None,
         start: str | None = None,
         render_mode: str | None = None,
-        cell_size: int = 32,
+        cell_size: int | None = None,
         theme: str | Theme = "light",
         **rule_overrides: Any,
     ):
@@ -410,7 +411,7 @@ class RaceVectorEnv(_BatchVectorEnv):
         start: str = "level",
         rules: Rules | Mapping[str, Any] | None = None,
         render_mode: str | None = None,
-        cell_size: int = 32,
+        cell_size: int | None = None,
         theme: str | Theme = "light",
         **rule_overrides: Any,
     ):

@@ -11,12 +11,17 @@ ROBOT_LETTERS = "ABCDEFGHIJKLMNOPQRSTUVWXYZ"
 ROBOT_COLOURS = (31, 34, 32, 35, 33, 36, 91, 94, 92, 95)
 
 
+# One character per robot: Latin letters, then the Greek ones that look like no Latin letter.
+GLYPHS = ROBOT_LETTERS + ROBOT_LETTERS.lower() + "ΓΔΘΛΞΠΣΦΨΩ" + "αβγδεζηθικλμξπρστυφχψω"
+MANY = "@"  # robots past the last glyph; the frame says so under the grid
+
+
 def robot_glyph(i: int, n_robots: int) -> str:
-    """``R`` for a lone robot, else ``A``, ``B``, ... (then ``a``... and ``@`` past 52)."""
+    """``R`` for a lone robot, else ``A``..``Z``, ``a``..``z``, then Greek letters (84 in all);
+    ``@`` past those (the frame's status line says which robots share it)."""
     if n_robots == 1:
         return "R"
-    letters = ROBOT_LETTERS + ROBOT_LETTERS.lower()
-    return letters[i] if i < len(letters) else "@"
+    return GLYPHS[i] if i < len(GLYPHS) else MANY
 
 
 def frame(level: Level, robots: Sequence[Cell | None], status: str = "", colour: bool = False) -> str:
@@ -37,4 +42,7 @@ def frame(level: Level, robots: Sequence[Cell | None], status: str = "", colour:
             glyph = f"\x1b[1;{ROBOT_COLOURS[i % len(ROBOT_COLOURS)]}m{glyph}\x1b[0m"
         lines[2 * cell[1] + 1][2 * cell[0] + 1] = glyph
     text = "\n".join("".join(line) for line in lines)
+    if n > len(GLYPHS):
+        note = f"robots {len(GLYPHS)}..{n - 1} drawn as {MANY} (one character each is not enough; rgb_array draws their numbers)"
+        status = f"{status}\n{note}" if status else note
     return f"{text}\n{status}" if status else text

@@ -1,40 +1,76 @@
 """The live canvas: the grid drawn in the Jupyter cell with ipycanvas and updated as the episode runs.
 
-A ``MultiCanvas`` of three layers:
+A ``MultiCanvas`` of three layers, its backing store ``pixel_ratio`` (default 2) times its CSS
+size so it is crisp on HiDPI screens:
 
-0. the level (floor, walls, glass, puddles, labels) with the overlay's value tints: the
-   ``rgb_array`` image (``RgbRenderer.tinted``), sent as lossless RGBA (PNG; RGB would go as
-   lossy JPEG) so canvas and ``rgb_array`` show the same pixels; sent once, and again only
-   when the values change;
-1. the robots, redrawn each step: ``animation_frames`` interpolated frames glide them from
-   cell to cell (0: jump), each frame one ``hold_canvas()`` batch, paced at ``fps`` steps
-   per second;
-2. the overlay's ink (arrows, numbers, text) over the robots, and the panel below the grid,
-   redrawn only when it changes.
+0. the level with the overlay's tints, arrows and numbers: the ``rgb_array`` picture at
+   ``pixel_ratio`` times the cell size, sent as lossless RGBA (PNG) once, and again only
+   when the overlay's cells change;
+1. the robots, the marks of collisions and the rank badges (``scene``), redrawn each step
+   as canvas paths: ``animation_frames`` interpolated frames glide the robots from cell to
+   cell (0: jump), each frame one ``hold_canvas()`` batch of one ``fill_styled_polygons``
+   call plus the robots' numbers, paced at ``fps`` steps per second;
+2. the START / EXIT labels (always on top) and the panel under the grid: the overlay's text,
+   the colour bar, the race legend, redrawn when they change.
 
-As in ``rgb_array``: tints under the robots, arrows and text over them, one shared geometry
-(``render.geometry``). Every number sent is a Python number (without ``orjson`` ipycanvas
-cannot serialise numpy scalars).
+Both renderers draw the same operations (``paint``), so the canvas and ``rgb_array`` show the
+same picture. The output also carries a PNG of the latest frame (``rgb_array``'s), refreshed
+when an episode ends, when the env closes and after every notebook cell that changed it
+(``snapshot``): a notebook saved and reopened without a kernel, or shown on GitHub or
+nbviewer, still shows the picture.
 
-``on_client_ready`` redraws everything when a browser (re)connects: a canvas keeps no state
-of its own. Needs the ``notebook`` extra (ipycanvas, ipywidgets, orjson); imported lazily.
+``on_client_ready`` redraws everything when a browser (re)connects. Needs the ``notebook``
+extra (ipycanvas, ipywidgets, orjson); imported lazily. Every number sent is a Python number.
 """
 
 from __future__ import annotations
 
+import base64
 import time
+import zlib
+from collections import deque
 from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
 
 from ..core.level import Cell
-from .geometry import ARROWS, CELL_TEXT_CENTRE, ROBOT_RADIUS, TRIANGLE_LABELS, VALUE_TEXT_CENTRE, scaled
-from .overlay import Overlay, format_value
+from .glyphs import baseline_y, css_font, origin
+from .overlay import Overlay
+from .paint import Fill, Op, Text
 from .rgb import RgbRenderer
+from .scene import Scene, as_scene, glide, robot_sprites
+from .sprites import Stamp
 
-PANEL_LINE = 18  # pixels per panel line
 MAX_ANIMATION_FRAMES = 60
+PIXEL_RATIO = 2
+REDRAW_AFTER = 1.0  # seconds after a browser (re)connects: everything drawn once more
+MAX_TRACKED = 16  # canvases whose saved PNG is refreshed after each cell (the most recent ones)
+_shown: deque[LiveCanvas] = deque(maxlen=MAX_TRACKED)
+_hooked = False
+
+
+def shown_canvases() -> list[LiveCanvas]:
+    """The canvases shown in this kernel (the most recent ``MAX_TRACKED``), oldest first."""
+    return list(_shown)
+
+
+def _after_cell(*_: Any) -> None:
+    """IPython's ``post_run_cell``: each shown canvas's PNG brought up to its latest frame."""
+    for c in list(_shown):
+        c.snapshot(only_if_changed=True)
+
+
+def _track(c: LiveCanvas) -> None:
+    global _hooked
+    _shown.append(c)
+    if not _hooked:
+        from IPython import get_ipython
+
+        shell = get_ipython()
+        if shell is not None:
+            shell.events.register("post_run_cell", _after_cell)
+            _hooked = True
 
 
 def notebook_available() -> bool:
@@ -54,91 +90,162 @@ def notebook_available() -> bool:
 
 
 def check_animation_frames(n: object) -> int:
-    if isinstance(n, bool) or not isinstance(n, int) or not 0 <= n <= MAX_ANIMATION_FRAMES:
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or not 0 <= n <= MAX_ANIMATION_FRAMES:
         raise ValueError(f"animation_frames: must be an integer in 0..{MAX_ANIMATION_FRAMES} (0: no animation), got {n!r}")
-    return n
+    return int(n)
 
 
 def check_fps(fps: object, name: str = "render_fps") -> float:
-    if isinstance(fps, bool) or not isinstance(fps, (int, float)) or not 0 <= fps < float("inf"):
+    if isinstance(fps, bool) or not isinstance(fps, (int, float, np.integer, np.floating)) or not 0 <= fps < float("inf"):
         raise ValueError(f"{name}: must be a finite number >= 0 (steps per second; 0: no pacing), got {fps!r}")
     return float(fps)
 
 
-def _css(colour: Sequence[int]) -> str:
-    return f"rgb({int(colour[0])}, {int(colour[1])}, {int(colour[2])})"
+def png_bytes(img: np.ndarray) -> bytes:
+    """``uint8[H, W, 3]`` as a PNG file (zlib from the standard library: no image package needed)."""
+    h, w = img.shape[:2]
+    raw = np.concatenate([np.zeros((h, 1), dtype=np.uint8), img.reshape(h, w * 3)], axis=1).tobytes()
+
+    def chunk(kind: bytes, data: bytes) -> bytes:
+        body = kind + data
+        return len(data).to_bytes(4, "big") + body + zlib.crc32(body).to_bytes(4, "big")
+
+    header = w.to_bytes(4, "big") + h.to_bytes(4, "big") + bytes([8, 2, 0, 0, 0])
+    return b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"IDAT", zlib.compress(raw, 6)) + chunk(b"IEND", b"")
+
+
+def _css(colour: Sequence[int], alpha: float = 1.0) -> str:
+    if alpha >= 1.0:
+        return f"rgb({int(colour[0])}, {int(colour[1])}, {int(colour[2])})"
+    return f"rgba({int(colour[0])}, {int(colour[1])}, {int(colour[2])}, {alpha:.3f})"
 
 
 class LiveCanvas:
     """Draws one env's level, robots and overlay on an ipycanvas ``MultiCanvas`` (``widget``).
 
-    ``fps``: steps per second (``env.metadata["render_fps"]``; 0: as fast as drawn), frames
-    are sent at most ``fps * max(1, animation_frames)`` a second, measured from the frame
-    before, so the time a program spends between steps is not added to it;
-    ``animation_frames``: frames per step (0: robots jump to their new cells).
+    ``renderer`` draws the ``rgb_array`` frames (and fixes the cell size and theme);
+    ``fps``: steps per second (0: as fast as drawn); frames are sent at most
+    ``fps * max(1, animation_frames)`` a second, measured from the frame before, so the
+    time a program spends between steps is not added to it; ``animation_frames``: frames
+    per step (0: robots jump); ``pixel_ratio``: backing-store pixels per CSS pixel.
     """
 
-    def __init__(self, renderer: RgbRenderer, animation_frames: int = 4, fps: float = 4.0):
+    def __init__(self, renderer: RgbRenderer, animation_frames: int = 4, fps: float = 4.0, pixel_ratio: int = PIXEL_RATIO):
         from ipycanvas import MultiCanvas
 
         self.renderer = renderer
         self.animation_frames = check_animation_frames(animation_frames)
         self.fps = check_fps(fps, "fps")
-        h, w = renderer.shape[:2]
-        self.grid_height, self.width = h, w
-        self.widget = MultiCanvas(3, width=w, height=h)
-        self.robots: list[Cell | None] = []
+        if isinstance(pixel_ratio, bool) or pixel_ratio not in (1, 2):
+            raise ValueError(f"pixel_ratio: must be 1 or 2, got {pixel_ratio!r}")
+        self.ratio = pixel_ratio
+        self.hi = renderer if pixel_ratio == 1 else RgbRenderer(renderer.level, renderer.cell_size * pixel_ratio, renderer.theme)
+        self.width, self.grid_height = renderer.width, renderer.grid_height  # CSS pixels
+        self.widget = MultiCanvas(3, width=self.width * self.ratio, height=self.grid_height * self.ratio)
+        self._set_css_size(self.grid_height)
+        self.scene = Scene()
         self.overlay = Overlay()
         self.frames_sent = 0  # hold_canvas batches sent (tests, benchmarks)
-        self._level_image: np.ndarray | None = None  # what layer 0 shows
+        self._static: np.ndarray | None = None  # what layer 0 shows
+        self._drawn: list[tuple] | None = None  # the keys of the panel's pieces on layer 2
         self._due = 0.0  # time.monotonic() at which the next robot frame may be sent
-        self.widget.on_client_ready(self.redraw)
-        self._draw_level()
+        self._handle: Any = None  # the display handle whose PNG ``snapshot`` refreshes
+        self._styles = _Styles()
+        self._snapped: tuple[Scene, Overlay] | None = None  # what the output's PNG shows
+        # each layer is its own canvas in the browser, ready in its own time: each redraws itself,
+        # and everything is drawn once more a moment later (a reloading page may drop the first
+        # commands: the widget that carries them to the layers is not always ready before them)
+        layers = self.widget._canvases
+        layers[0].on_client_ready(lambda *_: self._on_ready(self._draw_static))
+        layers[1].on_client_ready(lambda *_: self._on_ready(lambda: self._draw_robots(self.scene)))
+        layers[2].on_client_ready(lambda *_: self._on_ready(lambda: self._draw_top(force=True)))
+        self._redraw_due = False
+        self._draw_static()
+        self._draw_top()
 
     # ------------------------------------------------------------------ public
     def show(self) -> None:
-        """Display the canvas in the current notebook cell."""
+        """Display the canvas in the current notebook cell (with a PNG of the frame for saved notebooks)."""
         from IPython.display import display
 
-        display(self.widget)
+        self._handle = display(self._bundle(), raw=True, display_id=True)
+        _track(self)
 
-    def draw(self, robots: Sequence[Cell | None], overlay: Overlay | None = None, animate: bool = True) -> None:
-        """Move the robots to ``robots`` (gliding from where they were, unless ``animate`` is
-        False or this is the first draw), and redraw the overlay if it changed."""
-        if overlay is not None:
-            self.set_overlay(overlay)
-        start, end = self.robots, list(robots)
-        self.robots = end
-        steps = self.animation_frames if animate and len(start) == len(end) else 0
-        if steps == 0:
-            self._pace(1.0 / self.fps if animate and self.fps > 0 else 0.0)
-            self._draw_robots(end)
+    def snapshot(self, only_if_changed: bool = False) -> None:
+        """Refresh the PNG that the output carries (the frame ``rgb_array`` gives for the same
+        state); done when an episode ends, when the env closes and after each notebook cell."""
+        if self._handle is None or (only_if_changed and self._snapped == (self.scene, self.overlay)):
             return
-        for k in range(1, steps + 1):
-            self._pace(1.0 / (self.fps * steps) if self.fps > 0 else 0.0)
-            self._draw_robots([_between(a, b, k / steps) for a, b in zip(start, end)])
+        self._handle.update(self._bundle(), raw=True)
 
-    def set_overlay(self, overlay: Overlay) -> None:
-        """Show ``overlay``: the level layer again if its tints changed, the ink layer if anything did."""
+    def frame(self) -> np.ndarray:
+        """The ``rgb_array`` frame of what the canvas shows."""
+        return self.renderer.frame(self.scene, self.overlay)
+
+    def draw(self, robots: Scene | Sequence[Cell | None], overlay: Overlay | None = None, animate: bool = True) -> None:
+        """Show ``robots`` (a ``Scene``, or robot ``i`` at ``robots[i]``), gliding from where they
+        came from unless ``animate`` is False; redraw the overlay and panel if they changed."""
+        scene = as_scene(robots)
+        if overlay is not None:
+            self.set_overlay(overlay, scene)
+        self.scene = scene
+        self._draw_top()
+        steps = self.animation_frames if animate else 0
+        if steps == 0 or not glide(scene, 0.0)[0]:  # nobody moved
+            self._pace(1.0 / self.fps if animate and self.fps > 0 else 0.0)
+            self._draw_robots(scene)
+        else:
+            for k in range(1, steps + 1):
+                self._pace(1.0 / (self.fps * steps) if self.fps > 0 else 0.0)
+                at, poses = glide(scene, k / steps, self.hi.labelled, self.hi.label_top)
+                self._draw_robots(scene, at, poses)
+        if scene.done:
+            self.snapshot()
+
+    def set_overlay(self, overlay: Overlay, scene: Scene | None = None) -> None:
+        """Show ``overlay``: the bottom layer again if its cells changed, the panel if it did."""
         if overlay is self.overlay:
             return
-        self.overlay = overlay
-        height = self.grid_height + (len(overlay.panel) * PANEL_LINE + 6 if overlay.panel else 0)
-        if height != self.widget.height:
-            self.widget.height = height  # resizing clears every layer
-            self._draw_level()
-            self._draw_robots(self.robots)
-        elif self.renderer.tinted(overlay) is not self._level_image:
-            self._draw_level()
-        self._draw_overlay()
+        old, self.overlay = self.overlay, overlay
+        if self.renderer.static(overlay) is not self.renderer.static(old) or self._static is None:
+            self._draw_static()
+        self._draw_top(scene)
+
+    def _on_ready(self, draw_layer: Any) -> None:
+        draw_layer()
+        if self._redraw_due:
+            return
+        try:
+            import asyncio
+
+            loop = asyncio.get_running_loop()  # the kernel's, running the comm message handlers
+        except RuntimeError:  # no running loop (not in a kernel): nothing to wait for
+            return
+        self._redraw_due = True
+
+        def again() -> None:
+            self._redraw_due = False
+            self.redraw()
+
+        loop.call_later(REDRAW_AFTER, again)
 
     def redraw(self, *_: Any) -> None:
         """Everything again (a browser connected: it starts from an empty canvas)."""
-        self._draw_level()
-        self._draw_overlay()
-        self._draw_robots(self.robots)
+        self._draw_static()
+        self._draw_top(force=True)
+        self._draw_robots(self.scene)
 
     # ------------------------------------------------------------------ layers
+    def _bundle(self) -> dict[str, Any]:
+        self._snapped = (self.scene, self.overlay)
+        data = dict(self.widget._repr_mimebundle_())  # the widget view and its text
+        data["image/png"] = base64.b64encode(png_bytes(self.frame())).decode("ascii")
+        return data
+
+    def _set_css_size(self, height: int) -> None:
+        self.widget.layout.width = f"{self.width}px"
+        self.widget.layout.height = f"{height}px"
+
     def _pace(self, interval: float) -> None:
         """Wait until the next frame is due, then set the one after ``interval`` seconds later."""
         now = time.monotonic()
@@ -153,65 +260,123 @@ class LiveCanvas:
         self.frames_sent += 1
         return hold_canvas()
 
-    def _draw_level(self) -> None:
-        bg = self._level_image = self.renderer.tinted(self.overlay)
-        rgba = np.concatenate([bg, np.full(bg.shape[:2] + (1,), 255, dtype=np.uint8)], axis=2)  # RGBA: sent as PNG
+    def _draw_static(self) -> None:
+        img = self._static = self.hi.static(self.overlay)
+        rgba = np.concatenate([img, np.full(img.shape[:2] + (1,), 255, dtype=np.uint8)], axis=2)  # RGBA: sent as PNG
         with self._hold():
             self.widget[0].clear()
             self.widget[0].put_image_data(rgba, 0, 0)
 
-    def _draw_robots(self, robots: Sequence[tuple[float, float] | None]) -> None:
-        cs, colours = self.renderer.cell_size, self.renderer.theme.robots
-        layer = self.widget[1]
-        with self._hold():
-            layer.clear()
-            for i in reversed(range(len(robots))):  # robot 0 on top, as in rgb_array
-                cell = robots[i]
-                if cell is None:
-                    continue
-                layer.fill_style = _css(colours[i % len(colours)])
-                layer.fill_circle(float((cell[0] + 0.5) * cs), float((cell[1] + 0.5) * cs), float(ROBOT_RADIUS * cs))
+    def _draw_top(self, scene: Scene | None = None, force: bool = False) -> None:
+        """Labels and panel (layer 2): only the strips of the panel whose content changed (a
+        legend row's return, say), everything when the panel's height changed or ``force``."""
+        from .annotate import value_range
+        from .panel import panel_sections, shifted
 
-    def _draw_overlay(self) -> None:
-        ov, r = self.overlay, self.renderer
-        cs, th = r.cell_size, r.theme
+        scene = scene or self.scene
+        r = self.hi
+        sections = panel_sections(r.width, r.cell_size, r.theme, self.overlay.panel, value_range(self.overlay),
+                                  scene.legend, self.ratio)  # fmt: skip
+        height = sum(sec.height for sec in sections)
+        drawn = self._drawn if not force and r.grid_height + height == self.widget.height else None
+        if r.grid_height + height != self.widget.height:
+            self.widget.height = r.grid_height + height  # resizing clears every layer
+            self._set_css_size(self.grid_height + height // self.ratio)
+            self._draw_static()
+            self._draw_robots(self.scene)
+        if force or drawn is None:
+            self._styles.reset()
+        ops: list[Op] = [] if drawn is not None else list(r.labels)
+        now: list[tuple] = []
+        y = r.grid_height
+        for k, sec in enumerate(sections):
+            old = drawn[k] if drawn is not None and k < len(drawn) else None
+            pieces = sec.parts or ((0, r.width, sec.key, sec.build),)
+            keys = tuple(part[2] for part in pieces)
+            now.append(keys)
+            for j, (x0, x1, key, build) in enumerate(pieces):
+                if old is not None and len(old) == len(keys) and old[j] == key:
+                    continue  # this piece shows already
+                ops.append(Fill(_rect(x0, y, x1, y + sec.height), sec.background))
+                ops += [shifted(op, y) for op in build()]
+            y += sec.height
+        self._drawn = now
+        if not ops:
+            return
         layer = self.widget[2]
         with self._hold():
+            if drawn is None:
+                layer.clear()
+            _send(layer, ops, self._styles)
+
+    def _draw_robots(self, scene: Scene, at: dict[int, tuple[float, float]] | None = None,
+                     poses: dict[int, str] | None = None) -> None:  # fmt: skip
+        layer = self.widget[1]
+        sprites = robot_sprites(scene, self.hi.cell_size, self.hi.theme, poses, at, self.hi.labelled)
+        with self._hold():
             layer.clear()
-            if ov.arrows is not None:
-                layer.fill_style = _css(th.arrow)
-                for action, polygon in ARROWS.items():
-                    for y, x in zip(*np.nonzero(ov.arrows[:, :, action])):
-                        layer.fill_polygon(scaled(polygon, int(x), int(y), cs))
-            layer.fill_style = _css(th.text)
-            layer.font = f"{max(9, cs // 4)}px sans-serif"
-            layer.text_align, layer.text_baseline = "center", "middle"
-            u, v = VALUE_TEXT_CENTRE
-            if ov.values is not None:
-                for y, x in zip(*np.nonzero(np.isfinite(ov.values))):
-                    layer.fill_text(format_value(float(ov.values[y, x])), float((x + u) * cs), float((y + v) * cs))
-            if ov.q_values is not None and cs >= 48:  # the numbers fit in the triangles
-                for action, (u, v) in TRIANGLE_LABELS.items():
-                    for y, x in zip(*np.nonzero(np.isfinite(ov.q_values[:, :, action]))):
-                        q = float(ov.q_values[y, x, action])
-                        layer.fill_text(format_value(q), float((x + u) * cs), float((y + v) * cs))
-            u, v = CELL_TEXT_CENTRE
-            for (x, y), text in ov.text.items():
-                layer.fill_text(text, float((x + u) * cs), float((y + v) * cs))
-            if ov.panel:
-                layer.fill_style = _css(th.panel)
-                layer.fill_rect(0.0, float(self.grid_height), float(self.width), float(self.widget.height - self.grid_height))
-                layer.fill_style = _css(th.text)
-                layer.font = "14px monospace"
-                layer.text_align, layer.text_baseline = "left", "top"
-                for k, line in enumerate(ov.panel):
-                    layer.fill_text(line, 6.0, float(self.grid_height + 4 + k * PANEL_LINE))
+            if not sprites:
+                return
+            # the polygons of all robots in one call (drawn in order), then their numbers
+            layer.fill_styled_polygons(
+                np.concatenate([s.points + (x, y) for s, x, y in sprites]),
+                np.concatenate([s.colours for s, _, _ in sprites]),
+                np.concatenate([s.alphas for s, _, _ in sprites]),
+                points_per_polygon=np.concatenate([s.counts for s, _, _ in sprites]),
+            )
+            texts = [Text(t.x + x, t.y + y, t.text, t.size, t.colour, t.align, t.baseline, t.alpha)
+                     for s, x, y in sprites for t in s.texts]  # fmt: skip
+            _send(layer, texts, self._styles)
 
 
-def _between(a: Cell | None, b: Cell | None, t: float) -> tuple[float, float] | None:
-    """The point a fraction ``t`` of the way from cell ``a`` to cell ``b`` (None: off the board)."""
-    if b is None:
-        return None if t >= 1.0 or a is None else (float(a[0]), float(a[1]))
-    if a is None:
-        return (float(b[0]), float(b[1]))
-    return (a[0] + (b[0] - a[0]) * t, a[1] + (b[1] - a[1]) * t)
+class _Styles:
+    """The font and fill style each layer was last given: setting an ipycanvas attribute costs
+    tens of microseconds (a traitlet and a command), so unchanged ones are not sent again."""
+
+    def __init__(self) -> None:
+        self.last: dict[int, tuple[str, str]] = {}
+
+    def reset(self) -> None:
+        self.last.clear()
+
+    def set(self, layer: Any, font: str, fill: str) -> None:
+        old_font, old_fill = self.last.get(id(layer), ("", ""))
+        if font != old_font:
+            layer.font = font
+            if not old_font:
+                layer.text_align, layer.text_baseline = "left", "alphabetic"
+        if fill != old_fill:
+            layer.fill_style = fill
+        self.last[id(layer)] = (font, fill)
+
+
+def _rect(x0: float, y0: float, x1: float, y1: float) -> np.ndarray:
+    from .paint import rect
+
+    return rect(x0, y0, x1, y1)
+
+
+def _send(layer: Any, ops: Sequence[Op], styles: _Styles) -> None:
+    """``ops`` as canvas calls: all polygons in one ``fill_styled_polygons`` call (in order), then
+    the texts (each element's text lies over its own shapes; elements do not overlap)."""
+    fills: list[Fill] = []
+    texts: list[Text] = []
+    for op in ops:
+        if isinstance(op, Stamp):
+            for part in op.sprite.ops(op.x, op.y):
+                (fills if isinstance(part, Fill) else texts).append(part)  # type: ignore[arg-type]
+        elif isinstance(op, Fill):
+            fills.append(op)
+        else:
+            texts.append(op)
+    if fills:
+        layer.fill_styled_polygons(
+            np.concatenate([f.points for f in fills]),
+            np.array([f.colour for f in fills], dtype=np.uint8),
+            np.array([f.alpha for f in fills], dtype=np.float64),
+            points_per_polygon=np.array([len(f.points) for f in fills]),
+        )
+    for t in sorted(texts, key=lambda t: (t.size, t.colour, t.alpha)):  # texts do not overlap: fewest style changes
+        styles.set(layer, css_font(t.size), _css(t.colour, t.alpha))
+        layer.fill_text(t.text, float(origin(t)[0]), float(baseline_y(t)))
+

@@ -11,6 +11,9 @@ their overlay, ``None`` clears one. Both ``rgb_array`` and the live canvas draw 
 | ``arrows`` | ints ``[H, W]`` (one ``Action``, 0 or -1: none) or bools ``[H, W, 5]`` / ``[H, W, 4]`` | an arrow per direction |
 | ``text`` | ``{(x, y): str}`` | the text in the cell |
 | ``panel`` | ``str`` or list of ``str`` | lines below the grid |
+| ``names`` | ``{robot: str}`` (robot number or agent name) | names in the race legend (e.g. the policies) |
+
+The colour bar of the values is drawn in the panel whenever values or action values are shown.
 """
 
 from __future__ import annotations
@@ -36,10 +39,16 @@ class Overlay:
     arrows: np.ndarray | None = None  # bool[H, W, 5]
     text: Mapping[tuple[int, int], str] = field(default_factory=dict)
     panel: tuple[str, ...] = ()
+    names: Mapping[int, str] = field(default_factory=dict)
+
+    @property
+    def has_cells(self) -> bool:
+        """Anything drawn in the cells (values, action values, arrows, text)."""
+        return self.values is not None or self.q_values is not None or self.arrows is not None or bool(self.text)
 
     @property
     def empty(self) -> bool:
-        return self.values is None and self.q_values is None and self.arrows is None and not self.text and not self.panel
+        return not self.has_cells and not self.panel and not self.names
 
 
 def update_overlay(
@@ -50,6 +59,8 @@ def update_overlay(
     arrows: Any = KEEP,
     text: Any = KEEP,
     panel: Any = KEEP,
+    names: Any = KEEP,
+    n_robots: int = 1,
 ) -> Overlay:
     """``current`` with the given parts replaced (``None`` clears a part); ValueError naming a bad one."""
     h, w = level.height, level.width
@@ -59,17 +70,21 @@ def update_overlay(
         "arrows": current.arrows if arrows is KEEP else _arrows(arrows, h, w),
         "text": current.text if text is KEEP else _text(text, level),
         "panel": current.panel if panel is KEEP else _panel(panel),
+        "names": current.names if names is KEEP else _names(names, n_robots),
     }
     return Overlay(**parts)
 
 
 def _numbers(arg: Any, name: str) -> np.ndarray:
     try:
-        arr = np.array(arg, dtype=np.float64)
+        raw = np.asarray(arg)
     except (TypeError, ValueError):
-        raise ValueError(f"{name}: expected an array of numbers, got {type(arg).__name__}") from None
-    if np.asarray(arg).dtype == np.bool_:
+        raise ValueError(f"{name}: expected an array of real numbers, got {type(arg).__name__}") from None
+    if raw.dtype == np.bool_:
         raise ValueError(f"{name}: expected numbers, got booleans")
+    if raw.dtype.kind not in "iuf":  # strings, complex numbers, objects: not silently converted
+        raise ValueError(f"{name}: expected an array of real numbers (int or float), got dtype {raw.dtype}")
+    arr = raw.astype(np.float64)
     if np.isinf(arr).any():
         raise ValueError(f"{name}: values must be finite (NaN marks a cell with no value)")
     return arr
@@ -140,6 +155,24 @@ def _text(arg: Any, level: Level) -> dict[tuple[int, int], str]:
     return out
 
 
+def _names(arg: Any, n_robots: int) -> dict[int, str]:
+    if arg is None:
+        return {}
+    if isinstance(arg, Sequence) and not isinstance(arg, str):
+        arg = dict(enumerate(arg))
+    if not isinstance(arg, Mapping):
+        raise ValueError(f"names: expected a dict {{robot: name}} or a list of names, got {type(arg).__name__}")
+    out = {}
+    for key, s in arg.items():
+        i = int(key.rsplit("_", 1)[1]) if isinstance(key, str) and key.startswith("robot_") and key[6:].isdigit() else key
+        if isinstance(i, bool) or not isinstance(i, (int, np.integer)) or not 0 <= i < n_robots:
+            raise ValueError(f"names: keys are robot numbers 0..{n_robots - 1} or agent names robot_0.., got {key!r}")
+        if not isinstance(s, str):
+            raise ValueError(f"names: the name of robot {i} must be a str, got {type(s).__name__}")
+        out[int(i)] = s
+    return out
+
+
 def _panel(arg: Any) -> tuple[str, ...]:
     if arg is None:
         return ()
@@ -151,17 +184,6 @@ def _panel(arg: Any) -> tuple[str, ...]:
 
 
 # ---------------------------------------------------------------------- shared by both renderers
-def value_colours(values: np.ndarray, low: tuple[int, int, int], high: tuple[int, int, int]) -> np.ndarray:
-    """``uint8[..., 3]``: each finite value placed between ``low`` (the minimum) and ``high``
-    (the maximum) of the finite values; all equal: the middle colour."""
-    finite = np.isfinite(values)
-    lo = float(values[finite].min()) if finite.any() else 0.0
-    hi = float(values[finite].max()) if finite.any() else 0.0
-    t = np.full(values.shape, 0.5) if hi == lo else (np.where(finite, values, lo) - lo) / (hi - lo)
-    a, b = np.array(low, dtype=np.float64), np.array(high, dtype=np.float64)
-    return np.rint(a + (b - a) * t[..., None]).astype(np.uint8)
-
-
 def format_value(v: float) -> str:
     """A value short enough for a cell: ``-12``, ``-3.5``, ``0.25``."""
     if abs(v) >= 100 or float(v).is_integer():

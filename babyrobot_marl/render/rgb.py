@@ -1,310 +1,266 @@
-"""``rgb_array`` frames in pure numpy: the level drawn once, robots painted on a copy per frame.
+"""``rgb_array`` frames in pure numpy, drawn from the same operations as the live canvas.
 
-A frame is ``uint8[height * cell_size, width * cell_size, 3]``. Walls are thick lines on cell
-edges, glass walls dashed in their own colour, blocked cells filled, puddles tinted (large
-darker), start cells labelled with their digit (``S`` for a lone start) and exits with ``E``.
-Each robot is a disc in its own colour. The same state always gives the same bytes.
+A frame is ``uint8[height * cell_size (+ panel), width * cell_size, 3]``, bottom to top:
 
-Themes are data: a ``Theme`` is a set of colours; ``THEMES`` holds the built-in ones.
+1. the level (``picture.level_ops``) with the overlay's tints, arrows and numbers
+   (``annotate``) and the START / EXIT labels: one static image per overlay, drawn once;
+2. the robots (``scene``): each pose is rasterised once per size into an anti-aliased sprite
+   and blended at its cell;
+3. the labels again over any robot, and the marks of collisions;
+4. the panel under the grid (``panel``): the overlay's text lines, the colour bar of the
+   values, the race legend; drawn once per content.
+
+The same state always gives the same bytes. Themes are data (``palette``).
 """
 
 from __future__ import annotations
 
+import math
+from collections import OrderedDict
 from collections.abc import Sequence
-from dataclasses import dataclass
 
 import numpy as np
 
 from ..core.level import Cell, Level
-from .font import draw_text, text_size
-from .geometry import ARROWS, CELL_TEXT_CENTRE, ROBOT_RADIUS, TRIANGLES, VALUE_TEXT_CENTRE, cell_mask
-from .overlay import Overlay, format_value, value_colours
+from . import annotate
+from .overlay import Overlay
+from .paint import Op, Text, paint, to_uint8
+from .palette import THEMES, Theme, resolve_theme
+from .panel import panel_sections
+from .picture import feature_ops, floor_ops, label_band, label_ops, level_ops
+from .scene import Scene, as_scene, glide, robot_sprites
+from .sprites import Patch, blend, patch
 
-Colour = tuple[int, int, int]
-
-
-@dataclass(frozen=True)
-class Theme:
-    """The colours of a frame (RGB, 0..255)."""
-
-    floor: Colour
-    grid: Colour
-    wall: Colour
-    glass: Colour
-    blocked: Colour
-    small_puddle: Colour
-    large_puddle: Colour
-    exit: Colour
-    start: Colour
-    label: Colour
-    robots: tuple[Colour, ...]
-    # overlays: value tints from low to high, arrows, overlay text, the panel below the grid
-    value_low: Colour = (214, 96, 77)
-    value_high: Colour = (77, 172, 120)
-    arrow: Colour = (40, 40, 40)
-    text: Colour = (20, 20, 20)
-    panel: Colour = (250, 250, 250)
-
-
-THEMES: dict[str, Theme] = {
-    "light": Theme(
-        floor=(245, 243, 236),
-        grid=(220, 216, 205),
-        wall=(60, 60, 70),
-        glass=(90, 170, 220),
-        blocked=(120, 120, 128),
-        small_puddle=(170, 205, 235),
-        large_puddle=(110, 160, 215),
-        exit=(150, 215, 150),
-        start=(235, 225, 170),
-        label=(40, 40, 40),
-        robots=((220, 60, 50), (50, 90, 210), (40, 160, 70), (160, 60, 180), (230, 150, 30), (30, 170, 180)),
-    ),
-    "dark": Theme(
-        floor=(38, 40, 48),
-        grid=(58, 60, 70),
-        wall=(210, 210, 220),
-        glass=(100, 190, 240),
-        blocked=(90, 92, 104),
-        small_puddle=(40, 70, 110),
-        large_puddle=(30, 55, 150),
-        exit=(40, 120, 60),
-        start=(110, 100, 50),
-        label=(235, 235, 235),
-        robots=((255, 95, 85), (100, 150, 255), (90, 220, 120), (210, 120, 240), (255, 190, 70), (70, 220, 230)),
-        value_low=(150, 60, 50),
-        value_high=(50, 130, 80),
-        arrow=(240, 240, 240),
-        text=(240, 240, 240),
-        panel=(30, 32, 38),
-    ),
-    "mono": Theme(
-        floor=(255, 255, 255),
-        grid=(225, 225, 225),
-        wall=(0, 0, 0),
-        glass=(150, 150, 150),
-        blocked=(90, 90, 90),
-        small_puddle=(215, 215, 215),
-        large_puddle=(175, 175, 175),
-        exit=(235, 235, 235),
-        start=(245, 245, 245),
-        label=(0, 0, 0),
-        robots=((30, 30, 30), (110, 110, 110), (60, 60, 60), (140, 140, 140)),
-        value_low=(120, 120, 120),
-        value_high=(245, 245, 245),
-        arrow=(0, 0, 0),
-        text=(0, 0, 0),
-        panel=(255, 255, 255),
-    ),
-}
+__all__ = ["MAX_CELL_SIZE", "MAX_FRAME_PIXELS", "MIN_CELL_SIZE", "THEMES", "RgbRenderer", "Theme", "resolve_theme"]
 
 MIN_CELL_SIZE, MAX_CELL_SIZE = 8, 256
+MAX_FRAME_PIXELS = 4096 * 4096  # a 256x256 maze at 16-pixel cells; larger frames ask for a smaller cell_size
+DEFAULT_MAX_CELL, COLUMN_WIDTH, COLUMN_HEIGHT = 64, 896, 768  # a notebook column
 
 
-def resolve_theme(theme: str | Theme) -> Theme:
-    if isinstance(theme, Theme):
-        return theme
-    if theme in THEMES:
-        return THEMES[theme]
-    raise ValueError(f"theme: unknown theme {theme!r}; built-in themes: {', '.join(THEMES)}, or pass a Theme")
+def auto_cell_size(level: Level) -> int:
+    """About 64-pixel cells, smaller for large levels so the grid fits a notebook column."""
+    return int(np.clip(min(COLUMN_WIDTH // level.width, COLUMN_HEIGHT // level.height), MIN_CELL_SIZE, DEFAULT_MAX_CELL))
 
 
-def check_cell_size(cell_size: object) -> int:
-    if isinstance(cell_size, bool) or not isinstance(cell_size, int) or not MIN_CELL_SIZE <= cell_size <= MAX_CELL_SIZE:
-        raise ValueError(f"cell_size: must be an integer in {MIN_CELL_SIZE}..{MAX_CELL_SIZE} (pixels), got {cell_size!r}")
-    return cell_size
+def check_cell_size(cell_size: object, level: Level | None = None) -> int | None:
+    """``cell_size`` as an int in ``MIN_CELL_SIZE..MAX_CELL_SIZE`` (None: chosen for the level)."""
+    if cell_size is None:
+        return auto_cell_size(level) if level is not None else None
+    try:
+        cs = None if isinstance(cell_size, (bool, float)) else int(cell_size.__index__())  # type: ignore[attr-defined]
+    except (AttributeError, TypeError):
+        cs = None
+    if cs is None or not MIN_CELL_SIZE <= cs <= MAX_CELL_SIZE:
+        raise ValueError(
+            f"cell_size: must be None (about 64, fitted to the level) or an integer in {MIN_CELL_SIZE}..{MAX_CELL_SIZE} "
+            f"(pixels), got {cell_size!r}"
+        )
+    if level is not None:
+        check_frame_size(level, cs)
+    return cs
+
+
+def check_frame_size(level: Level, cs: int) -> None:
+    pixels = level.width * level.height * cs * cs
+    if pixels > MAX_FRAME_PIXELS:
+        fit = max(MIN_CELL_SIZE, math.isqrt(MAX_FRAME_PIXELS // (level.width * level.height)))
+        raise ValueError(
+            f"cell_size: a {level.width}x{level.height} level at {cs} pixels a cell is a {level.width * cs}x{level.height * cs} "
+            f"frame, over the limit of {MAX_FRAME_PIXELS:,} pixels; use cell_size <= {fit} (or None)"
+        )
 
 
 class RgbRenderer:
-    """Draws one level at one cell size and theme; ``frame(robots)`` returns a fresh image.
+    """Draws one level at one cell size and theme; ``frame(scene_or_robots, overlay)`` returns a fresh image."""
 
-    Layers, bottom to top: the level, the overlay's tints (values, action values), the robots,
-    the overlay's ink (arrows, text), the panel below the grid. The live canvas stacks the same.
-    """
-
-    def __init__(self, level: Level, cell_size: int = 32, theme: str | Theme = "light"):
+    def __init__(self, level: Level, cell_size: int | None = None, theme: str | Theme = "light"):
         self.level = level
-        self.cell_size = check_cell_size(cell_size)
+        self.cell_size = cs = check_cell_size(cell_size, level)
         self.theme = resolve_theme(theme)
-        self.background = self._draw_level()
-        self.background.setflags(write=False)
-        r = (cell_size - 1) / 2
-        yy, xx = np.mgrid[0:cell_size, 0:cell_size]
-        self._disc = (yy - r) ** 2 + (xx - r) ** 2 <= (ROBOT_RADIUS * cell_size) ** 2
-        # an Overlay is immutable: its images are drawn once, then copied per frame
-        self._tinted: tuple[tuple[object, object], np.ndarray] = ((None, None), self.background)
-        self._overlaid: tuple[Overlay | None, np.ndarray, np.ndarray] = (None, self.background, np.zeros((0, 0), bool))
+        self.width, self.grid_height = level.width * cs, level.height * cs
+        self.labels: list[Op] = label_ops(level, cs, self.theme)
+        self.labelled = frozenset((int(op.x // cs), int(op.y // cs)) for op in self.labels if isinstance(op, Text))
+        self.label_top = label_band(cs)[1] / cs  # robots sharing a labelled cell stand below this
+        self.background = self._draw([*level_ops(level, cs, self.theme), *self.labels])
+        self._label_patches = self._patches(self.labels)
+        self._static: tuple[Overlay | None, np.ndarray] = (None, self.background)
+        self._panels: OrderedDict[object, np.ndarray] = OrderedDict()
+        self._tiles: OrderedDict[tuple, tuple] = OrderedDict()  # cells with a robot drawn in, by content
 
     @property
     def shape(self) -> tuple[int, int, int]:
         return self.background.shape  # type: ignore[return-value]
 
-    def frame(self, robots: Sequence[Cell | None] = (), overlay: Overlay | None = None) -> np.ndarray:
-        """The level with robot ``i`` as a disc at ``robots[i]`` (``None``: off the board).
-
-        Robots sharing a cell (collisions "pass") show the lowest-numbered one on top. An
-        ``overlay``'s tints are drawn under the robots, its arrows and text over them; its
-        panel makes the frame taller.
-        """
-        if overlay is None or overlay.empty:
-            img, ink = self.background.copy(), None
-        else:
-            if self._overlaid[0] is not overlay:
-                image, ink = self._overlay_layers(overlay)
-                image.setflags(write=False)
-                self._overlaid = (overlay, image, ink)
-            image, ink = self._overlaid[1], self._overlaid[2]
-            img = image.copy()
-        cs, colours = self.cell_size, self.theme.robots
-        for i in reversed(range(len(robots))):
-            cell = robots[i]
-            if cell is None:
-                continue
-            x, y = cell
-            img[y * cs : (y + 1) * cs, x * cs : (x + 1) * cs][self._disc] = colours[i % len(colours)]
-        if ink is not None:  # arrows and text back over the robots
-            for cell in set(c for c in robots if c is not None):
-                x, y = cell
-                box = (slice(y * cs, (y + 1) * cs), slice(x * cs, (x + 1) * cs))
-                on = ink[box]
-                img[box][on] = image[box][on]
+    # ------------------------------------------------------------------ frames
+    def frame(self, robots: Scene | Sequence[Cell | None] = (), overlay: Overlay | None = None, t: float = 1.0) -> np.ndarray:
+        """The level with the scene's robots (or robot ``i`` at ``robots[i]``; None: not drawn),
+        under the overlay's labels and over its tints, and the panel below when there is one.
+        ``t`` < 1: the robots that moved this step a fraction ``t`` of the way (in-between
+        frames for smooth GIFs, as the live canvas glides)."""
+        scene = as_scene(robots)
+        static = self.static(overlay)
+        strips = self._panel_strips(overlay, scene)
+        h = static.shape[0]
+        img = np.empty((h + sum(st.shape[0] for st in strips), self.width, 3), dtype=np.uint8)
+        img[:h] = static
+        for st in strips:
+            img[h : h + st.shape[0]] = st
+            h += st.shape[0]
+        grid = img[: static.shape[0]]
+        at, poses = glide(scene, t, self.labelled, self.label_top) if t < 1.0 else ({}, {})
+        drawn = [(sprite, cx, cy, patch(sprite, cx, cy)) for sprite, cx, cy in robot_sprites(
+            scene, self.cell_size, self.theme, poses, at, self.labelled)]  # fmt: skip
+        boxes = [_box(p, cx, cy) for _, cx, cy, p in drawn]
+        touched: dict[tuple[int, int], int] = {}
+        for box in boxes:
+            for c in self._cells_of(box):
+                touched[c] = touched.get(c, 0) + 1
+        blended = []
+        for (sprite, cx, cy, p), box in zip(drawn, boxes):
+            cells = self._cells_of(box)
+            if len(cells) == 1 and touched[cells[0]] == 1:  # alone in its cell: a cached tile
+                x, y = cells[0]
+                cs = self.cell_size
+                grid[y * cs : (y + 1) * cs, x * cs : (x + 1) * cs] = self._tile(static, cells[0], sprite, p, cx, cy)
+            else:
+                blend(grid, p, cx, cy)
+                blended.append(box)
+        for y0, x0, label in self._label_patches:  # labels stay on top
+            lb = (x0, y0, x0 + label.rgb.shape[1], y0 + label.rgb.shape[0])
+            if any(_overlap(lb, box) for box in blended):
+                blend(grid, label, x0, y0)
         return img
 
-    # ------------------------------------------------------------------ the static layer
-    def _draw_level(self) -> np.ndarray:
-        lv, cs, th = self.level, self.cell_size, self.theme
-        img = np.empty((lv.height * cs, lv.width * cs, 3), dtype=np.uint8)
-        img[:] = th.floor
-        img[::cs, :] = th.grid  # thin grid lines on the top and left of each cell
-        img[:, ::cs] = th.grid
-        fills = [
-            (lv.small_puddles, th.small_puddle),
-            (lv.large_puddles, th.large_puddle),
-            (lv.exits, th.exit),
-            (lv.starts, th.start),
-            (lv.blocked, th.blocked),
-        ]
-        for cells, colour in fills:
-            for x, y in cells:
-                img[y * cs + 1 : (y + 1) * cs, x * cs + 1 : (x + 1) * cs] = colour
-        labels = {c: ("S" if len(lv.starts) == 1 else str(i)) for i, c in enumerate(lv.starts) if i < 10}
-        labels.update(dict.fromkeys(lv.exits, "E"))
-        for cell, text in labels.items():
-            self._label(img, cell, text)
-        t = max(2, cs // 8)  # wall thickness
-        for a, b in lv.walls:
-            self._edge(img, a, b, t, th.wall, dashed=False)
-        for a, b in lv.glass:
-            self._edge(img, a, b, t, th.glass, dashed=True)
-        img[:t, :] = th.wall  # the outer border
-        img[-t:, :] = th.wall
-        img[:, :t] = th.wall
-        img[:, -t:] = th.wall
-        return img
-
-    def _edge(self, img: np.ndarray, a: Cell, b: Cell, t: int, colour: Colour, dashed: bool) -> None:
+    def _cells_of(self, box: tuple[int, int, int, int]) -> list[tuple[int, int]]:
         cs = self.cell_size
-        h = t // 2
-        if a[1] == b[1]:  # horizontal neighbours: a vertical line at b's left edge
-            x0, y0 = b[0] * cs - h, a[1] * cs
-            strip = img[y0 : y0 + cs, max(0, x0) : x0 + t]
-            along = np.arange(strip.shape[0])[:, None]
-        else:  # vertical neighbours: a horizontal line at b's top edge
-            x0, y0 = a[0] * cs, b[1] * cs - h
-            strip = img[max(0, y0) : y0 + t, x0 : x0 + cs]
-            along = np.arange(strip.shape[1])[None, :]
-        if dashed:
-            dash = max(2, cs // 6)
-            on = np.broadcast_to((along // dash) % 2 == 0, strip.shape[:2])
-            strip[on] = colour
-        else:
-            strip[:] = colour
+        x0, y0, x1, y1 = box
+        return [(x, y) for y in range(y0 // cs, (y1 - 1) // cs + 1) for x in range(x0 // cs, (x1 - 1) // cs + 1)]
 
-    def _label(self, img: np.ndarray, cell: Cell, text: str) -> None:
+    def _tile(self, static: np.ndarray, cell: tuple[int, int], sprite, p: Patch, cx: float, cy: float) -> np.ndarray:
+        """The cell of ``static`` with the sprite and the labels over it, cached: robots come back to
+        the same cells in the same poses, and a copy is far cheaper than a blend."""
+        key = (id(static), cell, id(sprite), int(round((cx % 1) * 4)), int(round((cy % 1) * 4)))
+        hit = self._tiles.get(key)
+        if hit is not None and hit[0] is static and hit[1] is sprite:
+            self._tiles.move_to_end(key)
+            return hit[2]
         cs = self.cell_size
-        scale = max(1, cs // 16)
-        gw, gh = text_size(text, scale)
-        draw_text(img, text, cell[0] * cs + (cs - gw) // 2, cell[1] * cs + (cs - gh) // 2, self.theme.label, scale)
+        x, y = cell
+        tile = static[y * cs : (y + 1) * cs, x * cs : (x + 1) * cs].copy()
+        blend(tile, p, cx - x * cs, cy - y * cs)
+        for y0, x0, label in self._label_patches:
+            if y0 // cs == y and x0 // cs == x or _overlap((x0, y0, x0 + label.rgb.shape[1], y0 + label.rgb.shape[0]),
+                                                           (x * cs, y * cs, (x + 1) * cs, (y + 1) * cs)):  # fmt: skip
+                blend(tile, label, x0 - x * cs, y0 - y * cs)
+        self._tiles[key] = (static, sprite, tile)
+        if len(self._tiles) > 1024:
+            self._tiles.popitem(last=False)
+        return tile
 
-    # ------------------------------------------------------------------ overlays
-    def tinted(self, overlay: Overlay) -> np.ndarray:
-        """The level with the overlay's value and action-value tints (read-only; the live
-        canvas's static layer). The same arrays give the same image object back."""
-        key = (overlay.values, overlay.q_values)
-        if self._tinted[0][0] is key[0] and self._tinted[0][1] is key[1]:
-            return self._tinted[1]
-        img = self.background.copy()
-        cs, th = self.cell_size, self.theme
-        if overlay.values is not None:
-            colours = value_colours(overlay.values, th.value_low, th.value_high)
-            self._tint(img, colours, np.isfinite(overlay.values), self._interior)
-        if overlay.q_values is not None:
-            colours = value_colours(overlay.q_values[:, :, 1:], th.value_low, th.value_high)
-            for action, polygon in TRIANGLES.items():
-                on = np.isfinite(overlay.q_values[:, :, action])
-                self._tint(img, colours[:, :, action - 1], on, cell_mask(polygon, cs) & self._interior)
-        img.setflags(write=False)
-        self._tinted = (key, img)
+    def static(self, overlay: Overlay | None) -> np.ndarray:
+        """The level with ``overlay``'s tints, arrows and numbers, and the labels (read-only; the
+        live canvas's bottom layer). The same cell parts give the same image object back."""
+        if overlay is None or not overlay.has_cells:
+            return self.background
+        if not _same_cells(self._static[0], overlay):
+            cs, th = self.cell_size, self.theme
+            lv = self.level
+            img = self._draw([*floor_ops(lv, cs, th), *annotate.tint_ops(overlay, cs, th), *feature_ops(lv, cs, th),
+                              *annotate.ink_ops(overlay, cs, th, self.labelled), *self.labels])  # fmt: skip
+            self._static = (overlay, img)
+        return self._static[1]
+
+    def panel(self, overlay: Overlay | None, scene: Scene) -> np.ndarray | None:
+        """The panel image under the grid, or None; its strips are cached by content."""
+        strips = self._panel_strips(overlay, scene)
+        return np.concatenate(strips, axis=0) if strips else None
+
+    def _panel_strips(self, overlay: Overlay | None, scene: Scene) -> list[np.ndarray]:
+        lines = overlay.panel if overlay is not None else ()
+        vr = annotate.value_range(overlay) if overlay is not None else None
+        sections = panel_sections(self.width, self.cell_size, self.theme, lines, vr, scene.legend)
+        strips = []
+        for sec in sections:
+            if sec.parts:
+                strip = np.empty((sec.height, self.width, 3), dtype=np.uint8)
+                for x0, x1, key, build in sec.parts:
+                    strip[:, x0:x1] = self._strip((sec.height, *key), sec.height, x1 - x0, sec.background, build, x0)
+                strips.append(strip)
+            else:
+                strips.append(self._strip(sec.key, sec.height, self.width, sec.background, sec.build))
+        return strips
+
+    def _strip(self, key: tuple, height: int, width: int, bg: tuple, build, x0: int = 0) -> np.ndarray:
+        """A piece of the panel drawn from ``build()`` (operations from ``x0``), cached by ``key``."""
+        img = self._panels.get(key)
+        if img is not None:
+            self._panels.move_to_end(key)
+            return img
+        buf = np.empty((height, width, 3), dtype=np.float32)
+        buf[:] = bg
+        ops = build()
+        paint(buf, [shifted_x(op, -x0) for op in ops] if x0 else ops)
+        img = self._panels[key] = to_uint8(buf)
+        if len(self._panels) > 512:
+            self._panels.popitem(last=False)
         return img
 
-    def overlay_image(self, overlay: Overlay) -> np.ndarray:
-        """The level with ``overlay`` drawn on it (and its panel below), without robots."""
-        return self._overlay_layers(overlay)[0]
+    # ------------------------------------------------------------------ helpers
+    def _draw(self, ops: Sequence[Op]) -> np.ndarray:
+        img = np.empty((self.grid_height, self.width, 3), dtype=np.float32)
+        img[:] = self.theme.floor
+        paint(img, ops)
+        out = to_uint8(img)
+        out.setflags(write=False)
+        return out
 
-    def _overlay_layers(self, overlay: Overlay) -> tuple[np.ndarray, np.ndarray]:
-        """The overlay image and ``bool[H * cs, W * cs]``: its ink (arrows, text) pixels."""
-        img = self.tinted(overlay).copy()
-        ink = np.zeros(img.shape[:2], dtype=bool)
-        lv, cs, th = self.level, self.cell_size, self.theme
-        if overlay.arrows is not None:
-            for action, polygon in ARROWS.items():
-                on = np.repeat(np.repeat(overlay.arrows[:, :, action], cs, axis=0), cs, axis=1)
-                on &= np.tile(cell_mask(polygon, cs), (lv.height, lv.width))
-                img[on] = th.arrow
-                ink |= on
-        if overlay.values is not None and cs >= 24:  # the numbers, where they fit
-            for y, x in zip(*np.nonzero(np.isfinite(overlay.values))):
-                self._cell_text(img, ink, format_value(float(overlay.values[y, x])), int(x), int(y), VALUE_TEXT_CENTRE)
-        for (x, y), text in overlay.text.items():
-            self._cell_text(img, ink, text, x, y, CELL_TEXT_CENTRE)
-        if overlay.panel:
-            img = np.concatenate([img, self._panel(overlay.panel, img.shape[1])], axis=0)
-        return img, ink
+    def _patches(self, ops: Sequence[Op]) -> list[tuple[int, int, Patch]]:
+        """Each label's pixels as a premultiplied patch (labels come as 3 ops: edge, pill, word)."""
+        out = []
+        cs = self.cell_size
+        for k in range(0, len(ops), 3):
+            group = ops[k : k + 3]
+            x0 = int(min(float(op.points[:, 0].min()) for op in group if hasattr(op, "points"))) - 1
+            y0 = int(min(float(op.points[:, 1].min()) for op in group if hasattr(op, "points"))) - 1
+            x0, y0 = max(0, x0), max(0, y0)
+            w, h = min(cs + 2, self.width - x0), min(cs // 2 + 2, self.grid_height - y0)
+            rgb = np.zeros((h, w, 3), dtype=np.float32)
+            alpha = np.zeros((h, w), dtype=np.float32)
+            paint(rgb, [_moved(op, -x0, -y0) for op in group], alpha)
+            out.append((y0, x0, Patch(rgb, alpha[..., None], 0, 0)))
+        return out
 
-    @property
-    def _inset(self) -> int:
-        return max(2, self.cell_size // 8)  # the wall thickness: tints stay inside the walls
 
-    @property
-    def _interior(self) -> np.ndarray:
-        cs, m = self.cell_size, self._inset
-        mask = np.zeros((cs, cs), dtype=bool)
-        mask[m : cs - m, m : cs - m] = True
-        return mask
 
-    def _tint(self, img: np.ndarray, colours: np.ndarray, on: np.ndarray, cell_pixels: np.ndarray) -> None:
-        """Blend ``colours[y, x]`` over the ``cell_pixels`` of every cell where ``on[y, x]``."""
-        cs, lv = self.cell_size, self.level
-        big = np.repeat(np.repeat(colours, cs, axis=0), cs, axis=1)
-        mask = np.repeat(np.repeat(on, cs, axis=0), cs, axis=1) & np.tile(cell_pixels, (lv.height, lv.width))
-        img[mask] = (0.35 * img[mask] + 0.65 * big[mask]).astype(np.uint8)
+def _box(p: Patch, cx: float, cy: float) -> tuple[int, int, int, int]:
+    """The pixels a patch centred on ``(cx, cy)`` covers: (x0, y0, x1, y1), x1 and y1 exclusive."""
+    x0, y0 = int(math.floor(cx + 1e-9)) + p.dx, int(math.floor(cy + 1e-9)) + p.dy
+    return x0, y0, x0 + p.rgb.shape[1], y0 + p.rgb.shape[0]
 
-    def _cell_text(self, img: np.ndarray, ink: np.ndarray, text: str, x: int, y: int, centre: tuple[float, float]) -> None:
-        """``text`` centred on the point ``centre`` (cell units) of cell ``(x, y)``, kept inside the walls."""
-        cs, m = self.cell_size, self._inset
-        scale = max(1, cs // 32)
-        w, h = text_size(text, scale)
-        tx = min(max(round((x + centre[0]) * cs - w / 2), x * cs + m), (x + 1) * cs - m - w)
-        ty = min(max(round((y + centre[1]) * cs - h / 2), y * cs + m + 1), (y + 1) * cs - m - 1 - h)
-        tx = max(tx, x * cs + m)  # too wide for the cell: start inside it and clip at the edge of the image
-        draw_text(img, text, tx, ty, self.theme.text, scale)
-        draw_text(ink, text, tx, ty, True, scale)  # type: ignore[arg-type]  # the same pixels in the ink mask
 
-    def _panel(self, lines: tuple[str, ...], width: int) -> np.ndarray:
-        scale = max(1, self.cell_size // 16)
-        line_h = (5 + 2) * scale
-        panel = np.empty((len(lines) * line_h + 3 * scale, width, 3), dtype=np.uint8)
-        panel[:] = self.theme.panel
-        for k, line in enumerate(lines):
-            draw_text(panel, line, 2 * scale, 2 * scale + k * line_h, self.theme.text, scale)
-        return panel
+def _overlap(a: tuple[int, int, int, int], b: tuple[int, int, int, int]) -> bool:
+    return a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]
+
+
+def _same_cells(a: Overlay | None, b: Overlay) -> bool:
+    """The same cell parts (values, action values, arrows, text): the same objects (an overlay
+    keeps the parts not given to ``set_overlay``)."""
+    return a is not None and all(getattr(a, k) is getattr(b, k) for k in ("values", "q_values", "arrows", "text"))
+
+
+def shifted_x(op: Op, dx: float) -> Op:
+    return _moved(op, dx, 0.0)
+
+
+def _moved(op: Op, dx: float, dy: float) -> Op:
+    from dataclasses import replace
+
+    from .paint import Fill
+    from .sprites import Stamp
+
+    if isinstance(op, Fill):
+        return Fill(op.points + (dx, dy), op.colour, op.alpha)
+    if isinstance(op, Stamp):
+        return Stamp(op.sprite, op.x + dx, op.y + dy)
+    return replace(op, x=op.x + dx, y=op.y + dy)

@@ -1,8 +1,8 @@
 """Saving episodes: ``rgb_array`` frames to GIF or MP4 with imageio (the ``video`` extra, imported lazily).
 
-    frames = episode_frames(env, policy, seed=0)   # env made with render_mode="rgb_array"
-    save_gif(frames, "episode.gif", fps=4)
-    save_video(frames, "episode.mp4", fps=8)       # needs imageio-ffmpeg
+frames = episode_frames(env, policy, seed=0)   # env made with render_mode="rgb_array"
+save_gif(frames, "episode.gif", fps=4)
+save_video(frames, "episode.mp4", fps=8)       # needs imageio-ffmpeg
 """
 
 from __future__ import annotations
@@ -63,9 +63,15 @@ def save_video(frames: Sequence[np.ndarray], path: str | Path, fps: float = 8) -
 
 
 def episode_frames(
-    env: Any, policy: Callable[[Any], Any] | Mapping[str, Callable[[Any], Any]], seed: int | None = None, max_steps: int = 10_000
+    env: Any,
+    policy: Callable[[Any], Any] | Mapping[str, Callable[[Any], Any]],
+    seed: int | None = None,
+    max_steps: int = 10_000,
+    animation_frames: int = 0,
 ) -> list[np.ndarray]:
-    """Play one episode and return its ``rgb_array`` frames: the start, then one per step.
+    """Play one episode and return its ``rgb_array`` frames: the start, then one per step
+    (with ``animation_frames`` = n > 0: n frames per step, the robots gliding from cell to cell
+    as on the live canvas; the last of them is the step's ``render()``).
 
     ``env``: a Gymnasium env (``BabyRobotEnv``, ``gymnasium.make(...)``) or a PettingZoo
     parallel env (the race), made with ``render_mode="rgb_array"``. ``policy``: a function of
@@ -83,17 +89,27 @@ def episode_frames(
             raise ValueError("policy: a dict of policies needs a race and one policy for each of its agents")
     elif not callable(policy):
         raise ValueError(f"policy: expected a function of an observation or a dict of them by agent, got {type(policy).__name__}")
+    if isinstance(animation_frames, bool) or not isinstance(animation_frames, int) or not 0 <= animation_frames <= 60:
+        raise ValueError(f"animation_frames: must be an integer in 0..60, got {animation_frames!r}")
     obs, _ = env.reset(seed=seed)
     frames = [env.render()]
+
+    def step_frames() -> None:
+        u = env.unwrapped
+        if animation_frames > 1 and hasattr(u, "_scene"):
+            scene, renderer = u._scene(), u.rgb_renderer
+            frames.extend(renderer.frame(scene, u.overlay, k / animation_frames) for k in range(1, animation_frames))
+        frames.append(env.render())
+
     for _ in range(max_steps):
         if race:
             if not env.agents:
                 break
             obs, *_ = env.step({a: (policy[a] if isinstance(policy, Mapping) else policy)(obs[a]) for a in env.agents})
-            frames.append(env.render())
+            step_frames()
         else:
             obs, _, terminated, truncated, _ = env.step(policy(obs))
-            frames.append(env.render())
+            step_frames()
             if terminated or truncated:
                 break
     return frames

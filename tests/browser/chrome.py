@@ -50,8 +50,9 @@ _READ_CANVAS = """(index) => {
 class NotebookPage:
     """One JupyterLab page in a persistent headless Chromium profile (``with NotebookPage(...) as nb:``)."""
 
-    def __init__(self, lab, profile_dir: Path, executable: str, viewport=(1280, 1000)):
+    def __init__(self, lab, profile_dir: Path, executable: str, viewport=(1280, 1000), device_scale_factor: float = 1):
         self.lab, self.profile_dir, self.executable, self.viewport = lab, Path(profile_dir), executable, viewport
+        self.device_scale_factor = device_scale_factor
         self._pw = self.context = self.page = None
 
     def __enter__(self) -> NotebookPage:
@@ -62,6 +63,7 @@ class NotebookPage:
             self.context = self._pw.chromium.launch_persistent_context(
                 str(self.profile_dir), executable_path=self.executable, headless=True, args=CHROMIUM_ARGS,
                 viewport={"width": self.viewport[0], "height": self.viewport[1]},
+                device_scale_factor=self.device_scale_factor,
             )  # fmt: skip
             self.page = self.context.pages[0] if self.context.pages else self.context.new_page()
         except BaseException:
@@ -136,6 +138,17 @@ class NotebookPage:
                     raise AssertionError(f"no canvas output #{index} (found {got['count']}); outputs:\n{self.outputs_text()}")
                 return last
             time.sleep(0.3)
+
+    def canvas_size(self, index: int = 0) -> dict:
+        """The ``index``-th canvas output's backing store and CSS size, and the page's devicePixelRatio."""
+        return self.page.evaluate(
+            """(index) => {
+              const all = Array.from(document.querySelectorAll('.jp-OutputArea-output canvas')).filter(c => c.width > 0);
+              const c = all[index], r = c.getBoundingClientRect();
+              return {width: c.width, height: c.height, css_width: r.width, css_height: r.height, dpr: window.devicePixelRatio};
+            }""",
+            index,
+        )
 
     def screenshot(self, path: Path) -> Path:
         path.parent.mkdir(parents=True, exist_ok=True)

@@ -1,0 +1,246 @@
+"""The panel under the grid: the overlay's text lines, the colour bar of the values, the race legend.
+
+``panel_ops(width, ...)`` lays them out top to bottom in a panel ``width`` pixels wide (the
+grid's width: long lines wrap rather than being cut) and returns the operations with the
+panel's height; the panel's own top is y = 0.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, replace
+from functools import lru_cache
+
+import numpy as np
+
+from .glyphs import cap_height, fit, text_width
+from .paint import Colour, Fill, Op, Text, rect, round_rect
+from .palette import Theme, colour_map
+from .sprites import MEDALS, OTHER_RANK, Sprite, Stamp, flatten, robot_sprite
+
+
+@dataclass(frozen=True)
+class LegendRow:
+    """One robot in the legend: its number, a name (its policy, when known), return and rank (0: racing)."""
+
+    number: int
+    name: str
+    ret: float
+    rank: int
+    racing: bool
+
+
+def ordinal(rank: int) -> str:
+    return f"{rank}{'th' if 10 <= rank % 100 <= 20 else {1: 'st', 2: 'nd', 3: 'rd'}.get(rank % 10, 'th')}"
+
+
+def text_size(cs: int) -> int:
+    """The panel's type size for a grid of ``cs``-pixel cells."""
+    return int(np.clip(round(cs * 0.21), 11, 16))
+
+
+def wrap(line: str, width: float, size: int) -> list[str]:
+    """``line`` broken at spaces (or anywhere, for a long word) into lines no wider than ``width``."""
+    out: list[str] = []
+    cur = ""
+    for word in line.split(" "):
+        trial = f"{cur} {word}" if cur else word
+        if text_width(trial, size) <= width:
+            cur = trial
+            continue
+        if cur:
+            out.append(cur)
+        while text_width(word, size) > width and len(word) > 1:
+            k = len(word)
+            while k > 1 and text_width(word[:k], size) > width:
+                k -= 1
+            out.append(word[:k])
+            word = word[k:]
+        cur = word
+    out.append(cur)
+    return out
+
+
+@dataclass(frozen=True, eq=False)
+class Section:
+    """A horizontal strip of the panel, ``height`` whole pixels tall: ``build()`` gives its
+    operations from its own top. The same ``key`` always builds the same strip (rgb_array
+    caches strips by key: a legend row is drawn again only when its robot's row changes)."""
+
+    key: tuple
+    height: int
+    background: Colour
+    build: Callable[[], list[Op]]  # the operations over the background
+    # or side by side pieces (x0, x1, key, build), each cached on its own (a legend row: its
+    # robot and name, its return, its rank); ``build`` then draws them all
+    parts: tuple[tuple[int, int, tuple, Callable[[], list[Op]]], ...] = ()
+
+
+def panel_sections(
+    width: int,
+    cs: int,
+    theme: Theme,
+    lines: Sequence[str] = (),
+    value_range: tuple[float, float] | None = None,
+    legend: Sequence[LegendRow] = (),
+    ratio: int = 1,
+) -> list[Section]:
+    """The panel's strips, top to bottom (none: no panel); ``ratio``: device pixels per CSS
+    pixel (the canvas draws at 2: ``cs`` is then twice the cell size and so is the type)."""
+    if not lines and value_range is None and not legend:
+        return []
+    size = text_size(cs // ratio) * ratio
+    cap = cap_height(size)[1]
+    pad = max(4, size // 2)
+    line_h = int(round(cap * 2.0))
+    bg = theme.panel
+    out: list[Section] = []
+    if lines:
+        parts = [part for line in lines for part in wrap(line, width - 2 * pad, size)]
+
+        def text_lines() -> list[Op]:
+            return [Text(pad, pad + (k + 0.5) * line_h, part, size, theme.text, align="left") for k, part in enumerate(parts)]
+
+        out.append(_section(("lines", tuple(parts)), pad + len(parts) * line_h, width, bg, text_lines))
+    else:
+        out.append(_section(("top",), pad, width, bg, list))
+    if value_range is not None:
+        h = int(round(cap * 2.2))
+        out.append(_section(("bar", value_range), h, width, bg, lambda: _colour_bar(width, h, size, value_range, theme)))
+    if legend:
+        rh = int(round(max(cap * 2.6, 20.0 * ratio)))
+        head = int(round(cap * 2.2))
+        cols = _columns(width, size, rh)
+        out.append(_section(("legend",), head, width, bg, lambda: _legend_head(cols, head, size, theme)))
+        for row in legend:
+            out.append(_legend_row(cols, width, rh, size, row, theme))
+    total = sum(sec.height for sec in out) + pad
+    out.append(_section(("bottom", pad + (-total) % ratio), pad + (-total) % ratio, width, bg, list))  # whole CSS pixels
+    return out
+
+
+def _section(key: tuple, height: int, width: int, bg: Colour, build: Callable[[], list[Op]]) -> Section:
+    return Section(key, height, bg, build)
+
+
+def panel_ops(
+    width: int,
+    cs: int,
+    theme: Theme,
+    lines: Sequence[str] = (),
+    value_range: tuple[float, float] | None = None,
+    legend: Sequence[LegendRow] = (),
+    ratio: int = 1,
+) -> tuple[list[Op], int]:
+    """The whole panel's operations (from its top) and its height in pixels (0: no panel)."""
+    ops: list[Op] = []
+    y = 0
+    for sec in panel_sections(width, cs, theme, lines, value_range, legend, ratio):
+        ops.append(Fill(rect(0, y, width, y + sec.height), sec.background))
+        ops += [shifted(op, y) for op in sec.build()]
+        y += sec.height
+    return ops, y
+
+
+def shifted(op: Op, dy: float) -> Op:
+    """``op`` moved down by ``dy`` pixels."""
+    if isinstance(op, Fill):
+        return Fill(op.points + (0.0, dy), op.colour, op.alpha)
+    if isinstance(op, Stamp):
+        return Stamp(op.sprite, op.x, op.y + dy)
+    return replace(op, y=op.y + dy)
+
+
+def _colour_bar(width: int, h: int, size: int, vr: tuple[float, float], theme: Theme) -> list[Op]:
+    from .overlay import format_value
+
+    lo, hi = vr
+    cap = cap_height(size)[1]
+    pad = max(4, size // 2)
+    left, right = f"{format_value(lo)}", f"{format_value(hi)}"
+    title = "value"
+    x0 = pad + text_width(title, size) + pad + text_width(left, size) + pad
+    x1 = width - pad - text_width(right, size) - pad
+    cy = h / 2
+    ops: list[Op] = [Text(pad, cy, title, size, theme.text, align="left")]
+    if x1 - x0 < 20:  # too narrow for a bar: the range in words
+        ops.append(Text(x0 - pad, cy, f"{left} .. {right}", size, theme.text, align="left"))
+        return ops
+    ops.append(Text(x0 - pad / 2, cy, left, size, theme.text, align="right"))
+    ops.append(Text(x1 + pad / 2, cy, right, size, theme.text, align="left"))
+    n = 48
+    colours = colour_map(np.linspace(0.0, 1.0, n), theme.colour_map, 0.0, 1.0)
+    bar_h = cap * 1.3
+    ops.append(Fill(rect(x0 - 1, cy - bar_h / 2 - 1, x1 + 1, cy + bar_h / 2 + 1), theme.text))
+    step = (x1 - x0) / n
+    for k in range(n):
+        ops.append(
+            Fill(rect(x0 + k * step, cy - bar_h / 2, x0 + (k + 1) * step + 0.6, cy + bar_h / 2), tuple(colours[k].tolist()))
+        )
+    return ops
+
+
+def _columns(width: int, size: int, rh: int) -> tuple[float, float, float, float]:
+    """x of the robot icon's centre, the name (left), the return and the rank (right edges)."""
+    pad = max(4, size // 2)
+    x_rank = width - pad
+    x_ret = width - pad - max(text_width("racing", size), text_width("10th", size)) - 2 * pad
+    return pad + rh / 2, pad + rh + pad, x_ret, x_rank
+
+
+def _legend_head(cols: tuple[float, float, float, float], h: int, size: int, theme: Theme) -> list[Op]:
+    _, x_name, x_ret, x_rank = cols
+    return [
+        Text(x_name, h / 2, "robot", size, theme.text, align="left", alpha=0.7),
+        Text(x_ret, h / 2, "return", size, theme.text, align="right", alpha=0.7),
+        Text(x_rank, h / 2, "rank", size, theme.text, align="right", alpha=0.7),
+    ]
+
+
+def _legend_row(cols: tuple[float, float, float, float], width: int, rh: int, size: int, row: LegendRow, theme: Theme) -> Section:
+    """A robot's row: icon and name, return, rank (three pieces: the return changes every step)."""
+    x_icon, x_name, x_ret, x_rank = cols
+    cap = cap_height(size)[1]
+    cy = rh / 2
+    pad = max(4, size // 2)
+    split_ret = min(max(int(x_ret - text_width("-0000", size) - pad), 0), width)  # the name ends before
+    split_rank = min(max(int(x_ret + 2), split_ret), width)  # the return ends before; the rank after
+    name = f"{row.number} {row.name}" if row.name else f"robot {row.number}"
+    pose = "finished" if row.rank else "idle"
+    ret = f"{row.ret + 0.0:g}"
+
+    def who() -> list[Op]:
+        s = fit(name, split_ret - x_name - 2, cap, largest=size, smallest=7) or 7
+        icon = robot_sprite(theme, row.number, 0, pose, True, round(rh * 1.05, 2))
+        return [Stamp(icon, x_icon, cy), Text(x_name, cy, name, s, theme.text, align="left")]
+
+    def score() -> list[Op]:
+        return [Text(x_ret, cy, ret, size, theme.text, align="right")]
+
+    def rank() -> list[Op]:
+        if row.rank:
+            return [Stamp(_badge(size, row.rank, theme), x_rank - text_width("10th", size) / 2, cy)]
+        return [Text(x_rank, cy, "racing" if row.racing else "-", size, theme.text, align="right", alpha=0.7)]
+
+    parts = (
+        (0, split_ret, ("who", row.number, name, pose), who),
+        (split_ret, split_rank, ("return", ret), score),
+        (split_rank, width, ("rank", row.rank, row.racing), rank),
+    )
+    return Section(("row", row), rh, theme.panel, lambda: [*who(), *score(), *rank()], parts)
+
+
+@lru_cache(maxsize=128)
+def _badge(size: int, rank: int, theme: Theme) -> Sprite:
+    """A rank in a rounded badge: gold, silver, bronze, then grey."""
+    label = ordinal(rank)
+    cap = cap_height(size)[1]
+    w, h = text_width(label, size) + cap * 1.2, cap * 1.9
+    fill = MEDALS.get(rank, OTHER_RANK)
+    return flatten(
+        [
+            Fill(round_rect(-w / 2 - 1, -h / 2 - 1, w / 2 + 1, h / 2 + 1, h / 2), theme.robot_ink),
+            Fill(round_rect(-w / 2, -h / 2, w / 2, h / 2, h / 2), fill),
+            Text(0.0, 0.0, label, size, (20, 20, 24)),
+        ]
+    )
