@@ -135,8 +135,11 @@ def test_collision_pictures_all_load(server, page):
     screenshot(page, "rules")
 
 
-def test_tutorial_page_holds_the_executed_notebook_outputs(server, page):
-    visit(page, f"{server}/tutorials/quickstart/")
+def test_tutorial_page_holds_the_executed_notebook_outputs_and_the_canvas_pictures(server, page):
+    images = visit(page, f"{server}/tutorials/quickstart/")
     text = page.locator("article").inner_text()
     assert "quickstart notebook: done" in text  # the last cell's output: the notebook ran at build time
+    # the live canvas's outputs carry a PNG of their frame: the static page shows those pictures
+    pictures = [i for i in images if (i["src"] or "").startswith("data:image/png")]
+    assert len(pictures) >= 2 and all(i["w"] > 100 and i["h"] > 100 for i in pictures), images
     screenshot(page, "tutorial_quickstart")

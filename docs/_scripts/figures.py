@@ -47,6 +47,7 @@ COLLISIONS: dict[str, tuple[str, list[tuple[int, int]], list[Action]]] = {
     "follow-blocked": ("block", [(1, 1), (2, 1)], [Action.EAST, Action.STAY]),
 }
 COLLISION_SEED = 3
+ANIMATION, FPS = 3, 9  # the animations: 3 frames per step (the robots glide), 3 steps a second
 GAP = 12  # pixels between the frames before and after
 
 
@@ -68,11 +69,11 @@ def gif_bytes(frames: list[np.ndarray], fps: float) -> bytes:
 
 def single_robot_gif() -> bytes:
     """BabyRobot-v0 on mixed-8x8: the shortest-path robot, its arrows drawn, seed 2."""
-    env = gym.make("babyrobot_marl/BabyRobot-v0", level="mixed-8x8", render_mode="rgb_array", cell_size=32)
+    env = gym.make("babyrobot_marl/BabyRobot-v0", level="mixed-8x8", render_mode="rgb_array", cell_size=48)
     u = env.unwrapped
     policy = make_policy("shortest", u.table)
     u.set_overlay(arrows=policy.actions.reshape(u.level.height, u.level.width))
-    return gif_bytes(episode_frames(env, policy, seed=2), fps=4)
+    return gif_bytes(episode_frames(env, policy, seed=2, animation_frames=ANIMATION), fps=FPS)
 
 
 def race_gym_gif() -> bytes:
@@ -81,20 +82,23 @@ def race_gym_gif() -> bytes:
         "babyrobot_marl/BabyRobotRace-v0", level="race-4", opponents=["shortest", "random", "random"], render_mode="rgb_array"
     )
     policy = make_policy("shortest", env.unwrapped.race.table)  # the PettingZoo race under the Gymnasium adapter
-    return gif_bytes(episode_frames(env, policy, seed=0), fps=3)
+    return gif_bytes(episode_frames(env, policy, seed=0, animation_frames=ANIMATION), fps=FPS)
 
 
-def race_frames(seed: int = 4) -> list[np.ndarray]:
-    """race_v0 on race-4, 4 robots: three shortest-path robots and one random, collisions block."""
+def race_frames(seed: int = 4, animation_frames: int = 0) -> list[np.ndarray]:
+    """race_v0 on race-4, 4 robots, collisions block: three shortest-path robots and a clumsy
+    one (robot 3: a random action one step in three, else the shortest path)."""
     env = race_v0.parallel_env(level="race-4", n_robots=4, render_mode="rgb_array")
+    env.set_overlay(names=["shortest", "shortest", "shortest", "clumsy"])
     shortest = make_policy("shortest", env.table)
     rand = make_policy("random", env.table, seed=seed)
-    policies = {a: (rand if a == "robot_3" else shortest) for a in env.possible_agents}
-    return episode_frames(env, policies, seed=seed)
+    policies = {a: shortest for a in env.possible_agents}
+    policies["robot_3"] = lambda obs: rand(obs) if rand.rng.random() < 1 / 3 else shortest(obs)
+    return episode_frames(env, policies, seed=seed, animation_frames=animation_frames)
 
 
 def race_gif() -> bytes:
-    return gif_bytes(race_frames(), fps=3)
+    return gif_bytes(race_frames(animation_frames=ANIMATION), fps=FPS)
 
 
 def collision_picture(name: str, cell_size: int = 48) -> np.ndarray:
@@ -124,7 +128,7 @@ def readme_picture() -> np.ndarray:
     from babyrobot_marl.planning import model, value_iteration
 
     race = race_frames()[5]
-    env = gym.make("babyrobot_marl/BabyRobot-v0", level="mixed-8x8", render_mode="rgb_array", cell_size=32)
+    env = gym.make("babyrobot_marl/BabyRobot-v0", level="mixed-8x8", render_mode="rgb_array", cell_size=48)
     env.reset(seed=0)
     sol = value_iteration(model(env.unwrapped), gamma=1.0)
     env.unwrapped.set_overlay(values=sol.value_grid, arrows=sol.policy_grid)
