@@ -1,8 +1,9 @@
 """The panel under the grid: the overlay's text lines, the colour bar of the values, the race legend.
 
-``panel_ops(width, ...)`` lays them out top to bottom in a panel ``width`` pixels wide (the
-grid's width: long lines wrap rather than being cut) and returns the operations with the
-panel's height; the panel's own top is y = 0.
+``panel_sections(width, ...)`` lays them out top to bottom in a panel ``width`` pixels wide
+(the grid's width: long lines wrap rather than being cut), as strips each drawn from its own
+top; ``rgb_array`` caches the strips' images, the live canvas redraws only the strips that
+changed.
 """
 
 from __future__ import annotations
@@ -121,25 +122,6 @@ def panel_sections(
 
 def _section(key: tuple, height: int, width: int, bg: Colour, build: Callable[[], list[Op]]) -> Section:
     return Section(key, height, bg, build)
-
-
-def panel_ops(
-    width: int,
-    cs: int,
-    theme: Theme,
-    lines: Sequence[str] = (),
-    value_range: tuple[float, float] | None = None,
-    legend: Sequence[LegendRow] = (),
-    ratio: int = 1,
-) -> tuple[list[Op], int]:
-    """The whole panel's operations (from its top) and its height in pixels (0: no panel)."""
-    ops: list[Op] = []
-    y = 0
-    for sec in panel_sections(width, cs, theme, lines, value_range, legend, ratio):
-        ops.append(Fill(rect(0, y, width, y + sec.height), sec.background))
-        ops += [shifted(op, y) for op in sec.build()]
-        y += sec.height
-    return ops, y
 
 
 def shifted(op: Op, dy: float) -> Op:
