@@ -118,6 +118,13 @@ def test_race_env_page_shows_the_animation_drawn_by_the_env_and_its_table(server
     frame.reset(seed=0)
     h, w, _ = frame.render().shape
     assert (gif[0]["w"], gif[0]["h"]) == (w, h)  # the GIF is the env's own rgb_array frames
+    import urllib.request
+
+    import imageio.v3 as iio
+
+    with urllib.request.urlopen(f"{server}/environments/race_v0/{gif[0]['src']}") as response:
+        frames = iio.imread(response.read(), extension=".gif", index=None)
+    assert frames.shape[0] > 10 and not (frames[0] == frames[-1]).all()  # an animation: the robots move
     table = page.locator("table").first.inner_text()
     for row in ("Actions", "Observations", "Rewards", "Termination", "Arguments", "Version history"):
         assert row in table, table
