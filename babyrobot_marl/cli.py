@@ -361,6 +361,7 @@ def _add_race_parser(sub: argparse._SubParsersAction) -> None:
     )
     _add_seed_arg(p)
     p.add_argument("--max-cycles", type=_positive_int, default=None, metavar="N", help="truncate the race after N steps")
+    p.add_argument("--races", type=_positive_int, default=None, metavar="N", help="run N seeded races; print metrics, no frames")
     _add_display_args(p)
     p.set_defaults(func=_cmd_race)
 
@@ -402,6 +403,12 @@ def _cmd_race(args: argparse.Namespace, out: TextIO) -> int:
         level=level, n_robots=args.robots, collisions=args.collisions, start=args.start, max_cycles=args.max_cycles
     )
     seed = _fresh_seed() if args.seed is None else args.seed
+    if args.races:  # experiments: the metrics table of N races (babyrobot_marl.experiments)
+        from .experiments import run_races
+
+        kw = {"collisions": args.collisions, "start": args.start, "max_cycles": args.max_cycles}
+        out.write(f"{run_races(level, names, args.races, seed, **kw).table()}\nseed {seed}\n")
+        return 0
     robot_policies = [policies.make(name, env.table, seed=seed + 7919 * (i + 1)) for i, name in enumerate(names)]
     results = [RobotResult(robot_glyph(i, args.robots) + f" {agent}", names[i]) for i, agent in enumerate(env.possible_agents)]
     display = _display(args, out)

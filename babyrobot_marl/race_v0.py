@@ -12,8 +12,10 @@ rules. Built on the same compiled level and rules as the single-robot env.
 | Agents             | `n_robots` (default 2)                               |
 | Action shape       | (1,)                                                 |
 | Action values      | Discrete(5)                                          |
-| Observation shape  | (2 + 3 * (n_robots - 1),)                            |
+| Observation shape  | (2 + 3 * (n_robots - 1),) (`observe="global"`)       |
 | Observation values | MultiDiscrete([W, H] + [W, H, 2] * (n_robots - 1))   |
+| Local view         | `observe="local"`: see Observations                  |
+| Nearest robots     | `observe="nearest"`: see Observations                |
 | State shape        | (3 * n_robots,)                                      |
 | State values       | Box(0, [W-1, H-1, 1] * n_robots), int64              |
 
@@ -29,9 +31,27 @@ rules. Built on the same compiled level and rules as the single-robot env.
 
 ## Observations
 
-Robot `i` observes an int64 vector: its own `[x, y]`, then for each other robot, in the order
-`i+1, i+2, ..., i-1` (modulo `n_robots`: the next robot first), `[x, y, finished]`.
-A finished robot's `[x, y]` is the exit it took; it is off the board (it blocks nobody).
+Every robot observes an int64 vector beginning with its own `[x, y]`; `observe=` picks the rest:
+
+| `observe=`               | after `[x, y]`, per robot                      | values (`MultiDiscrete`)                 | a step |
+|--------------------------|------------------------------------------------|------------------------------------------|--------|
+| `"global"` (default)     | `[x, y, finished]` of each other robot         | `[W, H] + [W, H, 2] * (n_robots - 1)`    | O(n^2) |
+| `"local"`, `view_radius` | a (2r+1) x (2r+1) window, 6 numbers per cell   | `[W, H] + [5, 2, 3, 3, 3, 3] * (2r+1)^2` | O(n)   |
+| `"nearest"`, `k`         | `[dx + W - 1, dy + H - 1]` of the k nearest    | `[W, H] + [2W, 2H] * k`                  | O(n)   |
+
+`"global"`: the other robots in the order `i+1, i+2, ..., i-1` (mod `n_robots`: the next robot
+first). `"local"` (`view_radius=r`, default 2): the window is centred on the robot, rows north
+to south, west to east within a row, each cell `[terrain, robot, north, east, south, west]`.
+`"nearest"` (`k`, default 4): the other racing robots nearest first.
+
+In a `"local"` window: `terrain` 0 floor, 1 small puddle, 2 large puddle, 3 blocked cell or
+outside the grid, 4 exit; `robot` 1 when another racing robot is on the cell; each side 0 open,
+1 wall (the grid's border included), 2 glass wall; cells outside the grid are blocked with
+walls on all sides. In `"nearest"`, distance is Manhattan (ties to the lower robot number) and
+a missing robot (fewer than `k` others racing) is `[2W - 1, 2H - 1]`. Names and codes:
+`babyrobot_marl.core.observe` (`TERRAIN`, `EDGE`, `LOCAL_FEATURES`).
+A finished robot's `[x, y]` is the exit it took; it is off the board (it blocks nobody, and
+local windows and nearest lists do not show it).
 
 `state()` is `[x, y, finished]` of every robot in robot order: a global view for critics.
 
@@ -85,10 +105,14 @@ step), `finished`, and `rank` once finished (1 = first; robots finishing togethe
 ```python
 race_v0.parallel_env(level="race-2", n_robots=2, collisions="block", max_cycles=None,
                      start="level", finished="remove", rules=None, render_mode=None,
-                     cell_size=32, theme="light", animation_frames=4, **rule_overrides)
+                     cell_size=32, theme="light", animation_frames=4, observe="global",
+                     view_radius=None, k=None, **rule_overrides)
 ```
 
-* `level`: a built-in name (`babyrobot_marl.levels.names()`), a level text or a `Level`.
+* `level`: a built-in name (`babyrobot_marl.levels.names()`), a level text or a `Level`; or
+  levels drawn at every reset from the env's seeded generator: a maze family `"maze-WxH-*"`,
+  `babyrobot_marl.level_sources.maze_family(W, H, seeds=...)`, or a callable
+  `f(np_random) -> Level | name | text` (one size for all; not for the batch and vector envs).
 * `n_robots`: how many robots race (`robot_0` ... `robot_{n-1}`).
 * `collisions`: `"block"`, `"bounce"` or `"pass"` (overrides `rules.collisions`).
 * `max_cycles`: steps before the race is truncated (default `max(100, 4 * W * H)`).
@@ -96,6 +120,8 @@ race_v0.parallel_env(level="race-2", n_robots=2, collisions="block", max_cycles=
   `n_robots`), `"fill"` (the level's starts, then random free cells), `"random"` (random
   free cells each reset), drawn from the env's seeded generator.
 * `finished`: `"remove"` or `"freeze"` (above).
+* `observe`: `"global"`, `"local"` (with `view_radius`) or `"nearest"` (with `k`) (above);
+  `view_radius` or `k` given to another mode is a `ValueError`.
 * `rules` / keyword overrides: any `Rules` field, e.g. `win_bonus=0`, `glass_pass_prob=1`.
 * `render_mode`: `"ansi"` (text frame), `"rgb_array"` (`uint8[H * cell_size, W * cell_size, 3]`,
   pure numpy, each robot a disc in its own colour) or `"human"` (in Jupyter with the `notebook`

@@ -283,3 +283,44 @@ def test_canvas_redrawn_when_a_browser_reconnects(lab, page, capsys):
         print(f"\nscreenshot: {shot}")
     assert (img[..., 3] == 255).all(), "the canvas was not drawn again after the page was reloaded"
     assert_robot_at(img[..., :3], env.robot_cell, theme.robots[0], theme)
+
+
+def test_a_saved_notebook_opened_elsewhere_shows_the_picture_of_the_last_frame(lab, page, capsys):
+    """Save, shut the kernel down, and open the file as someone else would (a copy, not signed
+    by this server: JupyterLab renders only safe outputs then, as for a notebook from GitHub):
+    the output shows the PNG of the canvas's last frame, not the widget's text."""
+    import nbformat
+
+    name = "saved_canvas"
+    run_in_browser(lab, page, name, [
+        f"""
+        from babyrobot_marl import BabyRobotEnv
+        env = BabyRobotEnv(level="mixed-8x8", render_mode="human", cell_size={CELL})
+        env.reset(seed=0)
+        for a in {SINGLE_ACTIONS}:
+            env.step(a)
+        """,
+    ], capsys)  # fmt: skip
+    p = page.page
+    p.evaluate("() => window.jupyterapp.commands.execute('docmanager:save')")
+    p.wait_for_function("() => { const w = window.jupyterapp.shell.currentWidget; return !!w && !w.context.model.dirty; }")
+    lab.shutdown_kernels()
+    nb = nbformat.read(lab.root_dir / f"{name}.ipynb", as_version=4)
+    nb.metadata["copied_from"] = "elsewhere"  # changed outside the server: no longer signed
+    nbformat.write(nb, lab.root_dir / f"{name}_copy.ipynb")
+    p.goto(lab.url(f"lab/tree/{name}_copy.ipynb"), timeout=90_000)
+    try:
+        p.wait_for_function(
+            "() => Array.from(document.querySelectorAll('.jp-OutputArea-output img')).some(i => i.naturalWidth > 0)",
+            timeout=60_000,
+            polling=300,
+        )
+    finally:
+        shot = page.screenshot(SCREENSHOTS / f"{name}_elsewhere.png")
+        with capsys.disabled():
+            print(f"\nscreenshot: {shot}")
+    images = p.evaluate(
+        "() => Array.from(document.querySelectorAll('.jp-OutputArea-output img')).map(i => [i.naturalWidth, i.naturalHeight])"
+    )
+    assert [8 * CELL, 8 * CELL] in images, images  # the rgb_array frame of the 8x8 level
+    assert "MultiCanvas(" not in page.outputs_text()

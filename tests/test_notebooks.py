@@ -103,3 +103,9 @@ def test_notebook_runs_top_to_bottom(name, monkeypatch, tmp_path):
         model = view.data[WIDGET_VIEW]["model_id"]
         assert model in frames, "a canvas shown but not tracked"
         assert frames[model] == [hashlib.sha256(png.tobytes()).hexdigest(), list(png.shape)]
+    if name in SHOWS_CANVAS:  # nbviewer and GitHub render through nbconvert: the canvases show as their PNGs
+        from nbconvert import HTMLExporter
+
+        html, _ = HTMLExporter().from_notebook_node(nb)
+        for view in views:
+            assert f"data:image/png;base64,{view.data['image/png'][:64]}" in html

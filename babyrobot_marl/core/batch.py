@@ -20,6 +20,7 @@ import numpy as np
 
 from .actions import N_ACTIONS
 from .engine import move_array, move_drawn
+from .observe import Observer, global_gather
 from .rng import SLOT_PRIORITY, SLOTS, uniform_array
 from .table import Table
 
@@ -31,52 +32,93 @@ def resolve_collisions_array(
 ) -> np.ndarray:
     """``race.resolve_collisions`` over ``(n_envs, n_robots)`` arrays; ``keys``, ``steps``: ``(n_envs,)``.
 
-    Each round applies every rule to the same snapshot: a mover stays if the robot in its
-    destination stays or heads for the mover's cell (a swap), or if it loses a contest for its
-    destination (block: to a contender of higher priority; bounce: to any contender). Rounds
-    repeat until nothing changes; only envs with a possible conflict take part.
+    The same closure as the scalar rules: movers in a swap or losing a contest stay (block: to a
+    contender of higher priority, the lower robot number on a tie; bounce: to any contender),
+    robots that do not move stay, and a mover heading for the cell of a robot that stays stays
+    too. All envs are one graph here (a robot's cell keyed by its env), each mover pointing at
+    the occupant of its destination; stopping spreads back along those pointers by pointer
+    doubling, ``log2(n_robots)`` passes at most, so the work is O(robots log robots) with no
+    Python loop over envs or robots and no ``n_robots ** 2`` array.
     """
     n_envs, n = cells.shape
     if mode == "pass" or n == 1:  # one robot meets nobody
         return desired
-    others = ~np.eye(n, dtype=bool)
-    # Envs where some robot heads for another robot's destination or current cell: a superset
-    # of the envs with a conflict (parked robots and robots that follow count too). Compared
-    # robot pair by robot pair over all envs at once: long rows, fast.
-    d_rows, c_rows = desired.T.copy(), cells.T.copy()
-    near = np.zeros(n_envs, dtype=bool)
-    for i in range(n):
-        for j in range(n):
-            if j != i:
-                near |= d_rows[i] == c_rows[j]
-                if j > i:
-                    near |= d_rows[i] == d_rows[j]
-    todo = np.flatnonzero(near)
+    moving = racing & (desired != cells)
+    if n <= _PAIRWISE_UP_TO:
+        # Envs where some robot heads for another robot's destination or current cell: a superset
+        # of the envs with a conflict. Compared robot pair by robot pair over all envs at once:
+        # long rows, fast, for a few robots.
+        d_rows, c_rows = desired.T.copy(), cells.T.copy()
+        near = np.zeros(n_envs, dtype=bool)
+        for i in range(n):
+            for j in range(n):
+                if j != i:
+                    near |= d_rows[i] == c_rows[j]
+                    if j > i:
+                        near |= d_rows[i] == d_rows[j]
+        todo = np.flatnonzero(near & moving.any(axis=1))
+    else:
+        todo = np.flatnonzero(moving.any(axis=1))
     if todo.size == 0:
         return desired
-    final = desired.copy()
-    c, f, live = cells[todo], desired[todo], racing[todo]
-    counts = (steps[todo, None].astype(np.uint64) * np.uint64(n) + np.arange(n, dtype=np.uint64)) * np.uint64(SLOTS)
-    prio = uniform_array(keys[todo, None], counts + np.uint64(SLOT_PRIORITY))
-    beaten_by = (prio[:, None, :] > prio[:, :, None]) & others  # (e, i, j): j would win a contest with i
-    live_j = live[:, None, :] & others
-    rows = np.arange(todo.size)  # the envs still changing: an env with no stop in a round is settled
-    for _ in range(n + 1):
-        fr, cr, lr = f[rows], c[rows], live[rows]
-        moving = lr & (fr != cr)
-        f_i, f_j, c_i = fr[:, :, None], fr[:, None, :], cr[:, :, None]
-        # j sits on i's destination and stays there, or heads for i's cell (a swap): i stays
-        held = ((f_i == cr[:, None, :]) & live_j[rows] & ((fr == cr)[:, None, :] | (f_j == c_i))).any(axis=2)
-        same = (f_i == f_j) & (moving[:, :, None] & moving[:, None, :]) & others
-        lost = same.any(axis=2) if mode == "bounce" else (same & beaten_by[rows]).any(axis=2)
-        stop = moving & (held | lost)
-        changed = stop.any(axis=1)
-        if not changed.any():
+    c, d = cells[todo].ravel(), desired[todo].ravel()
+    live, mv = racing[todo].ravel(), moving[todo].ravel()
+    size = c.size
+    # one key space for all envs: env row * stride + cell
+    stride = int(max(c.max(), d.max())) + 1
+    row_base = np.repeat(np.arange(todo.size, dtype=np.int64) * stride, n)
+    ck, dk = c + row_base, d + row_base
+    # the occupant of each mover's destination (a racing robot on that cell), or -1
+    on_board = np.flatnonzero(live)
+    by_cell = on_board[np.argsort(ck[on_board])]
+    at = np.minimum(np.searchsorted(ck[by_cell], dk), by_cell.size - 1)
+    occupant = by_cell[at]
+    hit = mv & (ck[occupant] == dk)
+    stopped = live & ~mv  # robots that do not move
+    k = np.flatnonzero(hit)
+    stopped[k[dk[occupant[k]] == ck[k]]] = True  # swaps: each side is stopped from its own row
+    # contests: movers sharing a destination, in robot order within each destination
+    movers = np.flatnonzero(mv)
+    movers = movers[np.argsort(dk[movers], kind="stable")]
+    same = dk[movers[1:]] == dk[movers[:-1]]
+    if same.any():
+        in_contest = np.zeros(movers.size, dtype=bool)
+        in_contest[1:] |= same
+        in_contest[:-1] |= same
+        rivals = movers[in_contest]
+        if mode == "bounce":
+            stopped[rivals] = True
+        else:
+            row, robot = rivals // n, (rivals % n).astype(np.uint64)
+            counts = (steps[todo][row].astype(np.uint64) * np.uint64(n) + robot) * np.uint64(SLOTS) + np.uint64(SLOT_PRIORITY)
+            prio = uniform_array(keys[todo][row], counts)
+            rivals = rivals[np.lexsort((rivals, -prio, dk[rivals]))]
+            stopped[rivals[1:][dk[rivals[1:]] == dk[rivals[:-1]]]] = True  # all but the first of each cell
+    elif not hit.any():
+        return desired  # nobody heads for an occupied cell, no two for one cell
+    # the rest follow their occupant: stopped if a stopped robot lies ahead on the chain
+    follows = hit & ~stopped
+    sink = size  # the end of every chain that reaches no further robot; never stopped
+    open_ = np.flatnonzero(follows)
+    ahead = np.full(size + 1, sink, dtype=np.int64)
+    ahead[open_] = occupant[open_]
+    stop = np.append(stopped, False)  # stop[i]: a stopped robot among i .. ahead[i] (exclusive)
+    for _ in range(n.bit_length()):  # the chains double each pass; n passes' worth covers any cycle
+        if open_.size == 0:
             break
-        f[rows] = np.where(stop, cr, fr)
-        rows = rows[changed]
-    final[todo] = f
+        nxt = ahead[open_]
+        stop[open_] |= stop[nxt]
+        ahead[open_] = ahead[nxt]
+        open_ = open_[~stop[open_] & (ahead[open_] != sink)]  # the rest go round a cycle, or not yet known
+    # rows of movers still open after those passes go round a cycle with nobody stopped: they move
+    final = desired.copy()
+    f = final[todo].ravel()
+    f[stop[:size] & mv] = c[stop[:size] & mv]
+    final[todo] = f.reshape(todo.size, n)
     return final
+
+
+_PAIRWISE_UP_TO = 8  # robots per env up to which the pair-by-pair pre-check beats sorting
 
 
 class BatchRace:
@@ -97,6 +139,7 @@ class BatchRace:
         free: Sequence[int] = (),
         start: str = "level",
         win_bonus: float = 0.0,
+        observer: Observer | None = None,
     ):
         if start not in START_MODES:
             raise ValueError(f"start: must be one of {START_MODES}, got {start!r}")
@@ -118,11 +161,9 @@ class BatchRace:
         self.generators = [np.random.default_rng() for _ in range(e)]
         self._robot_counts = np.arange(n, dtype=np.uint64) * np.uint64(SLOTS)
         w = table.width
+        self.observer = observer  # None: the "global" rows below
         # observation of robot i: its [x, y], then [x, y, finished] of robots i+1, ..., i-1
-        self.gather = np.array(
-            [[3 * i, 3 * i + 1] + [3 * ((i + k) % n) + f for k in range(1, n) for f in range(3)] for i in range(n)],
-            dtype=np.intp,
-        )
+        self.gather = global_gather(n if observer is None and n < 64 else 0)  # many robots: windows instead
         ids = np.arange(table.n_cells)
         self._xyf = np.stack([ids % w, ids // w, np.zeros_like(ids)], axis=1).astype(np.int64)
         self._xy = np.ascontiguousarray(self._xyf[:, :2])
@@ -230,9 +271,21 @@ class BatchRace:
         return rewards[:, None], finishing[:, None], self._no_block, code[:, None], over
 
     def observations(self) -> np.ndarray:
-        """``(n_envs, n_robots, 2 + 3 * (n_robots - 1))`` int64, as ``race_v0`` (``[x, y]`` for one robot)."""
+        """``(n_envs, n_robots, 2 + 3 * (n_robots - 1))`` int64, as ``race_v0`` (``[x, y]`` for one robot);
+        with an ``observer``, its rows."""
+        if self.observer is not None:
+            return self.observer(self.cells, self.racing)
         if self.n_robots == 1:  # [x, y] alone
             return self._xy.take(self.cells, axis=0)
+        e, n = self.cells.shape
         flat = self._xyf.take(self.cells, axis=0)  # (E, R, 3): [x, y, 0]
         flat[:, :, 2] = ~self.racing
-        return flat.reshape(self.n_envs, -1).take(self.gather, axis=1)
+        if n < 64:
+            return flat.reshape(e, -1).take(self.gather, axis=1)
+        # many robots: robot i's others are the flat state twice over, from robot i+1 on, for
+        # n-1 robots: windows of one array, copied once (no n x 3n index array to read)
+        twice = np.concatenate([flat, flat], axis=1).reshape(e, -1)
+        out = np.empty((e, n, 3 * n - 1), dtype=np.int64)
+        out[:, :, :2] = flat[:, :, :2]
+        out[:, :, 2:] = np.lib.stride_tricks.sliding_window_view(twice, 3 * (n - 1), axis=1)[:, 3 : 3 * n + 1 : 3]
+        return out

@@ -11,8 +11,9 @@ Collision rules (DESIGN.md), applied after every racing robot's outcome, skids i
 
 The uniform draw of "block" gives each robot a priority ``rng.uniform`` at its
 ``SLOT_PRIORITY`` address; the highest priority among the contenders wins. Robots only ever
-go from moving to staying, so the loop ends after at most ``n_robots`` rounds, and the result
-does not depend on the order in which conflicts are found.
+go from moving to staying, so the result is the smallest set of staying robots closed under
+the rules: it does not depend on the order in which conflicts are found, and one pass that
+spreads each stop to the robots behind finds it in time linear in the robots.
 
 Finished robots are off the board: they neither move nor block, so the functions here take
 the racing robots only, with their robot numbers to address the random draws.
@@ -38,6 +39,14 @@ def resolve_collisions(
     ``robots`` are their numbers (default ``0, 1, ...``) and ``n`` the robots in the race
     (default ``len(cells)``): they address the uniform draws of "block". Returns ``desired``
     itself (not a copy) when no robot is stopped by another.
+
+    O(n) whatever the numbering. The rules only ever turn movers into stayers, so the result is
+    the smallest set of stayers closed under them: a mover in a swap or losing a contest stays
+    (both read off ``desired`` alone), and a mover heading for the cell of a robot that stays
+    stays too. So stopping spreads backwards along "heads for the cell of", visiting each robot
+    once, from the robots that do not move and the swaps and contest losers. Past
+    ``_ARRAYS_FROM`` racing robots the batch engine's numpy version runs instead (the same
+    closure, by sorting and pointer doubling: O(n log n) steps in C, faster than dicts there).
     """
     if mode == "pass":
         return desired
@@ -47,45 +56,68 @@ def resolve_collisions(
     # cell once and each mover's new cell once more.
     if len({*cells, *desired}) == m + sum(map(operator.ne, cells, desired)):
         return desired
-    if len(set(desired)) == m:
-        # No two robots head for one cell: only a staying occupant or a swap can stop a robot,
-        # and if neither happens every chain of followers ends at a free cell or goes round.
-        going = dict(zip(cells, desired))  # cell -> where its robot is heading
-        for c, d in zip(cells, desired):
-            if c != d and d in going and going[d] in (c, d):  # its occupant stays, or a swap
-                break
-        else:
-            return desired
-    robots = range(m) if robots is None else robots
-    n = n or m
+    if m > _ARRAYS_FROM:
+        return _resolve_with_arrays(mode, cells, desired, key, step, robots, n)
     occupant = {c: k for k, c in enumerate(cells)}
-    final = list(desired)
-    changed = True
-    while changed:
-        changed = False
-        contests: dict[int, list[int]] = {}
-        for k in range(m):
-            dest = final[k]
-            if dest == cells[k]:
-                continue
-            j = occupant.get(dest)
-            if j is not None and (final[j] == cells[j] or final[j] == cells[k]):
-                # its occupant stays, or the two would swap: both cases leave k in place
-                final[k] = cells[k]
-                if final[j] == cells[k]:
-                    final[j] = cells[j]
-                changed = True
+    heading: dict[int, list[int]] = {}  # cell -> the movers heading for it
+    stopped = [False] * m
+    todo = []  # robots that stay and whose stopping has not spread yet
+    for k in range(m):
+        if desired[k] == cells[k]:
+            stopped[k] = True
+            todo.append(k)
+        else:
+            heading.setdefault(desired[k], []).append(k)
+    seeds = []
+    for d, group in heading.items():
+        j = occupant.get(d)
+        if j is not None:  # k and j would swap: k stays here, j where its own cell is the heading
+            seeds.extend(k for k in group if cells[k] == desired[j])
+        if len(group) > 1:  # a contest: block lets the highest priority in, bounce nobody
+            if mode == "bounce":
+                seeds.extend(group)
             else:
-                contests.setdefault(dest, []).append(k)
-        for group in contests.values():
-            if len(group) < 2 or any(final[k] == cells[k] for k in group):
-                continue  # no contest, or found stale: the next round looks again
-            keep = -1 if mode == "bounce" else max(group, key=lambda k: _priority(key, step, n, robots[k]))
-            for k in group:
-                if k != keep:
-                    final[k] = cells[k]
-            changed = True
-    return final
+                numbers = range(m) if robots is None else robots
+                keep = max(group, key=lambda k: _priority(key, step, n or m, numbers[k]))
+                seeds.extend(k for k in group if k != keep)
+    n_stayers = len(todo)
+    for k in seeds:
+        if not stopped[k]:
+            stopped[k] = True
+            todo.append(k)
+    stops = len(todo) - n_stayers
+    while todo:
+        for k in heading.get(cells[todo.pop()], ()):
+            if not stopped[k]:
+                stopped[k] = True
+                todo.append(k)
+                stops += 1
+    if not stops:
+        return desired
+    return [c if s else d for c, d, s in zip(cells, desired, stopped)]
+
+
+_ARRAYS_FROM = 48  # racing robots above which numpy (``batch.resolve_collisions_array``) beats Python dicts
+
+
+def _resolve_with_arrays(
+    mode: str, cells: Sequence[int], desired: Sequence[int], key: int, step: int, robots: Sequence[int] | None, n: int
+) -> Sequence[int]:
+    """``resolve_collisions`` through the batch engine's version: one race of ``n`` robots, the finished ones off the board."""
+    import numpy as np
+
+    from .batch import resolve_collisions_array  # the batch engine imports nothing from here
+
+    m = len(cells)
+    n = n or m
+    where = np.arange(m) if robots is None else np.asarray(robots, dtype=np.int64)
+    c, d, racing = np.zeros((1, n), dtype=np.int64), np.zeros((1, n), dtype=np.int64), np.zeros((1, n), dtype=bool)
+    c[0, where], d[0, where], racing[0, where] = cells, desired, True
+    final = resolve_collisions_array(mode, c, d, racing, np.array([key], dtype=np.uint64), np.array([step], dtype=np.int64))
+    if final is d:
+        return desired
+    out = final[0, where]
+    return desired if np.array_equal(out, d[0, where]) else out.tolist()
 
 
 def _priority(key: int, step: int, n: int, robot: int) -> float:

@@ -7,7 +7,7 @@ Cells are numbered ``c = y * width + x``. The simulator (``engine``) and the pla
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import cached_property
+from functools import cached_property, lru_cache
 from typing import NamedTuple
 
 import numpy as np
@@ -81,6 +81,11 @@ class Table:
         return self.level.n_cells
 
     @cached_property
+    def free_cells(self) -> tuple[int, ...]:
+        """Ids of ``level.free_cells()``: worked out once per table, shared by the envs built on it."""
+        return tuple(self.cell_id(c) for c in self.level.free_cells())
+
+    @cached_property
     def lists(self) -> TableLists:
         skid = [[tuple(self.skid[c, a, : self.n_skid[c, a]].tolist()) for a in range(N_ACTIONS)] for c in range(self.n_cells)]
         return TableLists(
@@ -134,8 +139,28 @@ class Table:
 
 
 def compile_level(level: Level, rules: Rules | None = None) -> Table:
-    """Build the look-up tables of ``level`` under ``rules`` (default ``Rules()``)."""
-    rules = Rules() if rules is None else rules
+    """Build the look-up tables of ``level`` under ``rules`` (default ``Rules()``).
+
+    Cached: the last ``COMPILED_CACHE`` (level, rules) pairs are compiled once and their table
+    shared, by every env built from them (its arrays are read-only; what a table derives on first
+    use, such as ``lists``, is shared with it). ``compile_level.cache_clear()`` empties the cache.
+    """
+    return _compiled(level, level.name, Rules() if rules is None else rules)
+
+
+COMPILED_CACHE = 16  # tables of 256x256 mazes weigh tens of megabytes each
+
+
+@lru_cache(maxsize=COMPILED_CACHE)
+def _compiled(level: Level, name: str, rules: Rules) -> Table:  # name: equal levels may carry other names
+    return _compile(level, rules)
+
+
+compile_level.cache_clear = _compiled.cache_clear  # type: ignore[attr-defined]
+compile_level.cache_info = _compiled.cache_info  # type: ignore[attr-defined]
+
+
+def _compile(level: Level, rules: Rules) -> Table:
     w, n = level.width, level.n_cells
     target = np.tile(np.arange(n, dtype=np.int64)[:, None], (1, N_ACTIONS))
     glass = np.zeros((n, N_ACTIONS), dtype=bool)

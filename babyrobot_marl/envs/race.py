@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import operator
 from collections.abc import Mapping, Sequence
-from functools import cached_property
+from functools import cached_property, partial
 from typing import Any
 
 import numpy as np
@@ -15,10 +15,12 @@ from ..core.actions import N_ACTIONS
 from ..core.batch import BatchRace
 from ..core.engine import OUTCOMES
 from ..core.level import Cell, Level, as_cell
+from ..core.observe import global_gather, make_observer
 from ..core.race import race_step
 from ..core.rng import new_key
 from ..core.rules import COLLISION_MODES, Rules
 from ..core.table import compile_level
+from ..level_sources import DrawnLevels
 from ..render.ansi import frame, robot_glyph
 from ..render.canvas import check_animation_frames, check_fps
 from ..render.overlay import Overlay
@@ -33,11 +35,11 @@ FINISHED_MODES = ("remove", "freeze")
 _INT, _ACTIONS = frozenset({int}), frozenset(range(N_ACTIONS))
 _ARGS = (
     "arguments are level, n_robots, collisions, max_cycles, start, finished, rules, render_mode, cell_size, theme, "
-    "animation_frames, render_fps"
+    "animation_frames, render_fps, observe, view_radius, k"
 )
 
 
-class RaceEnv(RaceDrawing, ParallelEnv):
+class RaceEnv(RaceDrawing, DrawnLevels, ParallelEnv):
     """Several Baby Robots race to the exit. See ``babyrobot_marl.race_v0`` for the full table."""
 
     metadata = {
@@ -61,9 +63,12 @@ class RaceEnv(RaceDrawing, ParallelEnv):
         theme: str | Theme = "light",
         animation_frames: int = 4,
         render_fps: float | None = None,
+        observe: str = "global",
+        view_radius: int | None = None,
+        k: int | None = None,
         **rule_overrides: Any,
     ):
-        self.level = resolve_level(level)
+        self.level = resolve_level(self._init_level_source(level))  # level= a family or a callable: drawn per reset
         if collisions is not None:
             if collisions not in COLLISION_MODES:
                 raise ValueError(f"collisions: must be one of {', '.join(map(repr, COLLISION_MODES))}, got {collisions!r}")
@@ -71,6 +76,8 @@ class RaceEnv(RaceDrawing, ParallelEnv):
         self.rules = resolve_rules(rules, rule_overrides, known=_ARGS)
         self.collisions = self.rules.collisions
         self.table = compile_level(self.level, self.rules)
+        self._observer_of = partial(make_observer, observe=observe, view_radius=view_radius, k=k)
+        self.observe, self._observer = observe, self._observer_of(self.table)  # None: "global"
         self.n_robots = n = check_positive_int(n_robots, "n_robots")
         self.max_cycles = default_max_steps(self.level) if max_cycles is None else check_positive_int(max_cycles, "max_cycles")
         if start not in START_MODES:
@@ -89,17 +96,12 @@ class RaceEnv(RaceDrawing, ParallelEnv):
         w, h = self.level.width, self.level.height
         self.possible_agents = [f"robot_{i}" for i in range(n)]
         self._index = {a: i for i, a in enumerate(self.possible_agents)}
-        self._obs_space = spaces.MultiDiscrete([w, h] + [w, h, 2] * (n - 1))
+        self._obs_space = spaces.MultiDiscrete(self._observer.nvec if self._observer else [w, h] + [w, h, 2] * (n - 1))
         self._act_space = spaces.Discrete(5)
         self.observation_spaces = dict.fromkeys(self.possible_agents, self._obs_space)
         self.action_spaces = dict.fromkeys(self.possible_agents, self._act_space)
         self.state_space = spaces.Box(0, np.array([w - 1, h - 1, 1] * n), shape=(3 * n,), dtype=np.int64)
-        # the observer first, then the others in turn: robot i sees i, i+1, ..., i-1 (mod n);
-        # observations gather from the flat state [x0, y0, finished0, x1, ...]
-        self._gather = np.array(
-            [[3 * i, 3 * i + 1] + [3 * ((i + k) % n) + f for k in range(1, n) for f in range(3)] for i in range(n)],
-            dtype=np.intp,
-        )
+        self._gather = global_gather(n if self._observer is None else 0)  # robot i sees i, i+1, ..., i-1: "global" only
         self._lists = self.table.lists
         self._xy = [self.table.cell_xy(c) for c in range(self.table.n_cells)]
         self._reward_at = self._lists.reward.__getitem__
@@ -136,6 +138,7 @@ class RaceEnv(RaceDrawing, ParallelEnv):
         check_options(options)
         if seed is not None:
             self.np_random, _ = _seeding(seed)
+        self._draw_level()
         self._key = new_key(self.np_random)
         n = self.n_robots
         self._live, self._live_cells = list(range(n)), self._draw_starts()
@@ -260,7 +263,7 @@ class RaceEnv(RaceDrawing, ParallelEnv):
         """Observation rows of the reported agents, gathered from the rows of ``_live_cells + _parked``."""
         place = np.empty(self.n_robots, dtype=np.intp)
         place[self._live + self._done] = np.arange(len(self._live) + len(self._done))
-        g = self._gather[self._agent_ids]
+        g = self._gather[self._agent_ids] if self._observer is None else self._gather
         self._gather_reported = 3 * place[g // 3] + g % 3 if len(self._done) else g
         self._reported_live = self._agent_ids == self._live
         self._live_set = frozenset(self._live)
@@ -306,8 +309,10 @@ class RaceEnv(RaceDrawing, ParallelEnv):
     def batch(self, n_envs: int) -> BatchRace:
         """``n_envs`` copies of this race as one batch engine (the ``finished="freeze"`` view):
         env ``i`` plays exactly the races of this env seeded the same way."""
+        self._check_one_level("the batch engine (and the vector envs)")
         return BatchRace(
-            self.table, n_envs, self.n_robots, self.max_cycles, self._fixed_starts, self._free, self.start, self.rules.win_bonus
+            self.table, n_envs, self.n_robots, self.max_cycles, self._fixed_starts, self._free, self.start, self.rules.win_bonus,
+            observer=self._observer,
         )
 
     @cached_property
@@ -407,6 +412,8 @@ class RaceEnv(RaceDrawing, ParallelEnv):
 
     def _observations(self) -> np.ndarray:
         """One row per reported agent, in ``agents`` order (a fresh array per step, rows never shared)."""
+        if self._observer is not None:
+            return self._observer(np.array(self._cells), np.array(self._racing))[self._agent_ids]
         rows = [*self._live_cells, *self._parked] if self._parked else self._live_cells
         return self._xyf.take(rows, axis=0).ravel()[self._gather_reported]
 
@@ -421,7 +428,7 @@ class RaceEnv(RaceDrawing, ParallelEnv):
                 )
             return starts[:n], []
         fixed = starts[:n] if self.start == "fill" else []
-        free = [c for c in (self.table.cell_id(c) for c in self.level.free_cells()) if c not in fixed]
+        free = [c for c in self.table.free_cells if c not in fixed]
         if len(fixed) + len(free) < n:
             raise ValueError(
                 f"n_robots: {n} robots do not fit on level {self.level.name or ''!r}, "

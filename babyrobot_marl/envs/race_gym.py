@@ -81,8 +81,9 @@ class BabyRobotRaceEnv(gym.Env):
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
         super().reset(seed=seed)
         # the opponents' random moves and the race's own draws all come from self.np_random
-        self._opponents = [make(name, self.race.table, seed=self.np_random) for name in self.opponent_names]
         self._obs, infos = self.race.reset(seed=int(self.np_random.integers(2**63)), options=options)
+        # after the race's reset, which may draw a new level (making a policy draws no number)
+        self._opponents = [make(name, self.race.table, seed=self.np_random) for name in self.opponent_names]
         return self._obs["robot_0"].copy(), self._with_ranks(infos["robot_0"])
 
     def step(self, action):

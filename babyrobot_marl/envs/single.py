@@ -121,7 +121,7 @@ class BabyRobotEnv(SingleDrawing, gym.Env):
         self.max_steps = default_max_steps(self.level) if max_steps is None else check_positive_int(max_steps, "max_steps")
         if start not in (None, "random"):
             raise ValueError(f"start: must be None (the level's start) or 'random', got {start!r}")
-        self._free = [self.table.cell_id(c) for c in self.level.free_cells()]
+        self._free = list(self.table.free_cells)
         self.random_start = start == "random" or not self.level.starts
         if self.random_start and not self._free:
             raise ValueError(f"level: {self.level!r} has no free cell to start a robot on")

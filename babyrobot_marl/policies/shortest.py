@@ -7,6 +7,7 @@ number of tries). Ties go to the lowest action number, so the policy is determin
 from __future__ import annotations
 
 import heapq
+from functools import lru_cache
 
 import numpy as np
 
@@ -52,15 +53,24 @@ def shortest_path_actions(t: Table) -> np.ndarray:
     return best.astype(np.int64)
 
 
+@lru_cache(maxsize=16)
+def _shared_actions(t: Table) -> tuple[np.ndarray, list[int]]:
+    """One search from the exits per table, shared by every shortest-path robot on it (read-only)."""
+    actions = shortest_path_actions(t)
+    actions.setflags(write=False)
+    return actions, actions.tolist()
+
+
 class ShortestPathPolicy:
-    """Acts on an observation whose first two entries are the robot's own ``[x, y]``."""
+    """Acts on an observation whose first two entries are the robot's own ``[x, y]``.
+
+    Robots on one table share its action table: one Dijkstra from the exits for all of them."""
 
     name = "shortest"
 
     def __init__(self, table: Table):
         self.width = table.width
-        self.actions = shortest_path_actions(table)
-        self._by_cell = self.actions.tolist()
+        self.actions, self._by_cell = _shared_actions(table)
 
     def __call__(self, obs) -> int:
         return self._by_cell[int(obs[1]) * self.width + int(obs[0])]

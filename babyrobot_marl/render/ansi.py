@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
+from functools import lru_cache
 
 from ..core.level import MAX_TEXT_STARTS, Cell, Level
 
@@ -24,13 +25,18 @@ def robot_glyph(i: int, n_robots: int) -> str:
     return GLYPHS[i] if i < len(GLYPHS) else MANY
 
 
+@lru_cache(maxsize=8)
+def _level_text(level: Level) -> str:  # once per level: a 256x256 level's text takes a second to write
+    return level.to_ascii(starts=len(level.starts) <= MAX_TEXT_STARTS)  # more starts than digits: plain floor
+
+
 def frame(level: Level, robots: Sequence[Cell | None], status: str = "", colour: bool = False) -> str:
     """The level as text with robot ``i`` drawn at ``robots[i]`` (``None``: off the board).
 
     Several robots in one cell (collision mode "pass") show the lowest-numbered one.
     ``colour=True`` adds ANSI colours for a terminal.
     """
-    text = level.to_ascii(starts=len(level.starts) <= MAX_TEXT_STARTS)  # more starts than digits: plain floor
+    text = _level_text(level)
     lines = [list(line) for line in text.split("\n")]
     n = len(robots)
     for i in reversed(range(n)):

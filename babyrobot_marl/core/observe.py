@@ -1,0 +1,316 @@
+"""What a race robot observes: pure functions from the robots' cells to ``MultiDiscrete`` rows.
+
+Three modes (``OBSERVE_MODES``), each a row per robot beginning with the robot's own ``[x, y]``:
+
+- ``"global"``: then ``[x, y, finished]`` of every other robot (``n`` robots: ``3n - 1`` numbers,
+  so a step costs O(n^2)); built by the envs themselves, described here for the table.
+- ``"local"``: then a ``(2r+1) x (2r+1)`` window centred on the robot (``r = view_radius``),
+  rows from north to south, west to east within a row, each cell ``LOCAL_FEATURES``:
+  terrain (``TERRAIN``: floor, small puddle, large puddle, blocked or outside the grid, exit),
+  another racing robot there (0/1), then the edge on each side, north, east, south, west
+  (``EDGE``: open, wall, glass). Cells outside the grid are blocked with walls on every side.
+- ``"nearest"``: then ``[dx + W - 1, dy + H - 1]`` of the ``k`` nearest other racing robots
+  (Manhattan distance, ties to the lower robot number), nearest first; missing ones (fewer than
+  ``k`` others racing) are ``[2W - 1, 2H - 1]`` (``nearest_nvec``'s last values).
+
+Finished robots are off the board: nobody sees them in "local" or "nearest" windows; a finished
+robot still observed (``finished="freeze"``) sees from the exit it took. Both modes cost O(n)
+memory per step: the level's part of a local window is precomputed once per (table, radius)
+(``local_view``, cached), the robots are put on a scratch grid each step; nearest robots are
+found by brute force for a few robots, else by searching rings of cells around each robot.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+
+from .table import Table
+
+OBSERVE_MODES = ("global", "local", "nearest")
+LOCAL_FEATURES = ("terrain", "robot", "north", "east", "south", "west")
+TERRAIN = {"floor": 0, "small puddle": 1, "large puddle": 2, "blocked": 3, "exit": 4}
+EDGE = {"open": 0, "wall": 1, "glass": 2}
+_LOCAL_NVEC = (len(TERRAIN), 2, len(EDGE), len(EDGE), len(EDGE), len(EDGE))
+_ROBOT = 1  # the column of the robot feature
+
+
+def global_gather(n: int) -> np.ndarray:
+    """Where the "global" rows gather from the flat state ``[x0, y0, finished0, x1, ...]``: robot
+    ``i`` sees its ``[x, y]``, then ``[x, y, finished]`` of robots ``i+1, ..., i-1`` (mod ``n``)."""
+    if n == 0:
+        return np.zeros((0, 0), dtype=np.intp)
+    i = np.arange(n, dtype=np.intp)[:, None]
+    others = (i + np.arange(1, n, dtype=np.intp)) % n  # (n, n - 1)
+    rows = np.concatenate([3 * i, 3 * i + 1, (3 * others[:, :, None] + np.arange(3)).reshape(n, 3 * (n - 1))], axis=1)
+    return rows
+
+
+@dataclass(frozen=True, eq=False)
+class LocalView:
+    """The level's part of every local window of radius ``radius``, on a grid padded by it."""
+
+    radius: int
+    width: int
+    height: int
+    static: np.ndarray  # (padded cells, 6) features, the robot column 0
+    padded: np.ndarray  # (cells,) each cell's index in the padded grid
+    window: np.ndarray  # ((2r+1)^2,) offsets of a window's cells from its centre, in the padded grid
+    xy: np.ndarray  # (cells, 2) each cell's [x, y]
+
+    @property
+    def size(self) -> int:
+        """Numbers per observation: ``[x, y]`` and six per window cell."""
+        return 2 + len(LOCAL_FEATURES) * self.window.size
+
+    @property
+    def nvec(self) -> np.ndarray:
+        return np.array([self.width, self.height, *(_LOCAL_NVEC * self.window.size)], dtype=np.int64)
+
+
+@lru_cache(maxsize=32)
+def local_view(table: Table, radius: int) -> LocalView:
+    """The precomputed level part of local windows (cached: shared by every env on ``table``)."""
+    level, r = table.level, radius
+    w, h = level.width, level.height
+    pw, ph = w + 2 * r, h + 2 * r
+    grid = np.zeros((ph, pw, len(LOCAL_FEATURES)), dtype=np.int64)
+    grid[:, :, 0] = TERRAIN["blocked"]  # outside: blocked, walls all round
+    grid[:, :, 2:] = EDGE["wall"]
+    inner = grid[r : r + h, r : r + w]
+    inner[:, :, 2:] = EDGE["open"]
+    inner[0, :, 2], inner[-1, :, 4], inner[:, -1, 3], inner[:, 0, 5] = (EDGE["wall"],) * 4  # the border
+    inner[:, :, 0] = TERRAIN["floor"]
+    for kind, cells in (("small puddle", level.small_puddles), ("large puddle", level.large_puddles)):
+        for x, y in cells:
+            inner[y, x, 0] = TERRAIN[kind]
+    for x, y in level.blocked:
+        inner[y, x, 0] = TERRAIN["blocked"]
+    for x, y in level.exits:
+        inner[y, x, 0] = TERRAIN["exit"]
+    for kind, edges in (("wall", level.walls), ("glass", level.glass)):
+        for (ax, ay), (bx, by) in edges:  # a < b: b is east of a, or south of it
+            if by == ay:
+                inner[ay, ax, 3] = inner[by, bx, 5] = EDGE[kind]
+            else:
+                inner[ay, ax, 4] = inner[by, bx, 2] = EDGE[kind]
+    ids = np.arange(w * h)
+    x, y = ids % w, ids // w
+    d = np.arange(-r, r + 1)
+    window = (d[:, None] * pw + d[None, :]).ravel()
+    static = grid.reshape(-1, len(LOCAL_FEATURES))
+    for a in (static, window):
+        a.setflags(write=False)
+    return LocalView(r, w, h, static, (y + r) * pw + (x + r), window, np.stack([x, y], axis=1))
+
+
+def local_observations(view: LocalView, cells: np.ndarray, racing: np.ndarray) -> np.ndarray:
+    """``(..., n, view.size)`` int64 rows from cells and racing flags of shape ``(..., n)``
+    (leading dimensions: separate races, e.g. the envs of a batch)."""
+    cells, racing = np.asarray(cells), np.asarray(racing, dtype=bool)
+    *lead, n = cells.shape
+    n_races = int(np.prod(lead, dtype=np.int64))
+    cells2, racing2 = cells.reshape(n_races, n), racing.reshape(n_races, n)
+    n_padded = view.static.shape[0]
+    at = view.padded.take(cells2)  # (R, n) each robot's cell in the padded grid
+    idx = at[:, :, None] + view.window  # (R, n, cells in a window): always inside the padded grid
+    out = np.empty((n_races, n, view.size), dtype=np.int64)
+    out[:, :, :2] = view.xy.take(cells2, axis=0)
+    feats = out[:, :, 2:].reshape(n_races, n, view.window.size, len(LOCAL_FEATURES))
+    feats[...] = view.static.take(idx, axis=0, mode="clip")  # "clip": no bounds checks (all inside)
+    if n == 1:
+        feats[:, :, :, _ROBOT] = 0  # a lone robot sees no other
+        return out.reshape(*lead, n, view.size)
+    # the robots, on a scratch grid of a few races at a time (a bounded grid, O(n) work):
+    # only racing robots are on the board
+    step = max(1, _SCRATCH // n_padded)
+    for s in range(0, n_races, step):
+        at_s, racing_s = at[s : s + step], racing2[s : s + step]
+        race_base = (np.arange(at_s.shape[0], dtype=np.int64) * n_padded)[:, None]
+        count = np.zeros(at_s.shape[0] * n_padded, dtype=np.int32)
+        np.add.at(count, (at_s + race_base)[racing_s], 1)
+        seen = count.take(idx[s : s + step] + race_base[:, :, None], mode="clip")
+        seen[:, :, view.window.size // 2] -= racing_s  # not the observer itself
+        feats[s : s + step, :, :, _ROBOT] = seen > 0
+    return out.reshape(*lead, n, view.size)
+
+
+_SCRATCH = 1 << 20  # cells of scratch grid per pass (4 MB of counts)
+
+
+def nearest_nvec(width: int, height: int, k: int) -> np.ndarray:
+    return np.array([width, height] + [2 * width, 2 * height] * k, dtype=np.int64)
+
+
+_BRUTE_UP_TO = 128  # robots per race up to which all pairs are compared
+_CHUNK = 1 << 20  # pairs compared at once (memory bound)
+
+
+def nearest_observations(xy: np.ndarray, racing: np.ndarray, k: int, width: int, height: int) -> np.ndarray:
+    """``(..., n, 2 + 2k)`` int64 rows from ``[x, y]`` of shape ``(..., n, 2)`` and racing flags ``(..., n)``."""
+    xy, racing = np.asarray(xy, dtype=np.int64), np.asarray(racing, dtype=bool)
+    *lead, n, _ = xy.shape
+    n_races = int(np.prod(lead, dtype=np.int64))
+    xy2, racing2 = xy.reshape(n_races, n, 2), racing.reshape(n_races, n)
+    out = np.empty((n_races, n, 2 + 2 * k), dtype=np.int64)
+    out[:, :, :2] = xy2
+    rel = out[:, :, 2:].reshape(n_races, n, k, 2)
+    if k == 0:
+        return out.reshape(*lead, n, 2)
+    if n <= _BRUTE_UP_TO:
+        step = max(1, _CHUNK // (n * n))
+        for s in range(0, n_races, step):
+            _nearest_brute(xy2[s : s + step], racing2[s : s + step], rel[s : s + step])
+    else:
+        for s in range(n_races):
+            _nearest_rings(xy2[s], racing2[s], rel[s], width, height)
+    # [dx, dy] -> [dx + W - 1, dy + H - 1]; a missing robot: [2W - 1, 2H - 1]
+    missing = rel[..., 0] == _MISSING
+    rel += (width - 1, height - 1)
+    rel[missing] = (2 * width - 1, 2 * height - 1)
+    return out.reshape(*lead, n, 2 + 2 * k)
+
+
+_MISSING = np.iinfo(np.int64).min // 4
+
+
+def _nearest_brute(xy: np.ndarray, racing: np.ndarray, rel: np.ndarray) -> None:
+    """All pairs: ``rel`` (R, n, k, 2) gets the k nearest's ``[dx, dy]`` (``_MISSING`` if none)."""
+    r, n, k = rel.shape[0], rel.shape[1], rel.shape[2]
+    d = xy[:, None, :, :] - xy[:, :, None, :]  # (R, i, j, 2): j relative to i
+    dist = np.abs(d).sum(axis=3)
+    big = 4 * (np.abs(xy).max() + 1) if xy.size else 1
+    dist = np.where(racing[:, None, :] & ~np.eye(n, dtype=bool), dist, big)  # others on the board only
+    key = dist * n + np.arange(n)  # ties to the lower robot number
+    kk = min(k, n)
+    near = np.argpartition(key, kk - 1, axis=2)[:, :, :kk] if kk < n else np.broadcast_to(np.arange(n), (r, n, n))
+    near = np.take_along_axis(near, np.argsort(np.take_along_axis(key, near, axis=2), axis=2), axis=2)
+    found = np.take_along_axis(dist, near, axis=2) < big
+    rel[:, :, :kk] = np.where(found[..., None], np.take_along_axis(d, near[..., None], axis=2), _MISSING)
+    rel[:, :, kk:] = _MISSING
+
+
+def _nearest_rings(xy: np.ndarray, racing: np.ndarray, rel: np.ndarray, width: int, height: int) -> None:
+    """One race of many robots: look at the cells at distance 0, 1, 2, ... around each robot until
+    ``k`` others are found; robots still looking once a ring would cost more than comparing with
+    everyone are done by brute force."""
+    n, k = rel.shape[0], rel.shape[1]
+    rel[...] = _MISSING
+    others = np.flatnonzero(racing)
+    if others.size == 0:
+        return
+    # the racing robots by cell (several may share one under "pass"), robot numbers ascending
+    cell = xy[others, 1] * width + xy[others, 0]
+    order = np.lexsort((others, cell))
+    robots = others[order]
+    # robots[first_on[c] : first_on[c] + count[c]] are the racing robots on cell c; the last slot: outside
+    count = np.bincount(cell, minlength=width * height + 1)
+    first_on = np.cumsum(count) - count
+    found = np.zeros(n, dtype=np.int64)
+    todo = np.arange(n)
+    d = 0
+    while todo.size and 2 * d * d <= n:
+        if d == 0:
+            dx = dy = np.zeros(1, dtype=np.int64)
+        else:
+            t = np.arange(d)
+            dx = np.concatenate([d - t, -t, t - d, t])
+            dy = np.concatenate([t, d - t, -t, t - d])
+        x = xy[todo, 0][:, None] + dx
+        y = xy[todo, 1][:, None] + dy
+        inside = (x >= 0) & (x < width) & (y >= 0) & (y < height)
+        c = np.where(inside, y * width + x, width * height)
+        lo = first_on.take(c)
+        hi = lo + count.take(c)
+        per_row = (hi - lo).sum(axis=1)
+        rows = np.flatnonzero(per_row)
+        if rows.size:
+            # every robot of the ring, row by row, then sorted by robot number within a row
+            lo_r, hi_r = lo[rows].ravel(), hi[rows].ravel()
+            length = hi_r - lo_r
+            row_of = np.repeat(np.repeat(rows, dx.size), length)
+            start = np.repeat(lo_r - np.cumsum(length) + length, length)
+            hits = robots[start + np.arange(length.sum())]
+            keep = hits != todo[row_of]  # not the observer itself
+            row_of, hits = row_of[keep], hits[keep]
+            o = np.lexsort((hits, row_of))
+            row_of, hits = row_of[o], hits[o]
+            first = np.searchsorted(row_of, row_of)  # rank of each hit within its row
+            slot = found[todo[row_of]] + np.arange(row_of.size) - first
+            use = slot < k
+            who = todo[row_of[use]]
+            rel[who, slot[use]] = xy[hits[use]] - xy[who]
+            np.add.at(found, who, 1)
+        todo = todo[found[todo] < k]
+        d += 1
+    if todo.size:  # far from the rest: compare with everyone
+        step = max(1, _CHUNK // max(n, 1))
+        for s in range(0, todo.size, step):
+            _nearest_subset(xy, racing, rel, todo[s : s + step])
+
+
+def _nearest_subset(xy: np.ndarray, racing: np.ndarray, rel: np.ndarray, who: np.ndarray) -> None:
+    n, k = rel.shape[0], rel.shape[1]
+    d = xy[None, :, :] - xy[who, None, :]  # (m, n, 2)
+    dist = np.abs(d).sum(axis=2)
+    big = 4 * (np.abs(xy).max() + 1)
+    ok = racing[None, :] & (np.arange(n)[None, :] != who[:, None])
+    key = np.where(ok, dist, big) * n + np.arange(n)
+    kk = min(k, n)
+    near = np.argpartition(key, kk - 1, axis=1)[:, :kk] if kk < n else np.broadcast_to(np.arange(n), (who.size, n))
+    near = np.take_along_axis(near, np.argsort(np.take_along_axis(key, near, axis=1), axis=1), axis=1)
+    found = np.take_along_axis(ok, near, axis=1)
+    vals = np.where(found[..., None], np.take_along_axis(d, near[..., None], axis=1), _MISSING)
+    rel[who, :kk] = vals
+    rel[who, kk:] = _MISSING
+
+
+@dataclass(frozen=True, eq=False)
+class Observer:
+    """A race's "local" or "nearest" observations (``make_observer``): ``nvec`` and the rows."""
+
+    mode: str
+    nvec: np.ndarray
+    view: LocalView | None  # "local"
+    k: int  # "nearest"
+    xy: np.ndarray  # (cells, 2)
+    width: int
+    height: int
+
+    def __call__(self, cells: np.ndarray, racing: np.ndarray) -> np.ndarray:
+        """``(..., n, len(nvec))`` int64 rows from every robot's cell and racing flag, ``(..., n)``."""
+        if self.view is not None:
+            return local_observations(self.view, cells, racing)
+        return nearest_observations(self.xy[np.asarray(cells)], racing, self.k, self.width, self.height)
+
+
+DEFAULT_VIEW_RADIUS, DEFAULT_K = 2, 4
+
+
+def make_observer(table: Table, observe: str = "global", view_radius: int | None = None, k: int | None = None) -> Observer | None:
+    """The observer of ``observe`` (``None`` for "global", which the envs build themselves).
+
+    ``view_radius`` (default 2) belongs to "local" and ``k`` (default 4) to "nearest": either
+    given to another mode is a ``ValueError``, as is anything but an integer >= 0 (>= 1 for ``k``).
+    """
+    if observe not in OBSERVE_MODES:
+        raise ValueError(f"observe: must be one of {', '.join(map(repr, OBSERVE_MODES))}, got {observe!r}")
+    for name, value, mode, low in (("view_radius", view_radius, "local", 0), ("k", k, "nearest", 1)):
+        if value is None:
+            continue
+        if observe != mode:
+            raise ValueError(f"{name}: only for observe={mode!r}, got {name}={value!r} with observe={observe!r}")
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
+            raise ValueError(f"{name}: must be an integer >= {low}, got {value!r}")
+    if observe == "global":
+        return None
+    w, h = table.level.width, table.level.height
+    ids = np.arange(table.n_cells)
+    xy = np.stack([ids % w, ids // w], axis=1)
+    if observe == "local":
+        view = local_view(table, int(DEFAULT_VIEW_RADIUS if view_radius is None else view_radius))
+        return Observer("local", view.nvec, view, 0, xy, w, h)
+    k = int(DEFAULT_K if k is None else k)
+    return Observer("nearest", nearest_nvec(w, h, k), None, k, xy, w, h)

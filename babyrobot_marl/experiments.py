@@ -1,0 +1,247 @@
+"""Experiments: N seeded races of given policies, with per-robot and per-race metrics and 95% intervals.
+
+    from babyrobot_marl import experiments
+    stats = experiments.run_races("race-4", ["shortest", "shortest", "random", "random"], n_races=200, seed=0)
+    print(stats.table())
+    stats.plot()  # matplotlib (the "plot" extra), imported only here
+
+Per robot, over the races: win rate (first to finish, alone), tie rate (first together with
+others), finish rate, mean rank (a robot that did not finish ranks after every robot that did),
+mean steps to finish (finishers only), mean return, and mean steps blocked by other robots.
+Per race: makespan (steps until the last robot finished; the race's length when some did not),
+sum of costs (each robot's steps until it finished, or the race's length), collisions (steps in
+which some robot was stopped by another), and the rate of races every robot finished.
+
+Intervals are 95%: Wilson score intervals for rates, mean +- 1.96 standard errors for means
+(normal approximation: read them as rough below some 30 races). Race ``i`` resets the env with
+seed ``seed + i``; a ``"random"`` robot ``k`` of race ``i`` draws from ``default_rng([seed, i, k])``,
+so every figure is reproducible.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from . import policies as policy_module
+from .core.level import Level
+from .envs.race import RaceEnv
+
+Z95 = 1.959963984540054  # the two-sided 95% normal quantile
+
+Policy = Callable[[np.ndarray], int]
+
+
+def wilson(successes: int, n: int, z: float = Z95) -> tuple[float, float]:
+    """The Wilson score interval of a rate ``successes / n`` (``(nan, nan)`` for ``n = 0``)."""
+    if n == 0:
+        return (math.nan, math.nan)
+    p = successes / n
+    centre = (p + z * z / (2 * n)) / (1 + z * z / n)
+    half = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
+    low, high = centre - half, centre + half
+    return (0.0 if successes == 0 else max(0.0, low), 1.0 if successes == n else min(1.0, high))  # exact at the ends
+
+
+def mean_interval(values: Sequence[float], z: float = Z95) -> tuple[float, float, float]:
+    """``(mean, low, high)``: the mean +- ``z`` standard errors (``nan`` where undefined)."""
+    x = np.asarray(values, dtype=np.float64)
+    if x.size == 0:
+        return (math.nan, math.nan, math.nan)
+    m = float(x.mean())
+    if x.size == 1:
+        return (m, math.nan, math.nan)
+    half = z * float(x.std(ddof=1)) / math.sqrt(x.size)
+    return (m, m - half, m + half)
+
+
+@dataclass(frozen=True)
+class Metric:
+    """A figure with its 95% interval."""
+
+    value: float
+    low: float
+    high: float
+
+    def __str__(self) -> str:
+        if math.isnan(self.value):
+            return "-"
+        if math.isnan(self.low):
+            return f"{self.value:.3g}"
+        return f"{self.value:.3g} [{self.low:.3g}, {self.high:.3g}]"
+
+
+def _rate(successes: int, n: int) -> Metric:
+    low, high = wilson(successes, n)
+    return Metric(successes / n if n else math.nan, low, high)
+
+
+def _mean(values: Sequence[float]) -> Metric:
+    return Metric(*mean_interval(values))
+
+
+@dataclass
+class RaceRecord:
+    """One race: per robot its rank (0: not finished), finishing step (0: not), return and blocked steps."""
+
+    seed: int
+    steps: int
+    ranks: list[int]
+    finish_steps: list[int]
+    returns: list[float]
+    blocked: list[int]
+    collisions: int
+
+
+@dataclass
+class RaceStats:
+    """The races of ``run_races`` and their metrics (``robots``, ``race``), as a table or a plot."""
+
+    level: str
+    policies: list[str]
+    records: list[RaceRecord]
+    robots: list[dict[str, Any]] = field(init=False)
+    race: dict[str, Metric] = field(init=False)
+
+    def __post_init__(self) -> None:
+        self.robots = [self._robot(k) for k in range(len(self.policies))]
+        self.race = self._race()
+
+    @property
+    def n_races(self) -> int:
+        return len(self.records)
+
+    def _robot(self, k: int) -> dict[str, Any]:
+        recs, n = self.records, len(self.records)
+        firsts = [r for r in recs if r.ranks[k] == 1]
+        tied = sum(1 for r in firsts if r.ranks.count(1) > 1)
+        finished = [r for r in recs if r.ranks[k]]
+        ranks = [r.ranks[k] or (sum(1 for x in r.ranks if x) + 1) for r in recs]  # unfinished: after every finisher
+        return {
+            "robot": f"robot_{k}",
+            "policy": self.policies[k],
+            "win rate": _rate(len(firsts) - tied, n),
+            "tie rate": _rate(tied, n),
+            "finish rate": _rate(len(finished), n),
+            "mean rank": _mean(ranks),
+            "steps to finish": _mean([r.finish_steps[k] for r in finished]),
+            "return": _mean([r.returns[k] for r in recs]),
+            "blocked steps": _mean([r.blocked[k] for r in recs]),
+        }
+
+    def _race(self) -> dict[str, Metric]:
+        recs = self.records
+        costs = [sum(f or r.steps for f in r.finish_steps) for r in recs]
+        makespans = [max(r.finish_steps) if all(r.finish_steps) else r.steps for r in recs]
+        return {
+            "makespan": _mean(makespans),
+            "sum of costs": _mean(costs),
+            "collisions": _mean([r.collisions for r in recs]),
+            "all finished": _rate(sum(1 for r in recs if all(r.finish_steps)), len(recs)),
+        }
+
+    def table(self) -> str:
+        """Per-robot rows, then the per-race figures: ``value [95% interval]``."""
+        cols = ["robot", "policy", "win rate", "tie rate", "finish rate", "mean rank", "steps to finish", "blocked steps"]
+        rows = [cols] + [[str(r[c]) for c in cols] for r in self.robots]
+        widths = [max(len(row[i]) for row in rows) for i in range(len(cols))]
+        lines = [f"{self.n_races} races on {self.level}, 95% intervals in brackets"]
+        lines += ["  ".join(c.ljust(w) for c, w in zip(row, widths)).rstrip() for row in rows]
+        lines.append("")
+        lines += [f"{name}: {metric}" for name, metric in self.race.items()]
+        return "\n".join(lines)
+
+    def plot(self, ax: Any = None) -> Any:
+        """Win, tie and finish rates per robot with their 95% intervals (matplotlib, imported here)."""
+        try:
+            import matplotlib.pyplot as plt
+        except ImportError as err:
+            raise ImportError("RaceStats.plot needs matplotlib: pip install 'babyrobot_marl[plot]'") from err
+        if ax is None:
+            _, ax = plt.subplots(figsize=(1.2 + 0.9 * len(self.robots), 3.2))
+        x = np.arange(len(self.robots))
+        for j, (name, colour) in enumerate((("win rate", "C0"), ("tie rate", "C1"), ("finish rate", "C2"))):
+            m = [r[name] for r in self.robots]
+            v = np.array([q.value for q in m])
+            err = np.array([[q.value - q.low for q in m], [q.high - q.value for q in m]])
+            ax.bar(x + (j - 1) * 0.27, v, 0.27, yerr=err, capsize=3, label=name, color=colour)
+        ax.set_xticks(x, [f"{r['robot']}\n{r['policy']}" for r in self.robots])
+        ax.set_ylim(0, 1.05)
+        ax.set_ylabel("rate (95% interval)")
+        ax.set_title(f"{self.n_races} races on {self.level}")
+        ax.legend(fontsize="small")
+        return ax
+
+
+def run_races(
+    level: str = "race-4",
+    policies: Sequence[str | Policy] = ("shortest", "shortest"),
+    n_races: int = 100,
+    seed: int = 0,
+    **env_kwargs: Any,
+) -> RaceStats:
+    """Run ``n_races`` seeded races of ``race_v0.parallel_env(level=level, n_robots=len(policies),
+    **env_kwargs)``, robot ``k`` acting with ``policies[k]``: a name from ``policies.POLICY_NAMES``
+    or a callable ``observation -> action``. Returns their ``RaceStats``."""
+    if isinstance(policies, str) or not isinstance(policies, Sequence) or not policies:
+        raise ValueError(f"policies: expected a non-empty list of policy names or callables, got {policies!r}")
+    for p in policies:
+        if not callable(p) and p not in policy_module.POLICY_NAMES:
+            raise ValueError(f"policies: {p!r} is neither a policy name ({', '.join(policy_module.POLICY_NAMES)}) nor callable")
+    if isinstance(n_races, bool) or not isinstance(n_races, int) or n_races < 1:
+        raise ValueError(f"n_races: must be an integer >= 1, got {n_races!r}")
+    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
+        raise ValueError(f"seed: must be an integer >= 0, got {seed!r}")
+    if "n_robots" in env_kwargs:
+        raise ValueError("n_robots: given by the number of policies")
+    env = RaceEnv(level=level, n_robots=len(policies), **env_kwargs)
+    names = [p if isinstance(p, str) else getattr(p, "name", getattr(p, "__name__", type(p).__name__)) for p in policies]
+    records = [_one_race(env, policies, seed, i) for i in range(n_races)]
+    return RaceStats(_level_name(level, env), names, records)
+
+
+def _level_name(level: Any, env: RaceEnv) -> str:
+    if isinstance(level, str) and level.endswith("*"):
+        return level  # a family
+    if isinstance(level, (str, Level)):
+        return env.level.name or "custom level"
+    return getattr(level, "family", "drawn levels")
+
+
+def _one_race(env: RaceEnv, policies: Sequence[str | Policy], seed: int, i: int) -> RaceRecord:
+    obs, _ = env.reset(seed=seed + i)
+    # named policies after the reset: a drawn level (level= a family) changes the table
+    acting = [
+        policy_module.make(p, env.table, seed=np.random.default_rng([seed, i, k])) if isinstance(p, str) else p
+        for k, p in enumerate(policies)
+    ]
+    n = env.n_robots
+    index = {a: k for k, a in enumerate(env.possible_agents)}
+    finish = [0] * n
+    collisions = 0
+    while env.agents:
+        actions = {a: int(acting[index[a]](obs[a])) for a in env.agents}
+        obs, _, _, _, infos = env.step(actions)
+        collisions += any(info["blocked"] for info in infos.values())
+        for a, info in infos.items():
+            if info["finished"] and not finish[index[a]]:
+                finish[index[a]] = env.elapsed_steps
+    return RaceRecord(seed + i, env.elapsed_steps, env.ranks, finish, env.returns, env.collisions_count, collisions)
+
+
+def summary(stats: RaceStats) -> Mapping[str, Any]:
+    """The metrics as plain numbers (for JSON): per robot and per race, each ``[value, low, high]``."""
+
+    def plain(m: Any) -> Any:
+        return [m.value, m.low, m.high] if isinstance(m, Metric) else m
+
+    return {
+        "level": stats.level,
+        "races": stats.n_races,
+        "robots": [{k: plain(v) for k, v in r.items()} for r in stats.robots],
+        "race": {k: plain(v) for k, v in stats.race.items()},
+    }

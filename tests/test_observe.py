@@ -1,0 +1,140 @@
+"""Observation modes (core/observe.py) against direct readings of the level and the robots."""
+
+from __future__ import annotations
+
+from unittest import mock
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from babyrobot_marl.core import observe
+from babyrobot_marl.core.table import compile_level
+from tests.strategies import edge, grid_levels, inside
+
+TERRAIN, EDGE = observe.TERRAIN, observe.EDGE
+
+
+def reference_local(level, cells_xy, racing, i, r):
+    """Robot i's local row read cell by cell from the Level (no precomputation)."""
+    x0, y0 = cells_xy[i]
+    row = [x0, y0]
+    for dy in range(-r, r + 1):
+        for dx in range(-r, r + 1):
+            c = (x0 + dx, y0 + dy)
+            if not inside(level, c):
+                row += [TERRAIN["blocked"], 0] + [EDGE["wall"]] * 4
+                continue
+            if c in level.blocked:
+                terrain = TERRAIN["blocked"]
+            elif c in level.exits:
+                terrain = TERRAIN["exit"]
+            elif c in level.small_puddles:
+                terrain = TERRAIN["small puddle"]
+            elif c in level.large_puddles:
+                terrain = TERRAIN["large puddle"]
+            else:
+                terrain = TERRAIN["floor"]
+            robot = int(any(racing[j] and tuple(cells_xy[j]) == c for j in range(len(cells_xy)) if j != i))
+            sides = []
+            for ddx, ddy in ((0, -1), (1, 0), (0, 1), (-1, 0)):  # north, east, south, west
+                n = (c[0] + ddx, c[1] + ddy)
+                e = edge(c, n)
+                if not inside(level, n) or e in level.walls:
+                    sides.append(EDGE["wall"])
+                elif e in level.glass:
+                    sides.append(EDGE["glass"])
+                else:
+                    sides.append(EDGE["open"])
+            row += [terrain, robot, *sides]
+    return row
+
+
+def reference_nearest(cells_xy, racing, i, k, w, h):
+    x0, y0 = cells_xy[i]
+    others = sorted(
+        (abs(x - x0) + abs(y - y0), j) for j, (x, y) in enumerate(cells_xy) if j != i and racing[j]
+    )[:k]
+    row = [x0, y0]
+    for _, j in others:
+        row += [cells_xy[j][0] - x0 + w - 1, cells_xy[j][1] - y0 + h - 1]
+    row += [2 * w - 1, 2 * h - 1] * (k - len(others))
+    return row
+
+
+@st.composite
+def crowds_on_levels(draw, max_robots=12):
+    level = draw(grid_levels(max_side=10))
+    n = draw(st.integers(1, max_robots))
+    shared = draw(st.booleans())  # "pass": robots may share cells
+    cells = [
+        (draw(st.integers(0, level.width - 1)), draw(st.integers(0, level.height - 1)))
+        for _ in range(n)
+    ]
+    if not shared:
+        cells = list(dict.fromkeys(cells))
+    racing = [draw(st.integers(0, 5)) > 0 for _ in cells]
+    return level, cells, racing
+
+
+@settings(max_examples=150, deadline=None)
+@given(crowds_on_levels(), st.integers(0, 3))
+def test_local_rows_read_the_level_and_the_robots_cell_by_cell(crowd, r):
+    level, cells_xy, racing = crowd
+    table = compile_level(level)
+    view = observe.local_view(table, r)
+    cells = np.array([y * level.width + x for x, y in cells_xy])
+    got = observe.local_observations(view, cells, np.array(racing))
+    assert got.shape == (len(cells), view.size)
+    for i in range(len(cells)):
+        assert got[i].tolist() == reference_local(level, cells_xy, racing, i, r)
+    assert (got < view.nvec).all() and (got >= 0).all()
+
+
+def test_local_rows_of_many_races_at_once_equal_each_race_alone():
+    table = compile_level(__import__("babyrobot_marl").levels.get("mixed-8x8"))
+    view = observe.local_view(table, 2)
+    g = np.random.default_rng(0)
+    cells = np.stack([g.choice(table.n_cells, 5, replace=False) for _ in range(7)])
+    racing = g.random(cells.shape) > 0.3
+    together = observe.local_observations(view, cells, racing)
+    with mock.patch.object(observe, "_SCRATCH", 1):  # one race per scratch grid
+        assert (observe.local_observations(view, cells, racing) == together).all()
+    for e in range(7):
+        assert (together[e] == observe.local_observations(view, cells[e], racing[e])).all()
+    assert together[:, :, 2 + observe._ROBOT :: 6].any()  # robots were seen
+
+
+@settings(max_examples=200, deadline=None)
+@given(crowds_on_levels(max_robots=30), st.integers(0, 6), st.booleans())
+def test_nearest_rows_list_the_k_nearest_racing_robots_ties_to_the_lower_number(crowd, k, rings):
+    level, cells_xy, racing = crowd
+    w, h = level.width, level.height
+    xy = np.array(cells_xy, dtype=np.int64)
+    # rings: the search used for many robots, forced here on a few
+    with mock.patch.object(observe, "_BRUTE_UP_TO", 0 if rings else observe._BRUTE_UP_TO):
+        got = observe.nearest_observations(xy, np.array(racing), k, w, h)
+    for i in range(len(cells_xy)):
+        assert got[i].tolist() == reference_nearest(cells_xy, racing, i, k, w, h)
+    assert (got < observe.nearest_nvec(w, h, k)).all() and (got >= 0).all()
+
+
+@pytest.mark.parametrize("n", [200, 1000])
+def test_nearest_rows_of_hundreds_of_robots_equal_the_reference(n):
+    g = np.random.default_rng(n)
+    w = h = 64
+    flat = g.choice(w * h, size=n, replace=False)
+    xy = np.stack([flat % w, flat // w], axis=1)
+    xy[:3] = [[0, 0], [63, 63], [0, 63]]  # corners: far from the crowd, some found by brute force
+    racing = g.random(n) > 0.2
+    got = observe.nearest_observations(xy, racing, 5, w, h)
+    cells_xy = xy.tolist()
+    for i in list(range(10)) + list(range(n - 10, n)):
+        assert got[i].tolist() == reference_nearest(cells_xy, racing.tolist(), i, 5, w, h)
+
+
+def test_local_view_is_computed_once_per_table_and_radius():
+    table = compile_level(__import__("babyrobot_marl").levels.get("maze-8x8"))
+    assert observe.local_view(table, 2) is observe.local_view(table, 2)
+    assert observe.local_view(table, 1) is not observe.local_view(table, 2)
