@@ -7,8 +7,10 @@ from __future__ import annotations
 
 import gymnasium
 
-from . import levels
+from . import encodings, levels
 from .core import Action, Level, Rules, compile_level
+from .encodings import ENCODINGS
+from .envs.common import OUTCOME_NAMES
 from .envs.race_gym import BabyRobotRaceEnv
 from .envs.single import BabyRobotEnv
 from .envs.vector import sb3_vec_env
@@ -36,14 +38,20 @@ def _register() -> None:
 
 _register()
 
+from . import race_v0  # noqa: E402  (after registering: babyrobot_marl.race_v0 is an attribute, as PettingZoo modules are)
+
 __all__ = [
     "Action",
     "BabyRobotEnv",
     "BabyRobotRaceEnv",
+    "ENCODINGS",
     "Level",
+    "OUTCOME_NAMES",
     "Rules",
     "__version__",
     "compile_level",
+    "encodings",
     "levels",
+    "race_v0",
     "sb3_vec_env",
 ]

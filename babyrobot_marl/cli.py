@@ -8,86 +8,70 @@
     babyrobot-marl race --level race-4 --robots 4 --policies shortest,shortest,random,random
     python -m babyrobot_marl play --level default --policy random --no-delay
     babyrobot-marl solve --level puddles       # value iteration: the value grid and the policy arrows
-    babyrobot-marl train --level maze-8x8 --steps 50000    # PPO (needs the 'train' extra)
+    babyrobot-marl train --level maze-8x8 --steps 3000000 --save ppo.pt  # PPO (the 'train' extra)
+    babyrobot-marl play --level maze-8x8 --policy ppo.pt       # replay a saved policy
 
 Each subcommand is a ``_add_<name>_parser`` function that registers its arguments and a
 ``_cmd_<name>(args, out)`` handler; the shared pieces (``--level``, ``--seed``, the display
-options and ``_animate``) are small functions so that further subcommands reuse them.
+options; ``animation.animate`` shows the frames) are small functions so that further
+subcommands reuse them.
 
-Bad input (an unknown level or policy, a negative seed, a bad delay, a broken level file)
-ends with exit status 2 and one line on stderr, ``babyrobot-marl: error: ...``, never a
-traceback.
+Bad input (an unknown level or policy, a negative seed, a bad delay, a broken level file, a
+directory or FIFO or device given as a level, a level past the size limits) ends with exit
+status 2 and one line on stderr, ``babyrobot-marl: error: ...``, never a traceback. Argument
+types live in ``cli_args``, level loading (bounded file reads) in ``level_files``.
 """
 
 from __future__ import annotations
 
 import argparse
-import math
 import os
 import sys
-import time
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
-from pathlib import Path
 from typing import NoReturn, TextIO
 
-from . import __version__, levels, policies
+from . import __version__, levels
+from .animation import DEFAULT_DELAY, Display
+from .animation import animate as _animate
+from .animation import isatty as _isatty
+from .cli_args import (
+    int_at_least,
+    non_negative_int,
+    policy_list,
+    policy_spec,
+    positive_float,
+    positive_int,
+    probability,
+    seconds,
+)
 from .core.actions import Action
 from .core.level import Level
 from .core.rules import COLLISION_MODES
+from .envs.common import OUTCOME_NAMES
 from .envs.race import START_MODES, RaceEnv
 from .envs.single import BabyRobotEnv
+from .level_files import load_level
 from .render.ansi import frame, robot_glyph
+from .training.policy import make_policy
 
 PROG = "babyrobot-marl"
-DEFAULT_DELAY = 0.15  # seconds between frames on a terminal: fast, yet each move is visible
 EXIT_USAGE = 2  # bad input, as argparse uses
 EXIT_INTERRUPTED = 130  # Ctrl-C, as a shell reports it
-
-# ANSI control sequences, written only to a terminal.
-CLEAR_SCREEN = "\x1b[2J"
-CURSOR_HOME = "\x1b[H"
-CLEAR_TO_EOL = "\x1b[K"
-CLEAR_BELOW = "\x1b[J"
-HIDE_CURSOR = "\x1b[?25l"
-SHOW_CURSOR = "\x1b[?25h"
 
 
 class _Parser(argparse.ArgumentParser):
     """An ``ArgumentParser`` whose errors are one line: no usage block, no traceback."""
 
     def error(self, message: str) -> NoReturn:
-        self.exit(EXIT_USAGE, f"{self.prog}: error: {message} (see '{self.prog} --help')\n")
+        # argparse quotes the arguments it rejects: keep a newline or a huge argument from breaking the one line
+        self.exit(EXIT_USAGE, f"{self.prog}: error: {_one_line(message)} (see '{self.prog} --help')\n")
 
 
-# ------------------------------------------------------------------------ argument types
-def _int_at_least(minimum: int) -> Callable[[str], int]:
-    """An argparse type: an integer >= ``minimum``."""
-
-    def parse(text: str) -> int:
-        try:
-            value = int(text)
-        except ValueError:
-            value = minimum - 1
-        if value < minimum:
-            raise argparse.ArgumentTypeError(f"must be an integer >= {minimum}, got {text!r}")
-        return value
-
-    return parse
-
-
-_non_negative_int = _int_at_least(0)
-_positive_int = _int_at_least(1)
-
-
-def _seconds(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        value = math.nan
-    if not math.isfinite(value) or value < 0:  # nan, inf and negative delays make no animation
-        raise argparse.ArgumentTypeError(f"must be a number of seconds >= 0, got {text!r}")
-    return value
+# Argument types live in cli_args (kept importable here under their former names).
+_int_at_least, _non_negative_int, _positive_int = int_at_least, non_negative_int, positive_int
+_seconds, _probability, _positive_float = seconds, probability, positive_float
+_policy_list, _policy_spec = policy_list, policy_spec
 
 
 # ------------------------------------------------------------------------ shared arguments
@@ -124,80 +108,11 @@ def _add_display_args(p: argparse.ArgumentParser) -> None:
 
 
 # ------------------------------------------------------------------------ shared helpers
-def load_level(spec: str) -> Level:
-    """A level from a built-in name, ``maze-WxH[-sSEED]``, or the path of a level text file."""
-    path = Path(spec)
-    if path.is_file():
-        try:
-            text = path.read_text(encoding="utf-8-sig")  # a BOM from some editors is not part of the level
-        except (OSError, UnicodeDecodeError) as err:
-            raise ValueError(f"level: cannot read the level file {spec!r}: {err}") from None
-        try:
-            return Level.from_ascii(text, name=path.stem)
-        except ValueError as err:
-            raise ValueError(f"level file {spec}: {err}") from None
-    if path.suffix or os.sep in spec or "/" in spec:  # meant as a file: say so rather than "unknown level"
-        raise ValueError(f"level: no such level file {spec!r}")
-    try:
-        return levels.get(spec)
-    except ValueError as err:
-        if not str(err).startswith("level: unknown level"):
-            raise ValueError(f"level {spec!r}: {err}") from None  # e.g. a maze size out of range
-        raise ValueError(
-            f"level: unknown level {spec!r} and no file of that name; known levels: {', '.join(levels.names())} "
-            "(and maze-WxH or maze-WxH-sSEED for any size and seed)"
-        ) from None
-
-
-@dataclass(frozen=True)
-class Display:
-    """How frames reach the terminal: colour, clearing between frames, pause between frames."""
-
-    colour: bool
-    clear: bool
-    delay: float
-
-
 def _display(args: argparse.Namespace, out: TextIO) -> Display:
     tty = _isatty(out)
     colour = tty and not args.no_color and not os.environ.get("NO_COLOR")
     delay = args.delay if args.delay is not None else (DEFAULT_DELAY if tty else 0.0)
     return Display(colour=colour, clear=tty, delay=delay)
-
-
-def _isatty(out: TextIO) -> bool:
-    try:
-        return out.isatty()
-    except (AttributeError, ValueError):  # a closed or unusual stream: treat as a file
-        return False
-
-
-def _animate(frames: Iterable[str], display: Display, out: TextIO, sleep: Callable[[float], None] = time.sleep) -> int:
-    """Show text frames one after another; returns how many were shown.
-
-    On a terminal (``display.clear``) each frame is redrawn in place: cursor home, the frame
-    with every line cleared to its end, the rest of the screen cleared (no flicker from a full
-    clear). Elsewhere frames follow each other, separated by a blank line, so a log reads top
-    to bottom.
-    """
-    n = 0
-    if display.clear:
-        out.write(HIDE_CURSOR + CLEAR_SCREEN)
-    try:
-        for text in frames:
-            if n and display.delay > 0:
-                sleep(display.delay)
-            if display.clear:
-                out.write(CURSOR_HOME + text.replace("\n", CLEAR_TO_EOL + "\n") + CLEAR_TO_EOL + "\n" + CLEAR_BELOW)
-            else:
-                out.write(("\n" if n else "") + text + "\n")
-            out.flush()
-            n += 1
-    finally:
-        if display.clear:
-            out.write(SHOW_CURSOR)
-            out.flush()
-    return n
 
 
 # ------------------------------------------------------------------------ levels
@@ -263,8 +178,9 @@ def _add_play_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--policy",
         default="shortest",
-        choices=policies.POLICY_NAMES,
-        help="random: uniform actions; shortest: the shortest path to the exit (default: shortest)",
+        type=_policy_spec,
+        help="random: uniform actions; shortest: the shortest path to the exit; keys: you drive (arrow keys); or the "
+        "path of a policy saved by 'train --save' (default: shortest)",
     )
     _add_seed_arg(p)
     p.add_argument(
@@ -292,7 +208,8 @@ def _episode_frames(env: BabyRobotEnv, policy: Callable, summary: EpisodeSummary
         summary.steps += 1
         summary.ret += reward
         summary.reached_exit = terminated
-        status = f"step {summary.steps}/{env.max_steps}  return {summary.ret:g}  {Action(action).name} -> {info['outcome']}"
+        outcome = OUTCOME_NAMES[info["outcome"]]
+        status = f"step {summary.steps}/{env.max_steps}  return {summary.ret:g}  {Action(action).name} -> {outcome}"
         yield frame(env.level, [env.robot_cell], status, colour=colour)
         if terminated or truncated:
             return
@@ -302,7 +219,11 @@ def _cmd_play(args: argparse.Namespace, out: TextIO) -> int:
     level = load_level(args.level)
     env = BabyRobotEnv(level=level, max_steps=args.max_steps)
     seed = _fresh_seed() if args.seed is None else args.seed
-    policy = policies.make(args.policy, env.table, seed)
+    if args.policy == "keys":  # the keyboard game: babyrobot_marl.play.terminal
+        from .play.terminal import play_keys
+
+        return play_keys(env, seed, level.name or args.level, _display(args, out).colour, out)
+    policy = make_policy(args.policy, env.table, seed)
     display = _display(args, out)
     summary = EpisodeSummary(seed=seed)
     _animate(_episode_frames(env, policy, summary, display.colour), display, out)
@@ -327,16 +248,6 @@ class RobotResult:
     collisions: int = 0
 
 
-def _policy_list(text: str) -> list[str]:
-    names = [p.strip() for p in text.split(",")]
-    bad = [p for p in names if p not in policies.POLICY_NAMES]
-    if bad:
-        raise argparse.ArgumentTypeError(
-            f"unknown policy {bad[0]!r}; give a comma-separated list of {', '.join(policies.POLICY_NAMES)}"
-        )
-    return names
-
-
 def _add_race_parser(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "race",
@@ -350,7 +261,7 @@ def _add_race_parser(sub: argparse._SubParsersAction) -> None:
         type=_policy_list,
         default=["shortest"],
         metavar="P1,P2,...",
-        help="one policy per robot (random or shortest), or one for all (default: shortest)",
+        help="one policy per robot (random, shortest or a saved policy's path), or one for all (default: shortest)",
     )
     p.add_argument("--collisions", choices=COLLISION_MODES, default="block", help="collision rule (default: block)")
     p.add_argument(
@@ -361,6 +272,7 @@ def _add_race_parser(sub: argparse._SubParsersAction) -> None:
     )
     _add_seed_arg(p)
     p.add_argument("--max-cycles", type=_positive_int, default=None, metavar="N", help="truncate the race after N steps")
+    p.add_argument("--human", type=_non_negative_int, default=None, metavar="N", help="drive robot N yourself (arrow keys)")
     p.add_argument("--races", type=_positive_int, default=None, metavar="N", help="run N seeded races; print metrics, no frames")
     _add_display_args(p)
     p.set_defaults(func=_cmd_race)
@@ -396,23 +308,38 @@ def _results_table(results: list[RobotResult]) -> str:
 
 def _cmd_race(args: argparse.Namespace, out: TextIO) -> int:
     level = load_level(args.level)
-    names = args.policies * args.robots if len(args.policies) == 1 else args.policies
-    if len(names) != args.robots:
-        raise ValueError(f"policies: give one policy for all robots or one per robot ({args.robots}), got {len(names)}")
+    if len(args.policies) not in (1, args.robots):
+        raise ValueError(f"policies: give one policy for all robots or one per robot ({args.robots}), got {len(args.policies)}")
+    # The env checks the robots against the level's starts and free cells before anything per robot exists.
     env = RaceEnv(
         level=level, n_robots=args.robots, collisions=args.collisions, start=args.start, max_cycles=args.max_cycles
     )
+    names = args.policies * args.robots if len(args.policies) == 1 else args.policies
     seed = _fresh_seed() if args.seed is None else args.seed
     if args.races:  # experiments: the metrics table of N races (babyrobot_marl.experiments)
+        if args.human is not None:
+            raise ValueError("--human: you drive one race with frames; drop --races (N races without frames) or --human")
         from .experiments import run_races
 
         kw = {"collisions": args.collisions, "start": args.start, "max_cycles": args.max_cycles}
         out.write(f"{run_races(level, names, args.races, seed, **kw).table()}\nseed {seed}\n")
         return 0
-    robot_policies = [policies.make(name, env.table, seed=seed + 7919 * (i + 1)) for i, name in enumerate(names)]
+    robot_policies = [make_policy(name, env.table, seed=seed + 7919 * (i + 1)) for i, name in enumerate(names)]
+    if args.human is not None and args.human < args.robots:
+        names[args.human] = "keys"
     results = [RobotResult(robot_glyph(i, args.robots) + f" {agent}", names[i]) for i, agent in enumerate(env.possible_agents)]
     display = _display(args, out)
-    _animate(_race_frames(env, robot_policies, results, seed, display.colour), display, out)
+    frames = _race_frames(env, robot_policies, results, seed, display.colour)
+    if args.human is not None:  # babyrobot_marl.play: your keys for one robot; a paced, legended race on a terminal
+        from .play.terminal import race_keys
+
+        race_keys(env, robot_policies, args.human, seed, results, display.delay, display.colour, out)
+    elif display.clear:
+        from .play.watch import watch_race
+
+        watch_race(env, robot_policies, seed, frames, names, display.delay, display.colour, out)
+    else:
+        _animate(frames, display, out)
     out.write(
         f"\nrace on {level.name or args.level}, {args.robots} robots, collisions {args.collisions}, seed {seed}, "
         f"{env.elapsed_steps} steps\n\n{_results_table(results)}\n"
@@ -421,26 +348,6 @@ def _cmd_race(args: argparse.Namespace, out: TextIO) -> int:
 
 
 # ------------------------------------------------------------------------ solve
-def _probability(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        value = math.nan
-    if not 0.0 < value <= 1.0:
-        raise argparse.ArgumentTypeError(f"must be a number in (0, 1], got {text!r}")
-    return value
-
-
-def _positive_float(text: str) -> float:
-    try:
-        value = float(text)
-    except ValueError:
-        value = math.nan
-    if not 0.0 < value < math.inf:
-        raise argparse.ArgumentTypeError(f"must be a number > 0, got {text!r}")
-    return value
-
-
 def _add_solve_parser(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "solve",
@@ -475,80 +382,6 @@ def _cmd_solve(args: argparse.Namespace, out: TextIO) -> int:
     return 0
 
 
-# ------------------------------------------------------------------------ train
-def _add_train_parser(sub: argparse._SubParsersAction) -> None:
-    p = sub.add_parser(
-        "train",
-        help="train a PPO (or DQN) agent, evaluate it against the optimum or scripted opponents (needs the 'train' extra)",
-        description="One robot (--robots 1): PPO or DQN on BabyRobot-v0, then its mean return against value iteration's "
-        "optimum. Several robots: one shared PPO policy through SuperSuit, then its win rate against 'random' and "
-        "'shortest' opponents. Needs the 'train' extra: pip install 'babyrobot_marl[train]'.",
-    )
-    _add_level_arg(p, default="maze-8x8")
-    p.add_argument("--robots", type=_positive_int, default=1, metavar="N", help="1: single robot; more: a race (default: 1)")
-    p.add_argument("--steps", type=_positive_int, required=True, metavar="N", help="training timesteps")
-    p.add_argument("--algo", choices=("ppo", "dqn"), default="ppo", help="single robot only (default: ppo)")
-    p.add_argument("--seed", type=_non_negative_int, default=0, metavar="N", help="seed of training and evaluation (default: 0)")
-    p.add_argument("--episodes", type=_positive_int, default=20, metavar="N", help="evaluation episodes or races (default: 20)")
-    p.add_argument("--save", metavar="PATH", help="save the trained model here (SB3 .zip)")
-    p.add_argument("--gif", metavar="PATH", help="single robot: write a GIF of the learnt policy here")
-    p.add_argument("--no-progress", action="store_true", help="no progress bar")
-    p.set_defaults(func=_cmd_train)
-
-
-def _cmd_train(args: argparse.Namespace, out: TextIO) -> int:
-    from .training import MissingTrainExtraError, require_train
-
-    try:
-        require_train()
-    except MissingTrainExtraError as err:
-        print(f"{PROG}: error: {err}", file=sys.stderr)
-        return 1
-    level = load_level(args.level)
-    progress = not args.no_progress and _isatty(sys.stderr)
-    if args.robots == 1:
-        agent = _train_single(args, level, progress, out)
-    else:
-        if args.algo != "ppo" or args.gif:
-            raise ValueError("train: a race (--robots > 1) trains PPO and writes no GIF; drop --algo/--gif")
-        agent = _train_race(args, level, progress, out)
-    if args.save:
-        agent.save(args.save)
-        out.write(f"model saved to {args.save}\n")
-    return 0
-
-
-def _train_single(args: argparse.Namespace, level: Level, progress: bool, out: TextIO):
-    from .render.video import episode_frames, save_gif
-    from .training.single import evaluate_single, optimal_return, train_single, within
-
-    agent = train_single(level, args.algo, steps=args.steps, seed=args.seed, progress_bar=progress,
-                         env_kwargs={"start": "random"})
-    env = BabyRobotEnv(level=level)
-    ev = evaluate_single(agent, env, episodes=args.episodes, seed=args.seed + 1_000_000)
-    optimum = optimal_return(env)
-    out.write(f"{args.algo.upper()} on {level.name or args.level}, {args.steps} steps: learnt return {ev.mean:g} "
-              f"(+- {ev.std:g}, {ev.reached_exit}/{ev.episodes} reached the exit), optimal {optimum:g}, "
-              f"within 95%: {'yes' if within(ev.mean, optimum) else 'no'}\n")
-    if args.gif:
-        genv = BabyRobotEnv(level=level, render_mode="rgb_array")
-        frames = episode_frames(genv, lambda obs: int(agent.predict(obs, deterministic=True)[0]), seed=args.seed)
-        out.write(f"GIF of the learnt policy: {save_gif(frames, args.gif)}\n")
-    return agent
-
-
-def _train_race(args: argparse.Namespace, level: Level, progress: bool, out: TextIO):
-    from .training.race import evaluate_race, train_race
-
-    agent = train_race(level, n_robots=args.robots, steps=args.steps, seed=args.seed, progress_bar=progress)
-    out.write(f"shared PPO, race on {level.name or args.level}, {args.robots} robots, {args.steps} steps\n")
-    for opponent in ("random", "shortest"):
-        res = evaluate_race(agent, level, n_robots=args.robots, opponent=opponent, races=args.episodes, seed=args.seed + 1)
-        out.write(f"  vs {opponent}: win rate {res.win_rate:.2f} ({res.wins}/{res.races}), "
-                  f"mean finishing steps {res.mean_steps:.1f} (opponents {res.opponent_mean_steps:.1f})\n")
-    return agent
-
-
 # ------------------------------------------------------------------------ entry point
 def build_parser() -> argparse.ArgumentParser:
     """The parser of ``babyrobot-marl`` with all subcommands."""
@@ -559,7 +392,9 @@ def build_parser() -> argparse.ArgumentParser:
     _add_play_parser(sub)
     _add_race_parser(sub)
     _add_solve_parser(sub)
-    _add_train_parser(sub)  # each further subcommand: one _add_<name>_parser(sub) line here
+    from .training.cli import add_train_parser  # the train command lives with the trainers
+
+    add_train_parser(sub)  # each further subcommand: one _add_<name>_parser(sub) line here
     return parser
 
 
@@ -584,7 +419,15 @@ def main(argv: list[str] | None = None) -> int:
         # Python's flush at exit does not raise again.
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 1
+    except OSError as err:  # e.g. an output path that cannot be written
+        print(f"{PROG}: error: {_one_line(err)}", file=sys.stderr)
+        return EXIT_USAGE
+    except MemoryError:  # the last resort: the limits (README "Limits") should stop large inputs before this
+        print(f"{PROG}: error: out of memory; try a smaller level or fewer robots", file=sys.stderr)
+        return EXIT_USAGE
 
 
-def _one_line(err: BaseException) -> str:
-    return " ".join(str(err).split()) or type(err).__name__
+def _one_line(err: BaseException | str, limit: int = 1000) -> str:
+    """The message on one line, at most ``limit`` characters."""
+    text = " ".join(str(err).split()) or type(err).__name__
+    return text if len(text) <= limit else f"{text[: limit - 40]}... ({len(text):,} characters)"

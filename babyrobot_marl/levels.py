@@ -24,10 +24,11 @@ maze-16x16     16x16    1       ``maze(16, 16, seed=0)``
 from __future__ import annotations
 
 import re
-from functools import lru_cache
+from functools import cache, lru_cache
 
 import numpy as np
 
+from .checks import check_int, shown
 from .core.level import Level
 
 _TEXTS: dict[str, str] = {
@@ -154,6 +155,7 @@ _TEXTS: dict[str, str] = {
 
 _MAZE = re.compile(r"maze-(\d+)x(\d+)(?:-s(\d+))?")
 _MAZE_NAMES = ("maze-8x8", "maze-16x16")
+MAX_MAZE_SIDE = 256  # a 256x256 maze is the largest level (checks.MAX_LEVEL_CELLS)
 
 
 def names() -> list[str]:
@@ -173,30 +175,48 @@ def get(name: str) -> Level:
     return _get(name)
 
 
-@lru_cache(maxsize=64)
 def _get(name: str) -> Level:
     if name in _TEXTS:
-        return Level.from_ascii(_TEXTS[name], name=name)
+        return _builtin(name)
     m = _MAZE.fullmatch(name)
     if m:
-        w, h, seed = int(m[1]), int(m[2]), int(m[3] or 0)
         try:
-            return maze(w, h, seed, name=name)
+            w, h, seed = int(m[1]), int(m[2]), int(m[3] or 0)
+        except ValueError:  # over Python's 4,300 digits of int("...")
+            raise ValueError(f"level {shown(name)}: a maze size or seed has too many digits") from None
+        try:
+            return _maze(w, h, seed, name)
         except ValueError as err:
-            raise ValueError(f"level {name!r}: {err}") from None
+            raise ValueError(f"level {shown(name)}: {err}") from None
     raise ValueError(
-        f"level: unknown level {name!r}; known levels: {', '.join(names())} "
+        f"level: unknown level {shown(name)}; known levels: {', '.join(names())} "
         "(and maze-WxH or maze-WxH-sSEED for any size and seed), or pass a Level or a level text"
     )
 
 
+@cache  # the few built-in texts: a fixed set
+def _builtin(name: str) -> Level:
+    return Level.from_ascii(_TEXTS[name], name=name)
+
+
+@lru_cache(maxsize=8)  # bounded: a 256x256 maze holds about 20 MB, and any size and seed may be asked for
+def _maze(width: int, height: int, seed: int, name: str) -> Level:
+    return maze(width, height, seed, name=name)
+
+
 def maze(width: int, height: int, seed: int = 0, name: str = "") -> Level:
     """A perfect maze by randomized depth-first search: start top left, exit bottom right."""
+    sides = {}
     for arg, v in (("width", width), ("height", height)):
-        if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not 1 <= v <= 256:
-            raise ValueError(f"{arg}: a maze side is an integer in 1..256, got {v!r}")
-    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
-        raise ValueError(f"seed: a maze seed is an integer >= 0, got {seed!r}")
+        try:  # Python and numpy integers, not bools or floats (checks.check_int)
+            sides[arg] = check_int(v, arg, 1, MAX_MAZE_SIDE)
+        except ValueError:
+            raise ValueError(f"{arg}: a maze side is an integer in 1..{MAX_MAZE_SIDE}, got {shown(v)}") from None
+    width, height = sides["width"], sides["height"]
+    try:
+        seed = check_int(seed, "seed", lo=0)
+    except ValueError:
+        raise ValueError(f"seed: a maze seed is an integer >= 0, got {shown(seed)}") from None
     if width * height < 2:
         raise ValueError(f"width, height: a maze needs at least 2 cells for a start and an exit, got {width}x{height}")
     rng = np.random.default_rng(seed)

@@ -55,6 +55,9 @@ local windows and nearest lists do not show it).
 
 `state()` is `[x, y, finished]` of every robot in robot order: a global view for critics.
 
+`obs_encoding="box"`: the same numbers as a float32 `Box`; `"onehot"`: a float32 `Box` with one 1
+per entry (`babyrobot_marl.encodings`); `state()` and `state_space` follow.
+
 ## Rewards
 
 Each racing robot gets the reward of the cell its step ends in (`Rules`: floor -1, small
@@ -90,15 +93,35 @@ returns are the same as with "remove".
 ## Actions dict
 
 Every racing agent needs an action: a missing one is a `ValueError` (give 0 for STAY), and
-so is an unknown agent, an action for a removed (finished) agent, or an action outside
-0..4 or not an integer. With `finished="freeze"` a parked agent's action is checked and
-ignored. A rejected step changes nothing.
+so is an unknown agent or an action outside 0..4 or not an integer. An action for a robot that
+has already finished (removed or parked) is checked and ignored while the race runs, as
+PettingZoo's own conversions do (AgileRL sends one for every possible agent). A rejected step
+changes nothing. Once the race is over, `step({})` returns five empty dicts and a step with
+actions is a `ValueError` asking for `reset()`; `step`, `set_cells` and `state()` before the
+first `reset()` are a `RuntimeError`.
 
 ## Info
 
-`infos[agent]`: `cell` `(x, y)`, `outcome` (`moved`, `stayed`, `bumped`, `skidded`, `glass`;
-`finished` once parked; `start` after reset), `blocked` (another robot stopped it this
-step), `finished`, and `rank` once finished (1 = first; robots finishing together share it).
+`infos[agent]` has the same keys after `reset` and every step, numbers only (tensor libraries
+stack them):
+
+| key        | type                 | meaning                                                                  |
+|------------|----------------------|--------------------------------------------------------------------------|
+| `cell`     | int64 array `[x, y]` | its cell (a finished robot: the exit it took)                            |
+| `outcome`  | int                  | code into `babyrobot_marl.OUTCOME_NAMES` (below)                         |
+| `blocked`  | bool                 | another robot stopped it this step                                       |
+| `finished` | bool                 | it has reached an exit                                                   |
+| `rank`     | int                  | 0 until it finishes, then 1 = first (robots finishing together share it) |
+
+Outcome codes: 0 moved, 1 stayed, 2 bumped, 3 skidded, 4 glass, 5 start (after reset), 6 finished (parked).
+
+## Reset
+
+`reset(seed=None, options=None)`: `seed` a non-negative integer (numpy integers too; bools and
+floats are a `ValueError`). The generator is made at the first reset, so unseeded copies of an
+env (SuperSuit's `concat_vec_envs_v1` clones it) play different races. `options={"starts":
+[(x, y), ...]}` places the robots: one distinct open cell per robot (not blocked, not an exit);
+any other option key is a `ValueError` naming the known ones.
 
 ## Arguments
 
@@ -106,7 +129,7 @@ step), `finished`, and `rank` once finished (1 = first; robots finishing togethe
 race_v0.parallel_env(level="race-2", n_robots=2, collisions="block", max_cycles=None,
                      start="level", finished="remove", rules=None, render_mode=None,
                      cell_size=32, theme="light", animation_frames=4, observe="global",
-                     view_radius=None, k=None, **rule_overrides)
+                     view_radius=None, k=None, obs_encoding="multidiscrete", **rule_overrides)
 ```
 
 * `level`: a built-in name (`babyrobot_marl.levels.names()`), a level text or a `Level`; or
@@ -122,7 +145,9 @@ race_v0.parallel_env(level="race-2", n_robots=2, collisions="block", max_cycles=
 * `finished`: `"remove"` or `"freeze"` (above).
 * `observe`: `"global"`, `"local"` (with `view_radius`) or `"nearest"` (with `k`) (above);
   `view_radius` or `k` given to another mode is a `ValueError`.
-* `rules` / keyword overrides: any `Rules` field, e.g. `win_bonus=0`, `glass_pass_prob=1`.
+* `rules` / keyword overrides: any `Rules` field, e.g. `win_bonus=0`, `glass_pass_prob=1`; any
+  other keyword is Python's own `TypeError` (`... got an unexpected keyword argument 'x'`).
+* `obs_encoding`: `"multidiscrete"` (default), `"box"` or `"onehot"` (Observations above), for any `observe` mode.
 * `render_mode`: `"ansi"` (text frame), `"rgb_array"` (`uint8[H * cell_size, W * cell_size, 3]`,
   pure numpy, each robot a disc in its own colour) or `"human"` (in Jupyter with the `notebook`
   extra: a live ipycanvas canvas, robots gliding over `animation_frames` frames per step, 0:

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from babyrobot_marl import cli, levels
+from babyrobot_marl import animation, cli, levels
 
 REPO = Path(__file__).resolve().parents[1]
 SUMMARY = re.compile(r"seed (\d+): (\d+) steps, return (\S+), (.*)$", re.M)
@@ -117,10 +117,10 @@ def test_play_on_a_terminal_redraws_in_place_with_a_coloured_robot(capsys, monke
     monkeypatch.delenv("NO_COLOR", raising=False)
     assert run(["play", "--level", "default", "--policy", "shortest", "--seed", "0", "--no-delay"]) == 0
     out = capsys.readouterr().out
-    assert out.count(cli.CURSOR_HOME) == DEFAULT_SHORTEST_STEPS + 1
+    assert out.count(animation.CURSOR_HOME) == DEFAULT_SHORTEST_STEPS + 1
     assert "\x1b[1;31mR\x1b[0m" in out  # robot 0's colour in render.ansi
     assert out.endswith(f"{DEFAULT_SHORTEST_STEPS} steps, return {DEFAULT_SHORTEST_RETURN}, reached the exit\n")
-    assert cli.SHOW_CURSOR in out  # the cursor hidden for the animation comes back
+    assert animation.SHOW_CURSOR in out  # the cursor hidden for the animation comes back
 
 
 @pytest.mark.parametrize("how", ["flag", "env"])
@@ -134,7 +134,7 @@ def test_play_on_a_terminal_has_no_colour_with_no_color(capsys, monkeypatch, how
     assert run(argv) == 0
     out = capsys.readouterr().out
     assert "\x1b[1;" not in out
-    assert out.count(cli.CURSOR_HOME) == DEFAULT_SHORTEST_STEPS + 1  # still redrawn in place
+    assert out.count(animation.CURSOR_HOME) == DEFAULT_SHORTEST_STEPS + 1  # still redrawn in place
 
 
 def test_animate_pauses_between_frames_but_not_before_the_first():

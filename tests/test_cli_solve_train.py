@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import json
+
 import pytest
 
 from babyrobot_marl import cli
@@ -54,19 +56,28 @@ def test_train_without_the_extra_says_how_to_install_it(monkeypatch, capsys):
 
 
 def test_train_single_robot_end_to_end_saves_the_model_and_a_gif(tmp_path, capsys):
-    pytest.importorskip("stable_baselines3", reason="the train extra is not installed")  # CI installs it (test extra)
+    pytest.importorskip("stable_baselines3", reason="the train extra is not installed")  # CI installs it (train extra)
     pytest.importorskip("imageio", reason="the train extra is not installed")
-    gif, zipped = tmp_path / "p.gif", tmp_path / "m.zip"
-    argv = ["train", "--level", "default", "--steps", "256", "--episodes", "2", "--gif", str(gif), "--save", str(zipped)]
+    gif, saved = tmp_path / "p.gif", tmp_path / "m"
+    argv = ["train", "--backend", "sb3", "--level", "default", "--steps", "256", "--episodes", "2", "--gif", str(gif),
+            "--save", str(saved)]
     assert run(argv) == 0
     out = capsys.readouterr().out
-    assert "PPO on default, 256 steps: learnt return" in out and "optimal -3" in out
-    assert gif.stat().st_size > 0 and zipped.stat().st_size > 0
+    assert "sb3 PPO on default: greedy return" in out and "optimal -3" in out
+    assert f"model saved to {saved}\n" in out and not (tmp_path / "m.zip").exists()  # the message is the file
+    assert gif.stat().st_size > 0 and saved.stat().st_size > 0
+    figures = json.loads(out.strip().splitlines()[-1])
+    assert figures["backend"] == "sb3" and figures["optimal_return"] == -3 and figures["timesteps"] >= 256
+    from stable_baselines3 import PPO
+
+    assert PPO.load(saved, device="cpu").num_timesteps == figures["timesteps"]
 
 
 def test_train_race_end_to_end(capsys):
-    pytest.importorskip("supersuit", reason="the train extra is not installed")  # CI installs it (test extra)
-    assert run(["train", "--level", "race-2", "--robots", "2", "--steps", "512", "--episodes", "2"]) == 0
+    pytest.importorskip("supersuit", reason="the train extra is not installed")  # CI installs it (train extra)
+    assert run(["train", "--backend", "sb3", "--level", "race-2", "--robots", "2", "--steps", "512", "--episodes", "2"]) == 0
     out = capsys.readouterr().out
     assert "vs random: win rate" in out and "vs shortest: win rate" in out
+    figures = json.loads(out.strip().splitlines()[-1])
+    assert figures["opponents"] == ["random"] and 0 <= figures["win_rate"] <= 1 and figures["races"] == 2
     assert run(["train", "--level", "race-2", "--robots", "2", "--steps", "10", "--algo", "dqn"]) == 2

@@ -28,7 +28,9 @@ IN_CI = os.environ.get("CI", "").lower() in ("1", "true", "yes")
 EXPECTED = {"quickstart.ipynb", "race.ipynb", "planning.ipynb"}
 WIDGET_VIEW = "application/vnd.jupyter.widget-view+json"
 # What each notebook must show: a live canvas (a widget view) and the modules it needs.
-SHOWS_CANVAS = {"quickstart.ipynb", "race.ipynb", "planning.ipynb"}
+SHOWS_CANVAS = {"quickstart.ipynb", "race.ipynb", "planning.ipynb", "play.ipynb"}
+# notebooks whose every widget output is an env's live canvas (play.ipynb's are the player and editor)
+CANVAS_ONLY = {"quickstart.ipynb", "race.ipynb", "planning.ipynb"}
 NEEDS = {"planning.ipynb": "babyrobot_marl.planning"}
 CELL_TIMEOUT = 300  # seconds: a guard against a hung kernel, not a speed target
 PROBE = """
@@ -96,14 +98,14 @@ def test_notebook_runs_top_to_bottom(name, monkeypatch, tmp_path):
     if name in SHOWS_CANVAS:
         views = [o for o in outputs if WIDGET_VIEW in o.get("data", {})]
         assert views, f"{name} showed no live canvas (no widget view among its outputs)"
-    for view in views if name in SHOWS_CANVAS else []:
+    for view in views if name in CANVAS_ONLY else []:
         # every canvas output also carries a PNG: the rgb_array frame of the canvas's final state
         assert "image/png" in view.data, "a canvas output without a PNG: a saved notebook would show only text"
         png = np.array(Image.open(io.BytesIO(base64.b64decode(view.data["image/png"]))).convert("RGB"))
         model = view.data[WIDGET_VIEW]["model_id"]
         assert model in frames, "a canvas shown but not tracked"
         assert frames[model] == [hashlib.sha256(png.tobytes()).hexdigest(), list(png.shape)]
-    if name in SHOWS_CANVAS:  # nbviewer and GitHub render through nbconvert: the canvases show as their PNGs
+    if name in CANVAS_ONLY:  # nbviewer and GitHub render through nbconvert: the canvases show as their PNGs
         from nbconvert import HTMLExporter
 
         html, _ = HTMLExporter().from_notebook_node(nb)

@@ -12,6 +12,7 @@ import pytest
 from gymnasium import spaces
 
 from babyrobot_marl import Action, race_v0
+from babyrobot_marl.envs.common import OUTCOME_NAMES
 from babyrobot_marl.envs.race import RaceEnv
 from tests.strategies import OPEN
 
@@ -249,8 +250,8 @@ def test_reset_returns_every_agent_with_start_infos():
     obs, infos = env.reset(seed=3)
     assert set(obs) == set(infos) == set(env.possible_agents)
     for i, agent in enumerate(env.possible_agents):
-        assert infos[agent]["cell"] == env.level.starts[i]
-        assert infos[agent]["outcome"] == "start"
+        assert tuple(infos[agent]["cell"].tolist()) == env.level.starts[i]
+        assert OUTCOME_NAMES[infos[agent]["outcome"]] == "start"
         assert infos[agent]["finished"] is False and infos[agent]["blocked"] is False
         assert obs[agent][:2].tolist() == list(env.level.starts[i])
 
@@ -274,8 +275,20 @@ def test_remove_a_finished_robot_leaves_agents_in_the_step_it_finishes_and_never
         obs, rewards, terms, truncs, infos = env.step({"robot_1": STAY})
         assert set(obs) == set(rewards) == set(terms) == set(truncs) == set(infos) == {"robot_1"}
         assert env.agents == ["robot_1"]
+    # an action for the finished robot is checked, then ignored (as PettingZoo's conversions do)
     with pytest.raises(ValueError, match="robot_0"):
-        env.step({"robot_0": STAY, "robot_1": STAY})
+        env.step({"robot_0": 9, "robot_1": STAY})
+    assert env.elapsed_steps == 4
+    obs, rewards, terms, truncs, infos = env.step({"robot_0": STAY, "robot_1": EAST})
+    assert set(obs) == set(rewards) == set(infos) == {"robot_1"} and env.elapsed_steps == 5
+
+
+def test_remove_ignores_actions_for_finished_robots_as_agilerl_sends_them():
+    """AgileRL's vector env sends an action for every possible agent: the race goes on as without them."""
+    a, b = (race_v0.parallel_env(level=CORRIDOR, n_robots=2, finished="remove") for _ in range(2))
+    _finish_robot_0(a), _finish_robot_0(b)
+    for action in (EAST, EAST, STAY, EAST):
+        assert str(a.step({"robot_0": action, "robot_1": action})) == str(b.step({"robot_1": action}))
 
 
 def test_remove_when_everyone_has_finished_step_with_no_actions_returns_empty_dicts():
@@ -304,7 +317,7 @@ def test_freeze_keeps_finished_robots_parked_with_reward_zero_until_the_race_end
         assert set(obs) == {"robot_0", "robot_1"}
         assert rewards["robot_0"] == 0.0
         assert obs["robot_0"][:2].tolist() == [6, 0]
-        assert infos["robot_0"]["finished"] is True and infos["robot_0"]["outcome"] == "finished"
+        assert infos["robot_0"]["finished"] is True and OUTCOME_NAMES[infos["robot_0"]["outcome"]] == "finished"
         assert terms == {"robot_0": last, "robot_1": last}
         assert truncs == {"robot_0": False, "robot_1": False}
         assert env.agents == ([] if last else ["robot_0", "robot_1"])
@@ -390,7 +403,7 @@ def _mid_race(seed: int = 5, finished: str = "remove"):
 BAD_ACTIONS = {
     "unknown agent": {"robot_1": 0, "robot_2": 0, "robot_3": 0, "robot_9": 0},
     "not an agent name": {"robot_1": 0, "robot_2": 0, "robot_3": 0, 1: 0},
-    "finished agent": {"robot_0": 0, "robot_1": 0, "robot_2": 0, "robot_3": 0},
+    "finished agent, bad action": {"robot_0": 7, "robot_1": 0, "robot_2": 0, "robot_3": 0},
     "missing agent": {"robot_1": 0, "robot_2": 0},
     "too large": {"robot_1": 5, "robot_2": 0, "robot_3": 0},
     "negative": {"robot_1": -1, "robot_2": 0, "robot_3": 0},

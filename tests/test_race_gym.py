@@ -34,7 +34,7 @@ def test_gymnasium_check_env_passes_without_warnings(mode):
 
 @pytest.mark.parametrize("mode", MODES)
 def test_stable_baselines3_check_env_passes_without_warnings(mode):
-    sb3_checker = pytest.importorskip("stable_baselines3.common.env_checker")
+    sb3_checker = pytest.importorskip("stable_baselines3.common.env_checker", reason="needs the train extra (Stable-Baselines3)")
     env = make(collisions=mode)
     with warnings.catch_warnings():
         warnings.simplefilter("error")
@@ -50,7 +50,7 @@ def test_make_builds_the_race_env_with_robot_0_as_learner():
     assert env.action_space == gymnasium.spaces.Discrete(5)
     obs, info = env.reset(seed=0)
     assert obs.tolist() == [0, 0, 4, 4, 0]  # robot 0 at its start, then robot 1 racing at its start
-    assert info["ranks"] == [0, 0]
+    assert info["ranks"].tolist() == [0, 0] and info["rank"] == 0
 
 
 def test_bad_opponents_are_a_value_error_naming_the_argument():
@@ -110,11 +110,11 @@ def test_shortest_path_learner_usually_beats_random_opponents():
 
 def _trajectory(env, seed: int, n_steps: int = 60):
     obs, info = env.reset(seed=seed)
-    out = [(obs.tolist(), info["cell"], info["ranks"])]
+    out = [(obs.tolist(), tuple(info["cell"].tolist()), info["ranks"].tolist())]
     g = np.random.default_rng(1)
     for _ in range(n_steps):
         obs, reward, terminated, truncated, info = env.step(int(g.integers(5)))
-        out.append((obs.tolist(), reward, terminated, truncated, info["cell"], info["outcome"], info["ranks"]))
+        out.append((obs.tolist(), reward, terminated, truncated, info["cell"].tolist(), info["outcome"], info["ranks"].tolist()))
         if terminated or truncated:
             break
     return out

@@ -339,8 +339,8 @@ CASES = [
     ("race step action bool", Bad("robot_0", race_step(robot_0=True), env="race")),
     ("race step action str", Bad("robot_0", race_step(robot_0="1"), env="race")),
     (
-        "race step removed agent",
-        Bad("robot_0", lambda env: env.step({"robot_0": 0, "robot_1": 0, "robot_2": 0}), env="race-removed"),
+        "race step removed agent bad action",
+        Bad("robot_0", lambda env: env.step({"robot_0": 9, "robot_1": 0, "robot_2": 0}), env="race-removed"),
     ),
     (
         "race step parked agent bad action",

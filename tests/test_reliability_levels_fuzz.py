@@ -43,8 +43,8 @@ def error_kind(message: str) -> str:
 
 
 def text_lines(text: str) -> list[str]:
-    """The lines as the format counts them (DESIGN.md: lines; CRLF is one line break)."""
-    return text.replace("\r\n", "\n").split("\n")
+    """The lines as the format counts them: CRLF, LF and a lone CR each end a line."""
+    return re.split(r"\r\n|\r|\n", text)
 
 
 def check_text(text: str) -> None:
@@ -54,7 +54,7 @@ def check_text(text: str) -> None:
         message = str(err)
         if message in WHOLE_TEXT_ERRORS:
             event("error: empty text")
-            assert not text.strip(), f"{message!r} for a text that is not empty: {text!r}"
+            assert not text.strip(" \t\r\n"), f"{message!r} for a text that is not empty: {text!r}"
             return
         m = POSITION.search(message)
         assert m, f"a ValueError without a line and column: {message!r} for {text!r}"
@@ -62,7 +62,7 @@ def check_text(text: str) -> None:
         line, column = int(m[1]), int(m[2])
         lines = text_lines(text)
         assert 1 <= line <= len(lines), f"line {line} of a {len(lines)}-line text: {message!r}"
-        widest = max(len(x.rstrip()) for x in lines)
+        widest = max(len(x.rstrip(" ")) for x in lines)  # only spaces are trimmed: a tab or form feed is a character
         assert 1 <= column <= widest, f"column {column} beyond the widest line ({widest}): {message!r}"
         bad = re.search(r"bad character ('(?:[^'\\]|\\.)*'|\"(?:[^\"\\]|\\.)*\")", message)
         if bad:
@@ -73,7 +73,7 @@ def check_text(text: str) -> None:
         if found:
             char = ast.literal_eval(found[1])
             row = lines[line - 1]
-            here = row[column - 1] if column <= len(row.rstrip()) else " "  # past the end: padded with spaces
+            here = row[column - 1] if column <= len(row.rstrip(" ")) else " "  # past the end: padded with spaces
             assert here == char, f"{message!r}: the text has {here!r} at line {line}, column {column}"
         return
     event("parsed")

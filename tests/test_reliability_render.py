@@ -72,10 +72,10 @@ def test_single_env_renders_every_state_in_every_mode(level, mode, seed, actions
     with contextlib.redirect_stdout(io.StringIO()):
         check_frame(rendered(env), level, mode, {})  # before the first reset: the level alone
         _, info = env.reset(seed=seed)
-        check_frame(rendered(env), level, mode, {info["cell"]: "R"})
+        check_frame(rendered(env), level, mode, {tuple(info["cell"].tolist()): "R"})
         for a in actions:
             _, _, terminated, truncated, info = env.step(a)
-            check_frame(rendered(env), level, mode, {info["cell"]: "R"})
+            check_frame(rendered(env), level, mode, {tuple(info["cell"].tolist()): "R"})
             if terminated or truncated:
                 break
 
@@ -110,7 +110,7 @@ def test_race_renders_every_state_in_every_mode(level, mode, n_robots, collision
         drawn = {}
         for i in reversed(range(n_robots)):  # the lowest-numbered robot on top
             if racing[i]:
-                drawn[infos[f"robot_{i}"]["cell"]] = glyphs[i]
+                drawn[tuple(infos[f"robot_{i}"]["cell"].tolist())] = glyphs[i]
         return drawn
 
     with contextlib.redirect_stdout(io.StringIO()):

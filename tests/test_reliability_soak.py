@@ -45,7 +45,7 @@ def soak_one(name: str, mode: str, finished: str, budget: int, seed: int) -> dic
     while stats["agent_steps"] < budget:
         obs, infos = env.reset(seed=seed if stats["races"] == 0 else None)
         stats["races"] += 1
-        cells = {a: infos[a]["cell"] for a in agents_all}
+        cells = {a: tuple(infos[a]["cell"].tolist()) for a in agents_all}
         parked: set[str] = set()
         t = 0
         while env.agents:
@@ -58,7 +58,7 @@ def soak_one(name: str, mode: str, finished: str, budget: int, seed: int) -> dic
             assert t <= env.max_cycles
             racing_cells, moves = [], []
             for a, info in infos.items():
-                c, before = info["cell"], cells[a]
+                c, before = tuple(info["cell"].tolist()), cells[a]
                 assert 0 <= c[0] < width and 0 <= c[1] < height and c not in blocked, (name, a, c)
                 assert obs[a][0] == c[0] and obs[a][1] == c[1]
                 assert rewards[a] in allowed, (name, a, rewards[a])

@@ -15,6 +15,7 @@ import pytest
 
 from babyrobot_marl import Action, BabyRobotEnv, Level, Rules, levels
 from babyrobot_marl.core.rules import COLLISION_MODES
+from babyrobot_marl.envs.common import OUTCOME_NAMES
 
 DELTA = {Action.STAY: (0, 0), Action.NORTH: (0, -1), Action.EAST: (1, 0), Action.SOUTH: (0, 1), Action.WEST: (-1, 0)}
 
@@ -84,9 +85,9 @@ def one_step_counts(env: BabyRobotEnv, start, action, n: int, seed: int = 0):
     for _ in range(n):
         env.reset(options={"start": start})
         obs, _, _, _, info = env.step(action)
-        assert info["cell"] == tuple(obs.tolist())
-        cells[info["cell"]] += 1
-        labels[info["outcome"]] += 1
+        assert tuple(info["cell"].tolist()) == tuple(obs.tolist())
+        cells[tuple(info["cell"].tolist())] += 1
+        labels[OUTCOME_NAMES[info["outcome"]]] += 1
     return cells, labels
 
 
@@ -168,7 +169,7 @@ def test_each_action_moves_the_way_design_md_says(action):
     obs, reward, terminated, _, info = env.step(action)
     dx, dy = DELTA[action]
     assert tuple(obs.tolist()) == (1 + dx, 1 + dy)
-    assert info["outcome"] == ("stayed" if action == Action.STAY else "moved")
+    assert OUTCOME_NAMES[info["outcome"]] == ("stayed" if action == Action.STAY else "moved")
     assert info["intended"] is True
     assert reward == -1.0 and not terminated
 
@@ -186,7 +187,8 @@ def test_a_wall_stops_a_move_both_ways_and_the_robot_pays_its_own_cell(action):
         env.reset(seed=seed)
         obs, reward, terminated, truncated, info = env.step(action)
         assert tuple(obs.tolist()) == centre
-        assert (reward, terminated, truncated, info["outcome"], info["intended"]) == (-1.0, False, False, "bumped", False)
+        outcome = OUTCOME_NAMES[info["outcome"]]
+        assert (reward, terminated, truncated, outcome, info["intended"]) == (-1.0, False, False, "bumped", False)
         env.reset(options={"start": neighbour})  # the same wall seen from the other side
         obs, *_ = env.step(back)
         assert tuple(obs.tolist()) == neighbour
@@ -210,7 +212,7 @@ def test_moves_off_the_grid_bump_at_every_border_cell():
                     continue
                 env.reset(options={"start": (x, y)})
                 obs, reward, _, _, info = env.step(action)
-                assert tuple(obs.tolist()) == (x, y) and info["outcome"] == "bumped" and reward == -1.0
+                assert tuple(obs.tolist()) == (x, y) and OUTCOME_NAMES[info["outcome"]] == "bumped" and reward == -1.0
                 bumps += 1
     assert bumps == 4 * 3 - 2  # 12 border-facing moves, minus the two from the exit cell
 
@@ -222,7 +224,7 @@ def test_a_blocked_cell_cannot_be_entered_from_any_side():
     for start, action in [((1, 0), Action.SOUTH), ((2, 1), Action.WEST), ((1, 2), Action.NORTH), ((0, 1), Action.EAST)]:
         env.reset(options={"start": start})
         obs, reward, _, _, info = env.step(action)
-        assert tuple(obs.tolist()) == start and info["outcome"] == "bumped" and reward == -1.0
+        assert tuple(obs.tolist()) == start and OUTCOME_NAMES[info["outcome"]] == "bumped" and reward == -1.0
 
 
 @pytest.mark.parametrize("name", ["blocked", "mixed-8x8", "puddles", "glass"])
@@ -237,26 +239,26 @@ def test_every_step_of_a_random_walk_obeys_walls_glass_blocked_cells_and_skid_ru
         prev = tuple(obs.tolist())
         obs, reward, terminated, truncated, info = env.step(action)
         cell = tuple(obs.tolist())
-        seen[info["outcome"]] += 1
+        seen[OUTCOME_NAMES[info["outcome"]]] += 1
         assert cell not in level.blocked
         dx, dy = DELTA[action]
         aimed = (prev[0] + dx, prev[1] + dy)
-        if info["outcome"] in ("stayed", "bumped", "glass"):
+        if OUTCOME_NAMES[info["outcome"]] in ("stayed", "bumped", "glass"):
             assert cell == prev
-        if info["outcome"] == "stayed":
+        if OUTCOME_NAMES[info["outcome"]] == "stayed":
             assert action == Action.STAY
-        if info["outcome"] == "moved":
+        if OUTCOME_NAMES[info["outcome"]] == "moved":
             assert cell == aimed
-        if info["outcome"] == "glass":
+        if OUTCOME_NAMES[info["outcome"]] == "glass":
             assert edge(prev, aimed) in level.glass
-        if info["outcome"] == "skidded":
+        if OUTCOME_NAMES[info["outcome"]] == "skidded":
             assert prev in level.small_puddles | level.large_puddles and action != Action.STAY
             assert cell != aimed
         if cell != prev:
             assert abs(cell[0] - prev[0]) + abs(cell[1] - prev[1]) == 1
             assert edge(prev, cell) not in level.walls
             if edge(prev, cell) in level.glass:
-                assert info["outcome"] == "moved"  # skids never go through glass
+                assert OUTCOME_NAMES[info["outcome"]] == "moved"  # skids never go through glass
         assert terminated == (cell in level.exits)
         if terminated or truncated:
             obs, _ = env.reset()
@@ -353,7 +355,7 @@ def test_a_failed_glass_pass_pays_the_own_cell_and_is_not_intended():
     env.reset(seed=0)
     obs, reward, terminated, truncated, info = env.step(Action.EAST)
     assert (tuple(obs.tolist()), reward, terminated, truncated) == ((0, 0), -1.0, False, False)
-    assert (info["outcome"], info["intended"]) == ("glass", False)
+    assert (OUTCOME_NAMES[info["outcome"]], info["intended"]) == ("glass", False)
 
 
 # --------------------------------------------------------------------------------------- rewards, exits, truncation

@@ -9,7 +9,6 @@ import pytest
 pytest.importorskip("stable_baselines3", reason="the train extra is not installed")  # CI installs it (test extra)
 ss = pytest.importorskip("supersuit", reason="the train extra is not installed")
 
-from babyrobot_marl.envs.race import RaceEnv  # noqa: E402
 from babyrobot_marl.training.race import evaluate_race, make_race_vec_env, train_race  # noqa: E402
 
 
@@ -27,14 +26,6 @@ def test_copies_of_the_supersuit_race_play_different_episodes():
     venv = make_race_vec_env("race-4", n_robots=4, n_envs=3, seed=0, start="random")
     obs = trajectories(venv).reshape(41, 3, 4, -1)  # [t, copy, robot, feature]
     assert not np.array_equal(obs[:, 0], obs[:, 1]) and not np.array_equal(obs[:, 1], obs[:, 2])
-
-
-def test_without_the_fix_supersuit_copies_play_the_same_episodes():
-    """The pitfall itself: vectorised without seeding afterwards, every copy is the same."""
-    env = ss.pettingzoo_env_to_vec_env_v1(RaceEnv(level="race-4", n_robots=4, finished="freeze", start="random"))
-    venv = ss.concat_vec_envs_v1(env, 3, num_cpus=0, base_class="stable_baselines3")
-    obs = trajectories(venv).reshape(41, 3, 4, -1)
-    assert np.array_equal(obs[:, 0], obs[:, 1]) and np.array_equal(obs[:, 1], obs[:, 2])
 
 
 def test_same_seed_same_races_and_seed_method_sets_the_next_reset():

@@ -96,3 +96,20 @@ def test_ppo_with_cell_features_trains_saves_and_loads(tmp_path):
     assert int(back.predict(obs, deterministic=True)[0]) == int(agent.predict(obs, deterministic=True)[0])
     with pytest.raises(ValueError, match="^features"):
         train_single("walls", "ppo", steps=64, features="pixels")
+
+
+def test_sb3_training_runs_on_one_torch_thread_and_restores_the_setting():
+    """Under CPU load torch's OpenMP threads stall SB3 for minutes; one thread slows it in proportion."""
+    import torch
+    from stable_baselines3.common.callbacks import BaseCallback
+
+    seen = []
+
+    class Threads(BaseCallback):
+        def _on_step(self) -> bool:
+            seen.append(torch.get_num_threads())
+            return True
+
+    before = torch.get_num_threads()
+    train_single("default", "ppo", steps=128, seed=0, n_envs=2, n_steps=64, batch_size=64, n_epochs=1, callback=Threads())
+    assert seen and set(seen) == {1} and torch.get_num_threads() == before

@@ -70,7 +70,7 @@ def single_vector(level: str, n: int, **kwargs) -> SyncVectorEnv:
 
 
 def sb3():
-    return pytest.importorskip("stable_baselines3")
+    return pytest.importorskip("stable_baselines3", reason="needs the train extra (Stable-Baselines3)")
 
 
 # ---------------------------------------------------------------------------- single robot: SyncVectorEnv
@@ -128,7 +128,7 @@ def test_reset_mask_restarts_only_the_masked_envs_like_sync_vector_env():
 
 # ---------------------------------------------------------------------------- races: separate frozen races
 def race_infos_row(info: dict) -> tuple:
-    return (info["cell"], info["outcome"], info["blocked"], info["finished"], info.get("rank", 0))
+    return (tuple(info["cell"].tolist()), info["outcome"], info["blocked"], info["finished"], info["rank"])
 
 
 def vector_infos_row(infos: dict, k: int) -> tuple:

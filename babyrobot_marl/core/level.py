@@ -18,13 +18,14 @@ line and column indices, edge slots between them, corners at even/even indices::
 
 from __future__ import annotations
 
-import math
 import numbers
 from collections import deque
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field, replace
 
 import numpy as np
+
+from ..checks import MAX_LEVEL_TEXT_CHARS, check_int, check_level_size, check_real, shown
 
 Cell = tuple[int, int]
 Edge = tuple[Cell, Cell]
@@ -48,13 +49,13 @@ class LevelError(ValueError):
 
 
 def as_cell(value: object, what: str) -> Cell:
+    """``(x, y)`` from a pair of integers (numpy's too; not bools, not floats such as ``1.0``)."""
     try:
         x, y = value  # type: ignore[misc]
-        if int(x) == x and int(y) == y and not isinstance(x, bool) and not isinstance(y, bool):
-            return (int(x), int(y))
+        return (check_int(x, what), check_int(y, what))
     except (TypeError, ValueError):
         pass
-    raise LevelError(f"{what}: {value!r} is not a cell; a cell is a pair of integers (x, y)")
+    raise LevelError(f"{what}: {shown(value)} is not a cell; a cell is a pair of integers (x, y)")
 
 
 def _as_edge(value: object, what: str) -> Edge:
@@ -93,11 +94,16 @@ class Level:
     name: str = field(default="", compare=False)
 
     def __post_init__(self) -> None:
-        for dim in ("width", "height"):
-            v = getattr(self, dim)
-            if isinstance(v, bool) or not isinstance(v, int) or v < 1:
-                raise LevelError(f"{dim}: must be an integer >= 1, got {v!r}")
         norm = object.__setattr__
+        for dim in ("width", "height"):
+            try:
+                norm(self, dim, check_int(getattr(self, dim), dim, lo=1))
+            except ValueError as err:
+                raise LevelError(str(err)) from None
+        try:
+            check_level_size(self.width, self.height)  # before any per-cell work
+        except ValueError as err:
+            raise LevelError(str(err)) from None
         for name in ("walls", "glass"):
             norm(self, name, frozenset(_as_edge(e, name) for e in _items(getattr(self, name), name, "edges")))
         for name in ("blocked", "small_puddles", "large_puddles", "exits"):
@@ -242,18 +248,29 @@ class Level:
 
     @classmethod
     def from_ascii(cls, text: str, name: str = "") -> Level:
-        """Parse the text format. Errors are ``ValueError`` naming the line and column (1-based)."""
+        """Parse the text format. Errors are ``ValueError`` naming the line and column (1-based).
+
+        Lines end with ``\\n``, ``\\r\\n`` or a lone ``\\r``; trailing spaces are trimmed, any other
+        whitespace is a character like any other. A text of more than ``MAX_LEVEL_TEXT_CHARS``
+        characters or ``MAX_LEVEL_CELLS`` cells is refused before it is parsed.
+        """
         if not isinstance(text, str):
             raise TypeError(f"text: expected a level text (str), got {type(text).__name__}")
-        raw = text.replace("\r\n", "\n").split("\n")
-        nonblank = [i for i, line in enumerate(raw) if line.strip()]
+        if len(text) > MAX_LEVEL_TEXT_CHARS:  # before splitting it into lines
+            raise ValueError(f"text: a level text has at most {MAX_LEVEL_TEXT_CHARS:,} characters, got {len(text):,}")
+        raw = split_lines(text)
+        nonblank = [i for i, line in enumerate(raw) if line.strip(BLANK)]
         if not nonblank:
             raise ValueError("text: the level text is empty")
         first = nonblank[0]
-        lines = [line.rstrip() for line in raw[first : nonblank[-1] + 1]]
+        # Editors trim trailing spaces; any other character (a tab, a form feed) stays and is checked.
+        lines = [line.rstrip(" ") for line in raw[first : nonblank[-1] + 1]]
         # Levels written in indented triple-quoted strings: drop the common indent.
         indent = min(len(line) - len(line.lstrip(" ")) for line in lines if line)
         lines = [line[indent:] for line in lines]
+        width, height = max(len(line) for line in lines) // 2, len(lines) // 2
+        if width * height > 0:
+            check_level_size(width, height, what="text")  # before parsing it cell by cell
         try:
             return _parse(lines, name)
         except LevelError as err:
@@ -265,15 +282,29 @@ class Level:
             raise ValueError(f"line {line + first + 1}, column {col + indent + 1}: {err}") from None
 
 
+BLANK = " \t"  # what a blank line before or after the level may hold
+
+
+def split_lines(text: str) -> list[str]:
+    """The lines of a level text: ``\\n``, ``\\r\\n`` and a lone ``\\r`` each end a line (as Python's text files)."""
+    return text.replace("\r\n", "\n").replace("\r", "\n").split("\n")
+
+
+def looks_like_level_text(spec: str) -> bool:
+    """A level text rather than a level name or a file path: it has more than one line."""
+    return "\n" in spec or "\r" in spec
+
+
 def is_number(value: object) -> bool:
     """A real number (numpy's too), not a bool."""
     return isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_))
 
 
 def _as_reward(r: object) -> float:
-    if not is_number(r) or not math.isfinite(r):
-        raise LevelError(f"rewards: a reward must be a finite number, got {r!r}")
-    return float(r)
+    try:
+        return check_real(r, "rewards")
+    except ValueError:
+        raise LevelError(f"rewards: a reward must be a finite number, got {shown(r)}") from None
 
 
 def _items(value: object, name: str, what: str) -> Iterable:

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..checks import check_dense_states
 from .actions import N_ACTIONS
 from .table import Table
 
@@ -87,6 +88,7 @@ def sparse_arrays(t: Table) -> tuple[np.ndarray, np.ndarray]:
 def transition_arrays(t: Table) -> tuple[np.ndarray, np.ndarray]:
     """``P[s, a, s']`` and expected ``R[s, a]``; exits and blocked cells absorb with reward 0."""
     n = t.n_cells
+    check_dense_states(n, t.width, t.height, what="transition_arrays")  # before the S * 5 * S array
     nxt, prob = sparse_arrays(t)
     P = np.zeros((n, N_ACTIONS, n))
     s = np.broadcast_to(np.arange(n)[:, None, None], nxt.shape)

@@ -2,11 +2,10 @@
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, fields, replace
 from typing import Any
 
-from .level import is_number
+from ..checks import check_real
 
 COLLISION_MODES = ("block", "bounce", "pass")
 
@@ -52,11 +51,10 @@ class Rules:
                 if value not in COLLISION_MODES:
                     raise ValueError(f"collisions: must be one of {', '.join(map(repr, COLLISION_MODES))}, got {value!r}")
                 continue
-            if not is_number(value) or not math.isfinite(value):
-                raise ValueError(f"{f.name}: must be a finite number, got {value!r}")
+            value = check_real(value, f.name)  # 10**400 too: a ValueError naming the field, not OverflowError
             if f.name in _PROBABILITIES and not 0.0 <= value <= 1.0:
                 raise ValueError(f"{f.name}: is a probability and must lie in [0, 1], got {value!r}")
-            object.__setattr__(self, f.name, float(value))
+            object.__setattr__(self, f.name, value)
 
     def replace(self, **overrides: Any) -> Rules:
         """A copy with some fields changed; unknown names are an error listing the known ones."""

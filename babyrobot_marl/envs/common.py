@@ -3,14 +3,16 @@
 from __future__ import annotations
 
 import operator
-from collections.abc import Mapping
+from collections.abc import Collection, Mapping, Sequence
 from typing import Any
 
 import numpy as np
 
 from .. import levels
+from ..checks import check_int
 from ..core.actions import N_ACTIONS, Action
-from ..core.level import Level
+from ..core.engine import OUTCOMES
+from ..core.level import Level, looks_like_level_text
 from ..core.rules import RULE_NAMES, Rules
 
 ACTION_HELP = ", ".join(f"{a.value}={a.name}" for a in Action)
@@ -21,12 +23,18 @@ def resolve_level(level: str | Level) -> Level:
     if isinstance(level, Level):
         return level
     if isinstance(level, str):
-        return Level.from_ascii(level) if "\n" in level else levels.get(level)
+        return Level.from_ascii(level) if looks_like_level_text(level) else levels.get(level)
     raise TypeError(f"level: expected a level name, a level text or a Level, got {type(level).__name__}")
 
 
-def resolve_rules(rules: Rules | Mapping[str, Any] | None, overrides: Mapping[str, Any], known: str = "") -> Rules:
-    """``Rules`` from a ``Rules``, a dict or ``None`` (defaults), with keyword overrides on top."""
+def resolve_rules(
+    rules: Rules | Mapping[str, Any] | None, overrides: Mapping[str, Any], owner: str = "", known: Sequence[str] = ()
+) -> Rules:
+    """``Rules`` from a ``Rules``, a dict or ``None`` (defaults), with keyword overrides on top.
+
+    An override that is no rule is a ``TypeError`` in Python's own wording for ``owner``'s
+    ``__init__`` (TorchRL's ``GymEnv`` matches on it to drop ``frameskip=``), then the known names.
+    """
     if rules is None:
         base = Rules()
     elif isinstance(rules, Rules):
@@ -38,12 +46,46 @@ def resolve_rules(rules: Rules | Mapping[str, Any] | None, overrides: Mapping[st
         base = Rules().replace(**rules)
     else:
         raise TypeError(f"rules: expected a Rules, a dict of rule values or None, got {type(rules).__name__}")
-    unknown = sorted(set(overrides) - RULE_NAMES)
+    unknown = sorted(set(overrides) - RULE_NAMES, key=str)
     if unknown:
-        raise TypeError(
-            f"unknown argument {unknown[0]!r}; {known + '; ' if known else ''}rule overrides are: {', '.join(sorted(RULE_NAMES))}"
-        )
+        raise unexpected_keyword(owner, unknown[0], known, RULE_NAMES)
     return base.replace(**overrides) if overrides else base
+
+
+def unexpected_keyword(owner: str, name: object, known: Sequence[str], rule_names: Collection[str] = ()) -> TypeError:
+    """Python's own ``TypeError`` for an unknown keyword argument, followed by the known ones."""
+    where = f"{owner}.__init__()" if owner else "__init__()"
+    text = f"{where} got an unexpected keyword argument {name!r}"
+    if known:
+        text += f"; arguments are {', '.join(known)}"
+    if rule_names:
+        text += f"; rule overrides are {', '.join(sorted(rule_names))}"
+    return TypeError(text)
+
+
+def known_args(owner: str, kwargs: Mapping[str, Any], known: Sequence[str]) -> None:
+    """Unknown keywords: Python's own ``TypeError`` naming ``owner`` (rule overrides and ``known`` names pass through)."""
+    unknown = sorted(set(kwargs) - RULE_NAMES - set(known), key=str)
+    if unknown:
+        raise unexpected_keyword(owner, unknown[0], known, RULE_NAMES)
+
+
+def check_seed(seed: object, what: str = "seed") -> int | None:
+    """``reset(seed=...)``: None or a non-negative integer (Python or numpy; bools and floats are not seeds).
+
+    A local helper until the package-wide integer rule (``checks.check_int``) lands.
+    """
+    if seed is None:
+        return None
+    v: int | None = None
+    if not isinstance(seed, (bool, np.bool_)):
+        try:
+            v = operator.index(seed)
+        except TypeError:
+            v = None
+    if v is None or v < 0:
+        raise ValueError(f"{what}: must be None or a non-negative integer, got {seed!r}")
+    return v
 
 
 def check_action(action: object, what: str = "action") -> int:
@@ -70,19 +112,23 @@ def check_render_mode(render_mode: str | None, modes: list[str]) -> str | None:
 
 def check_positive_int(value: object, what: str) -> int:
     """A count such as ``max_steps``: an integer >= 1 (numpy integers too, bools not)."""
-    try:
-        v = None if isinstance(value, bool) else operator.index(value)
-    except TypeError:
-        v = None
-    if v is None or v < 1:
-        raise ValueError(f"{what}: must be an integer >= 1, got {value!r}")
-    return v
+    return check_int(value, what, lo=1)
 
 
-def check_options(options: object) -> Mapping[str, Any]:
-    """``reset(options=...)``: None or a dict."""
+def check_options(options: object, known: Collection[str] = ()) -> Mapping[str, Any]:
+    """``reset(options=...)``: None or a dict whose keys are among ``known``."""
     if options is None:
         return {}
     if not isinstance(options, Mapping):
         raise ValueError(f"options: expected a dict or None, got {type(options).__name__}")
+    unknown = [k for k in options if k not in known]
+    if unknown:
+        allowed = ", ".join(map(repr, known)) if known else "none"
+        raise ValueError(f"options: unknown option {unknown[0]!r}; known options are {allowed}")
     return options
+
+
+# Info "outcome" codes: the engine's five, then the two the envs add. Ints so that tensor
+# libraries can stack infos; names by code in OUTCOME_NAMES (exported as babyrobot_marl.OUTCOME_NAMES).
+OUTCOME_NAMES = (*OUTCOMES, "start", "finished")
+START, FINISHED = OUTCOME_NAMES.index("start"), OUTCOME_NAMES.index("finished")

@@ -13,33 +13,44 @@ from pettingzoo import ParallelEnv
 
 from ..core.actions import N_ACTIONS
 from ..core.batch import BatchRace
-from ..core.engine import OUTCOMES
-from ..core.level import Cell, Level, as_cell
+from ..core.level import Cell, Level
 from ..core.observe import global_gather, make_observer
 from ..core.race import race_step
 from ..core.rng import new_key
 from ..core.rules import COLLISION_MODES, Rules
 from ..core.table import compile_level
+from ..encodings import Encoder
 from ..level_sources import DrawnLevels
 from ..render.ansi import frame, robot_glyph
 from ..render.canvas import check_animation_frames, check_fps
 from ..render.overlay import Overlay
 from ..render.rgb import RgbRenderer, Theme, check_cell_size, resolve_theme
-from .common import check_action, check_options, check_positive_int, check_render_mode, resolve_level, resolve_rules
+from .common import (
+    FINISHED,
+    START,
+    check_action,
+    check_options,
+    check_positive_int,
+    check_render_mode,
+    check_seed,
+    resolve_level,
+    resolve_rules,
+)
 from .drawing import RaceDrawing
 from .single import default_max_steps
+from .starts import LazyGenerator, _seeding, check_cells, draw_starts, placement
 
 START_MODES = ("level", "fill", "random")
 FINISHED_MODES = ("remove", "freeze")
 # actions on the fast path: Python ints 0..4 (bools, numpy ints and the rest are checked one by one)
 _INT, _ACTIONS = frozenset({int}), frozenset(range(N_ACTIONS))
 _ARGS = (
-    "arguments are level, n_robots, collisions, max_cycles, start, finished, rules, render_mode, cell_size, theme, "
-    "animation_frames, render_fps, observe, view_radius, k"
+    "level", "n_robots", "collisions", "max_cycles", "start", "finished", "rules", "render_mode", "cell_size", "theme",
+    "animation_frames", "render_fps", "observe", "view_radius", "k", "obs_encoding",
 )
 
 
-class RaceEnv(RaceDrawing, DrawnLevels, ParallelEnv):
+class RaceEnv(RaceDrawing, DrawnLevels, LazyGenerator, ParallelEnv):
     """Several Baby Robots race to the exit. See ``babyrobot_marl.race_v0`` for the full table."""
 
     metadata = {
@@ -66,6 +77,7 @@ class RaceEnv(RaceDrawing, DrawnLevels, ParallelEnv):
         observe: str = "global",
         view_radius: int | None = None,
         k: int | None = None,
+        obs_encoding: str = "multidiscrete",
         **rule_overrides: Any,
     ):
         self.level = resolve_level(self._init_level_source(level))  # level= a family or a callable: drawn per reset
@@ -73,7 +85,7 @@ class RaceEnv(RaceDrawing, DrawnLevels, ParallelEnv):
             if collisions not in COLLISION_MODES:
                 raise ValueError(f"collisions: must be one of {', '.join(map(repr, COLLISION_MODES))}, got {collisions!r}")
             rule_overrides["collisions"] = collisions
-        self.rules = resolve_rules(rules, rule_overrides, known=_ARGS)
+        self.rules = resolve_rules(rules, rule_overrides, "RaceEnv", _ARGS)
         self.collisions = self.rules.collisions
         self.table = compile_level(self.level, self.rules)
         self._observer_of = partial(make_observer, observe=observe, view_radius=view_radius, k=k)
@@ -96,14 +108,22 @@ class RaceEnv(RaceDrawing, DrawnLevels, ParallelEnv):
         w, h = self.level.width, self.level.height
         self.possible_agents = [f"robot_{i}" for i in range(n)]
         self._index = {a: i for i, a in enumerate(self.possible_agents)}
-        self._obs_space = spaces.MultiDiscrete(self._observer.nvec if self._observer else [w, h] + [w, h, 2] * (n - 1))
+        # any observation mode's MultiDiscrete, encoded as obs_encoding asks (encodings.py)
+        self.encoder = Encoder(self._observer.nvec if self._observer else [w, h] + [w, h, 2] * (n - 1), obs_encoding)
+        self._obs_space = self.encoder.space
         self._act_space = spaces.Discrete(5)
         self.observation_spaces = dict.fromkeys(self.possible_agents, self._obs_space)
         self.action_spaces = dict.fromkeys(self.possible_agents, self._act_space)
-        self.state_space = spaces.Box(0, np.array([w - 1, h - 1, 1] * n), shape=(3 * n,), dtype=np.int64)
+        self._encode_state = Encoder([w, h, 2] * n, obs_encoding)
+        self.state_space = (
+            spaces.Box(0, np.array([w - 1, h - 1, 1] * n), shape=(3 * n,), dtype=np.int64)
+            if self._encode_state.identity
+            else self._encode_state.space
+        )
         self._gather = global_gather(n if self._observer is None else 0)  # robot i sees i, i+1, ..., i-1: "global" only
         self._lists = self.table.lists
         self._xy = [self.table.cell_xy(c) for c in range(self.table.n_cells)]
+        self._xy_arrays = [np.array(xy, dtype=np.int64) for xy in self._xy]  # infos' "cell", copied per step
         self._reward_at = self._lists.reward.__getitem__
         # [x, y, finished] of a robot: row c racing in cell c, row n_cells + c finished there
         self._xyf = np.array([(*xy, 0) for xy in self._xy] + [(*xy, 1) for xy in self._xy], dtype=np.int64)
@@ -123,7 +143,7 @@ class RaceEnv(RaceDrawing, DrawnLevels, ParallelEnv):
         self._t = 0
         self._key = 0
         self._n_finished = 0
-        self.np_random, _ = _seeding(None)
+        self._started = False
 
     # ----------------------------------------------------------------------- PettingZoo API
     def observation_space(self, agent: str) -> spaces.MultiDiscrete:
@@ -135,13 +155,20 @@ class RaceEnv(RaceDrawing, DrawnLevels, ParallelEnv):
         return self._act_space
 
     def reset(self, seed: int | None = None, options: dict | None = None):
-        check_options(options)
+        """A new race. ``options={"starts": [(x, y), ...]}``: one distinct open cell per robot."""
+        starts = check_options(options, ("starts",)).get("starts")
+        if starts is not None:
+            starts = check_cells(self.table, starts, self.n_robots, 'options["starts"]')
+        seed = check_seed(seed)
         if seed is not None:
             self.np_random, _ = _seeding(seed)
         self._draw_level()
+        if starts is not None and self._level_source is not None:  # checked again on the level just drawn
+            starts = check_cells(self.table, options["starts"], self.n_robots, 'options["starts"]')
         self._key = new_key(self.np_random)
         n = self.n_robots
-        self._live, self._live_cells = list(range(n)), self._draw_starts()
+        self._started = True
+        self._live, self._live_cells = list(range(n)), self._draw_starts() if starts is None else starts
         self._done, self._parked = [], []
         self._rank = [0] * n
         self._returns = [0.0] * n
@@ -154,8 +181,9 @@ class RaceEnv(RaceDrawing, DrawnLevels, ParallelEnv):
         if self.render_mode == "human":
             self.render()
         obs = self._observations()
+        xy = self._xy_arrays
         infos = {
-            a: {"cell": self._xy[c], "outcome": "start", "blocked": False, "finished": False}
+            a: {"cell": xy[c].copy(), "outcome": START, "blocked": False, "finished": False, "rank": 0}
             for a, c in zip(self.possible_agents, self._live_cells)
         }
         return dict(zip(self.possible_agents, obs)), infos
@@ -163,6 +191,7 @@ class RaceEnv(RaceDrawing, DrawnLevels, ParallelEnv):
     def step(self, actions: Mapping[str, Any]):
         reported = self.agents
         if not reported:
+            self._check_started("step")
             if actions:
                 raise ValueError("actions: the race is over (no agents left); call reset() before stepping again")
             return {}, {}, {}, {}, {}
@@ -182,9 +211,9 @@ class RaceEnv(RaceDrawing, DrawnLevels, ParallelEnv):
             out = self._step_general(cells, outcome, blocked, finishing, rewards)
         else:  # the common step: nobody finishes, the race goes on, the agents are the racing robots
             self._live_returns = list(map(operator.add, self._live_returns, rewards))
-            xy, names = self._xy, OUTCOMES
+            xy = self._xy_arrays
             infos = {
-                a: {"cell": xy[c], "outcome": names[o], "blocked": b, "finished": False}
+                a: {"cell": xy[c].copy(), "outcome": o, "blocked": b, "finished": False, "rank": 0}
                 for a, c, o, b in zip(reported, cells, outcome, blocked)
             }
             no = self._none_done
@@ -227,7 +256,7 @@ class RaceEnv(RaceDrawing, DrawnLevels, ParallelEnv):
         over = self._t >= self.max_cycles or not self._live
         obs = self._observations()
         reported, ids = self.agents, self._agent_ids
-        all_cells, xy, ranks = self._cells, self._xy, self._rank
+        all_cells, xy, ranks = self._cells, self._xy_arrays, self._rank
         # parked robots (freeze) are terminated only when the race ends: PettingZoo expects a
         # terminated agent to leave `agents` in the same step
         parked_done = over or self.finished_mode == "remove"
@@ -237,15 +266,13 @@ class RaceEnv(RaceDrawing, DrawnLevels, ParallelEnv):
         infos = {}
         for a, i in zip(reported, ids):
             k = was_live.get(i)
-            info = {
-                "cell": xy[all_cells[i]],
-                "outcome": "finished" if k is None else OUTCOMES[outcome[k]],
+            infos[a] = {
+                "cell": xy[all_cells[i]].copy(),
+                "outcome": FINISHED if k is None else outcome[k],
                 "blocked": k is not None and blocked[k],
                 "finished": not racing_now[i],
+                "rank": ranks[i],
             }
-            if ranks[i]:
-                info["rank"] = ranks[i]
-            infos[a] = info
         if over:
             self._set_agents([])
         elif self.finished_mode == "remove":
@@ -287,11 +314,12 @@ class RaceEnv(RaceDrawing, DrawnLevels, ParallelEnv):
         return racing
 
     def state(self) -> np.ndarray:
-        """Every robot's ``[x, y, finished]`` in robot order (a global view for critics)."""
+        """Every robot's ``[x, y, finished]`` in robot order (a global view for critics), encoded as observations are."""
+        self._check_started("state")
         rows = [0] * self.n_robots
         for i, row in zip(self._live + self._done, [*self._live_cells, *self._parked]):
             rows[i] = row
-        return self._xyf.take(rows, axis=0).ravel()
+        return self._encode_state(self._xyf.take(rows, axis=0).ravel())
 
     def render(self) -> str | None:
         if self.render_mode is None:
@@ -360,21 +388,8 @@ class RaceEnv(RaceDrawing, DrawnLevels, ParallelEnv):
     def set_cells(self, cells: list[Cell]) -> None:
         """Place the robots by hand (tests, tutorials): one distinct open cell per robot (after a
         reset; robots that have finished stay parked at their exits)."""
-        if not isinstance(cells, Sequence) or isinstance(cells, str):
-            raise ValueError(f"cells: expected a list of {self.n_robots} cells (x, y), got {cells!r}")
-        if len(cells) != self.n_robots:
-            raise ValueError(f"cells: expected {self.n_robots} cells, got {len(cells)}")
-        ids = []
-        for cell in cells:
-            x, y = as_cell(cell, "cells")
-            if not (0 <= x < self.level.width and 0 <= y < self.level.height):
-                raise ValueError(f"cells: {cell} is outside the {self.level.width}x{self.level.height} grid")
-            c = self.table.cell_id((x, y))
-            if self.table.blocked[c] or self.table.is_exit[c]:
-                raise ValueError(f"cells: {cell} is blocked or an exit")
-            ids.append(c)
-        if self.collisions != "pass" and len(set(ids)) < len(ids):
-            raise ValueError(f"cells: two robots share a cell, which collisions={self.collisions!r} forbids")
+        self._check_started("set_cells")
+        ids = check_cells(self.table, cells, self.n_robots, "cells", distinct=self.collisions != "pass")
         self._live_cells = [ids[i] for i in self._live]  # finished robots stay parked at their exits
 
     def _agent_index(self, agent: str) -> int:
@@ -396,11 +411,9 @@ class RaceEnv(RaceDrawing, DrawnLevels, ParallelEnv):
         live = self._live_set
         for agent, action in actions.items():
             i = self._agent_index(agent)  # raises, naming the known agents
-            if i not in live:
-                if self.finished_mode == "freeze":
-                    check_action(action, f"actions[{agent!r}]")
-                    continue  # parked: its action is ignored
-                raise ValueError(f"actions: {agent!r} has finished the race and takes no more actions")
+            if i not in live:  # finished: its action is checked and ignored (as PettingZoo's conversions do)
+                check_action(action, f"actions[{agent!r}]")
+                continue
             given[i] = check_action(action, f"actions[{agent!r}]")
         if len(given) < len(live):
             missing = [self.possible_agents[i] for i in self._live if i not in given]
@@ -413,38 +426,16 @@ class RaceEnv(RaceDrawing, DrawnLevels, ParallelEnv):
     def _observations(self) -> np.ndarray:
         """One row per reported agent, in ``agents`` order (a fresh array per step, rows never shared)."""
         if self._observer is not None:
-            return self._observer(np.array(self._cells), np.array(self._racing))[self._agent_ids]
+            return self.encoder(self._observer(np.array(self._cells), np.array(self._racing))[self._agent_ids])
         rows = [*self._live_cells, *self._parked] if self._parked else self._live_cells
-        return self._xyf.take(rows, axis=0).ravel()[self._gather_reported]
+        return self.encoder(self._xyf.take(rows, axis=0).ravel()[self._gather_reported])
+
+    def _check_started(self, what: str) -> None:
+        if not self._started:
+            raise RuntimeError(f"{what}: the race has not started; call reset() first")
 
     def _placement(self, n: int) -> tuple[list[int], list[int]]:
-        """Level starts used as they are, and the free cells random starts are drawn from."""
-        starts = [self.table.cell_id(c) for c in self.level.starts]
-        if self.start == "level":
-            if len(starts) < n:
-                raise ValueError(
-                    f"n_robots: level {self.level.name or ''!r} has {len(starts)} numbered starts for {n} robots; "
-                    "pass start='fill' (level starts, then random free cells) or start='random'"
-                )
-            return starts[:n], []
-        fixed = starts[:n] if self.start == "fill" else []
-        free = [c for c in self.table.free_cells if c not in fixed]
-        if len(fixed) + len(free) < n:
-            raise ValueError(
-                f"n_robots: {n} robots do not fit on level {self.level.name or ''!r}, "
-                f"which has {len(fixed) + len(free)} free cells"
-            )
-        return fixed, free
+        return placement(self.table, self.start, n)
 
     def _draw_starts(self) -> list[int]:
-        need = self.n_robots - len(self._fixed_starts)
-        if need == 0:
-            return list(self._fixed_starts)
-        picks = self.np_random.choice(len(self._free), size=need, replace=False)
-        return list(self._fixed_starts) + [self._free[int(k)] for k in picks]
-
-
-def _seeding(seed: int | None) -> tuple[np.random.Generator, Any]:
-    from gymnasium.utils import seeding
-
-    return seeding.np_random(seed)
+        return draw_starts(self.np_random, self._fixed_starts, self._free, self.n_robots)

@@ -12,8 +12,14 @@ from ..core.level import Level
 from ..core.rules import Rules
 from ..policies import POLICY_NAMES, make
 from ..render.rgb import Theme
-from .common import check_action
+from .common import check_action, check_options, check_seed, known_args
 from .race import RaceEnv
+from .starts import check_cells
+
+_ARGS = (
+    "level", "opponents", "collisions", "max_cycles", "start", "rules", "render_mode", "cell_size", "theme",
+    "animation_frames", "render_fps", "observe", "view_radius", "k", "obs_encoding",
+)
 
 
 class BabyRobotRaceEnv(gym.Env):
@@ -24,8 +30,15 @@ class BabyRobotRaceEnv(gym.Env):
     ``MultiDiscrete`` observation beginning with its own ``[x, y]`` followed by
     ``[x, y, finished]`` of each opponent. The episode terminates when robot 0 reaches an exit
     (its reward includes ``win_bonus`` if it is first) and is truncated after ``max_cycles``
-    steps. Opponents that finish are parked off the board. ``info`` holds robot 0's race info
-    plus ``"ranks"`` of all robots (0: not finished).
+    steps. Opponents that finish are parked off the board.
+
+    ``info``, the same keys after ``reset`` and every ``step``, numbers only: robot 0's race info
+    (``cell`` int64 ``[x, y]``, ``outcome`` an int code into ``babyrobot_marl.OUTCOME_NAMES``,
+    ``blocked``, ``finished``, ``rank``: 0 until it finishes) plus ``ranks``, an int64 array of
+    every robot's rank (0: not finished).
+
+    ``obs_encoding``: ``"multidiscrete"`` (default), ``"box"`` or ``"onehot"``
+    (``babyrobot_marl.encodings``). ``reset(options={"starts": [(x, y), ...]})`` places every robot.
 
     Registered as ``babyrobot_marl/BabyRobotRace-v0``: ``gymnasium.make(
     "babyrobot_marl/BabyRobotRace-v0", level="race-4", opponents=["shortest", "random", "random"])``.
@@ -46,8 +59,10 @@ class BabyRobotRaceEnv(gym.Env):
         theme: str | Theme = "light",
         animation_frames: int = 4,
         render_fps: float | None = None,
+        obs_encoding: str = "multidiscrete",
         **rule_overrides: Any,
     ):
+        known_args("BabyRobotRaceEnv", rule_overrides, _ARGS)  # Python's wording, naming this class
         if isinstance(opponents, str) or not isinstance(opponents, Sequence) or not all(p in POLICY_NAMES for p in opponents):
             raise ValueError(f"opponents: expected a list of policy names from {POLICY_NAMES}, got {opponents!r}")
         self.race = RaceEnv(
@@ -63,6 +78,7 @@ class BabyRobotRaceEnv(gym.Env):
             theme=theme,
             animation_frames=animation_frames,
             render_fps=render_fps,
+            obs_encoding=obs_encoding,
             **rule_overrides,
         )
         self.race.set_overlay(names=["learner", *opponents])  # the legend's names
@@ -79,7 +95,11 @@ class BabyRobotRaceEnv(gym.Env):
         return self.race.level
 
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
-        super().reset(seed=seed)
+        # every argument checked before anything changes
+        starts = check_options(options, ("starts",)).get("starts")
+        if starts is not None:
+            check_cells(self.race.table, starts, self.race.n_robots, 'options["starts"]')
+        super().reset(seed=check_seed(seed))
         # the opponents' random moves and the race's own draws all come from self.np_random
         self._obs, infos = self.race.reset(seed=int(self.np_random.integers(2**63)), options=options)
         # after the race's reset, which may draw a new level (making a policy draws no number)
@@ -110,4 +130,4 @@ class BabyRobotRaceEnv(gym.Env):
         self.race.close()
 
     def _with_ranks(self, info: dict[str, Any]) -> dict[str, Any]:
-        return {**info, "ranks": self.race.ranks}
+        return {**info, "ranks": np.array(self.race.ranks, dtype=np.int64)}

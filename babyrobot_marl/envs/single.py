@@ -18,12 +18,26 @@ from ..core.model import Transition, frozenlake_P
 from ..core.rng import SLOTS, new_key
 from ..core.rules import Rules
 from ..core.table import compile_level
+from ..encodings import Encoder
 from ..render.ansi import frame
 from ..render.canvas import check_animation_frames, check_fps
 from ..render.overlay import Overlay
 from ..render.rgb import RgbRenderer, Theme, check_cell_size, resolve_theme
-from .common import check_action, check_options, check_positive_int, check_render_mode, resolve_level, resolve_rules
+from .common import (
+    START,
+    check_action,
+    check_options,
+    check_positive_int,
+    check_render_mode,
+    check_seed,
+    resolve_level,
+    resolve_rules,
+)
 from .drawing import SingleDrawing
+
+_ARGS = (
+    "level", "rules", "max_steps", "start", "render_mode", "cell_size", "theme", "animation_frames", "render_fps", "obs_encoding"
+)
 
 
 def default_max_steps(level: Level) -> int:
@@ -49,7 +63,9 @@ class BabyRobotEnv(SingleDrawing, gym.Env):
     ## Observation space
 
     ``MultiDiscrete([width, height])``: the robot's cell ``np.array([x, y], dtype=np.int64)``,
-    ``x`` the column from the left, ``y`` the row from the top.
+    ``x`` the column from the left, ``y`` the row from the top. ``obs_encoding="box"``: the same
+    two numbers as a float32 ``Box``; ``"onehot"``: a float32 ``Box`` of ``width + height``
+    entries, a 1 at ``x`` and at ``width + y`` (``babyrobot_marl.encodings``).
 
     ## Rewards
 
@@ -70,9 +86,14 @@ class BabyRobotEnv(SingleDrawing, gym.Env):
 
     ## Info
 
-    ``{"cell": (x, y), "outcome": "moved" | "stayed" | "bumped" | "skidded" | "glass",
-    "intended": bool}``: ``intended`` is True when the robot ended where its action aimed
-    (moved, or STAY).
+    The same keys after ``reset`` and every ``step``, numbers only (tensor libraries stack them):
+
+    | key          | type                     | meaning                                                       |
+    |--------------|--------------------------|---------------------------------------------------------------|
+    | ``cell``     | int64 array ``[x, y]``   | the robot's cell                                              |
+    | ``outcome``  | int                      | code into ``babyrobot_marl.OUTCOME_NAMES``: 0 moved, 1 stayed, |
+    |              |                          | 2 bumped, 3 skidded, 4 glass; 5 start (after ``reset``)        |
+    | ``intended`` | bool                     | the robot ended where its action aimed (moved, or STAY)       |
 
     ## Arguments
 
@@ -81,6 +102,7 @@ class BabyRobotEnv(SingleDrawing, gym.Env):
     be given as a keyword (``glass_pass_prob=0.9``). ``max_steps``. ``start``: ``None`` (the
     level's start, or a random free cell if it has none) or ``"random"`` (a random free cell
     each episode). ``reset(options={"start": (x, y)})`` starts one episode at a given cell.
+    ``obs_encoding``: ``"multidiscrete"`` (default), ``"box"`` or ``"onehot"`` (above).
     ``render_mode``: ``"ansi"`` (text frame), ``"rgb_array"`` (``uint8[H * cell_size, W * cell_size, 3]``,
     pure numpy) or ``"human"`` (in Jupyter with the ``notebook`` extra: a live ipycanvas canvas in
     the cell, the robot gliding over ``animation_frames`` frames per step, 0: jumping, at
@@ -109,14 +131,11 @@ class BabyRobotEnv(SingleDrawing, gym.Env):
         theme: str | Theme = "light",
         animation_frames: int = 4,
         render_fps: float | None = None,
+        obs_encoding: str = "multidiscrete",
         **rule_overrides: Any,
     ):
         self.level = resolve_level(level)
-        self.rules = resolve_rules(
-            rules,
-            rule_overrides,
-            known="arguments are level, rules, max_steps, start, render_mode, cell_size, theme, animation_frames, render_fps",
-        )
+        self.rules = resolve_rules(rules, rule_overrides, "BabyRobotEnv", _ARGS)
         self.table = compile_level(self.level, self.rules)
         self.max_steps = default_max_steps(self.level) if max_steps is None else check_positive_int(max_steps, "max_steps")
         if start not in (None, "random"):
@@ -134,9 +153,12 @@ class BabyRobotEnv(SingleDrawing, gym.Env):
 
         w, h = self.level.width, self.level.height
         self.action_space = spaces.Discrete(N_ACTIONS)
-        self.observation_space = spaces.MultiDiscrete([w, h])
+        self.encoder = Encoder([w, h], obs_encoding)
+        self.observation_space = self.encoder.space
         self._lists = self.table.lists
-        self._obs = [np.array(self.table.cell_xy(c), dtype=np.int64) for c in range(self.table.n_cells)]
+        # every cell's observation, encoded once: a step only copies one
+        self._obs = [self.encoder(np.array(self.table.cell_xy(c), dtype=np.int64)) for c in range(self.table.n_cells)]
+        self._cells = [np.array(self.table.cell_xy(c), dtype=np.int64) for c in range(self.table.n_cells)]
         self._xy = [self.table.cell_xy(c) for c in range(self.table.n_cells)]
         self._cell = -1  # no episode yet
         self._t = 0
@@ -147,10 +169,10 @@ class BabyRobotEnv(SingleDrawing, gym.Env):
 
     # ------------------------------------------------------------------------ Gymnasium API
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
-        start = check_options(options).get("start")
+        start = check_options(options, ("start",)).get("start")
         if start is not None:
             start = self._check_start(start)
-        super().reset(seed=seed)
+        super().reset(seed=check_seed(seed))
         self._key = new_key(self.np_random)
         if start is not None:
             self._cell = start
@@ -164,7 +186,7 @@ class BabyRobotEnv(SingleDrawing, gym.Env):
         self._last_step = None
         if self.render_mode == "human":
             self._render_human(animate=False)
-        return self._obs[self._cell].copy(), {"cell": self._xy[self._cell]}
+        return self._obs[self._cell].copy(), {"cell": self._cells[self._cell].copy(), "outcome": START, "intended": False}
 
     def step(self, action):
         a = check_action(action)
@@ -183,7 +205,7 @@ class BabyRobotEnv(SingleDrawing, gym.Env):
         self._return += reward
         if self.render_mode == "human":
             self._render_human()
-        info = {"cell": self._xy[cell], "outcome": OUTCOMES[outcome], "intended": outcome <= STAYED}
+        info = {"cell": self._cells[cell].copy(), "outcome": outcome, "intended": outcome <= STAYED}
         return self._obs[cell].copy(), reward, terminated, truncated, info
 
     def render(self) -> str | None:
@@ -196,6 +218,12 @@ class BabyRobotEnv(SingleDrawing, gym.Env):
             return self._overlay_frame()
         self._render_human()
         return None
+
+    def get_keys_to_action(self) -> dict[tuple[int, ...], int]:
+        """Keys for ``gymnasium.utils.play.play(env)`` (render_mode="rgb_array"): arrows and WASD, space stays."""
+        from ..play.keys import keys_to_action
+
+        return keys_to_action()
 
     # ------------------------------------------------------------------------ helpers
     @property

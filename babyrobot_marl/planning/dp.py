@@ -9,13 +9,13 @@ action that may lead into such a cell gets ``q = -inf`` (never chosen).
 from __future__ import annotations
 
 import math
-import operator
 from collections import deque
 from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
 
+from ..checks import check_int
 from ..core.actions import N_ACTIONS
 from .mdp import Model
 
@@ -220,12 +220,7 @@ def _check(gamma: object, theta: object, max_iterations: object, tie_tol: object
         raise ValueError(f"theta: must be a number > 0, got {theta!r}")
     if not _is_real(tie_tol) or not 0.0 <= tie_tol < math.inf:
         raise ValueError(f"tie_tol: must be a number >= 0, got {tie_tol!r}")
-    try:
-        n = None if isinstance(max_iterations, bool) else operator.index(max_iterations)
-    except TypeError:
-        n = None
-    if n is None or n < 1:
-        raise ValueError(f"max_iterations: must be an integer >= 1, got {max_iterations!r}")
+    n = check_int(max_iterations, "max_iterations", lo=1)
     return float(gamma), float(theta), n, float(tie_tol)
 
 

@@ -9,6 +9,7 @@ from typing import Any
 
 import numpy as np
 
+from ..checks import check_dense_states
 from ..core.level import Level
 from ..core.model import Transition, frozenlake_P, sparse_arrays, transition_arrays
 from ..core.rules import Rules
@@ -62,7 +63,12 @@ class Model:
 
     @cached_property
     def dense(self) -> tuple[np.ndarray, np.ndarray]:
-        """``(P[s, a, s'], R[s, a])``: S * S * 5 floats, for small levels and checks."""
+        """``(P[s, a, s'], R[s, a])``: S * S * 5 floats, for small levels and checks.
+
+        At most ``MAX_DENSE_STATES`` states (the size is checked before anything is allocated);
+        larger levels use the sparse ``next``/``prob``/``reward`` arrays, which all of planning reads.
+        """
+        check_dense_states(self.n_states, self.width, self.height)
         return transition_arrays(self.table)
 
     @property

@@ -34,6 +34,7 @@ from typing import Any
 
 import numpy as np
 
+from ..checks import check_int
 from ..core.level import Cell
 from .glyphs import baseline_y, css_font, origin
 from .overlay import Overlay
@@ -90,9 +91,7 @@ def notebook_available() -> bool:
 
 
 def check_animation_frames(n: object) -> int:
-    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or not 0 <= n <= MAX_ANIMATION_FRAMES:
-        raise ValueError(f"animation_frames: must be an integer in 0..{MAX_ANIMATION_FRAMES} (0: no animation), got {n!r}")
-    return int(n)
+    return check_int(n, "animation_frames (0: no animation)", 0, MAX_ANIMATION_FRAMES)  # the package's integer rule
 
 
 def check_fps(fps: object, name: str = "render_fps") -> float:

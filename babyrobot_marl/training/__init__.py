@@ -1,10 +1,12 @@
-"""Learning on Baby Robot: tabular TD control (numpy only) and deep RL with Stable-Baselines3.
+"""Learning on Baby Robot: tabular TD control (numpy only), the fast PPO trainer, and deep RL with
+Stable-Baselines3.
 
-``tabular`` needs nothing beyond numpy. ``single`` (PPO/DQN on BabyRobot-v0) and ``race`` (one
-shared PPO policy for all robots through SuperSuit) need the ``train`` extra (GIFs of the
-learnt policy: ``babyrobot_marl.render.video``, whose imageio the extra brings)
-(``pip install 'babyrobot_marl[train]'``); they import it inside their functions, and
-``require_train()`` says clearly what is missing.
+``tabular`` needs nothing beyond numpy. ``ppo`` (PPO stepped on the batch engine, one robot or a
+race with one shared policy; ``policy``: trained policies as robots, saved and loaded;
+``evaluate``: races against scripted robots on the batch engine; ``cli``: the ``train`` command),
+``single`` (SB3 PPO/DQN on BabyRobot-v0) and ``race`` (one shared SB3 PPO policy for all robots
+through SuperSuit) need the ``train`` extra (``pip install 'babyrobot_marl[train]'``); they import
+it inside their functions, and ``require_train()`` says clearly what is missing.
 """
 
 from .deps import MissingTrainExtraError, require_train

@@ -119,32 +119,43 @@ def train_race(
     progress_bar: bool = False,
     callback: Any = None,
     race_kwargs: dict[str, Any] | None = None,
+    threads: int | None = 1,
     **ppo_kwargs: Any,
 ) -> Any:
     """Train one PPO policy shared by all robots; returns the SB3 model. Robots start on random
-    free cells (``start="random"``) unless ``race_kwargs`` say otherwise."""
+    free cells (``start="random"``) unless ``race_kwargs`` say otherwise. ``threads``: torch threads
+    while training (default 1: more stall for minutes on a busy machine; None: torch's setting)."""
+    from .ppo import torch_threads
+
     if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 1:
         raise ValueError(f"steps: must be an integer >= 1, got {steps!r}")
     venv = make_race_vec_env(level, n_robots, n_envs, seed, backend, **{"start": "random", **(race_kwargs or {})})
-    agent = make_algo("ppo", venv, seed, **{**RACE_PPO_KWARGS, **ppo_kwargs})
-    agent.learn(total_timesteps=int(steps), progress_bar=progress_bar, callback=callback)
+    with torch_threads(threads):
+        agent = make_algo("ppo", venv, seed, **{**RACE_PPO_KWARGS, **ppo_kwargs})
+        agent.learn(total_timesteps=int(steps), progress_bar=progress_bar, callback=callback)
     return agent
 
 
 @dataclass(frozen=True)
 class RaceResult:
     """The learnt robot against scripted opponents: races won (rank 1, ties included), its mean
-    finishing steps (over races it finished) and the opponents'."""
+    finishing steps (over races it finished) and the opponents', and the ties among the wins
+    (another robot finished first in the same step)."""
 
     races: int
     wins: int
     finished: int
     mean_steps: float
     opponent_mean_steps: float
+    ties: int = 0
 
     @property
     def win_rate(self) -> float:
         return self.wins / self.races
+
+    @property
+    def tie_rate(self) -> float:
+        return self.ties / self.races
 
 
 def evaluate_race(
@@ -161,7 +172,7 @@ def evaluate_race(
     if opponent not in policies.POLICY_NAMES:
         raise ValueError(f"opponent: must be one of {', '.join(policies.POLICY_NAMES)}, got {opponent!r}")
     env = RaceEnv(level=level, n_robots=n_robots, **{"start": "random", **race_kwargs})
-    wins = finished = 0
+    wins = finished = ties = 0
     steps, other_steps = [], []
     for i in range(races):
         obs, _ = env.reset(seed=seed + i)
@@ -177,10 +188,45 @@ def evaluate_race(
                 if info.get("rank"):
                     finish[env.possible_agents.index(a)] = env.elapsed_steps
         wins += env.ranks[0] == 1
+        ties += env.ranks[0] == 1 and 1 in env.ranks[1:]
         if finish[0]:
             finished += 1
             steps.append(finish[0])
         other_steps += [f for f in finish[1:] if f]
     return RaceResult(races, wins, finished, float(np.mean(steps)) if steps else float("nan"),
-                      float(np.mean(other_steps)) if other_steps else float("nan"))
+                      float(np.mean(other_steps)) if other_steps else float("nan"), ties)
 
+
+
+def race_cell_features_class() -> type:
+    """An SB3 features extractor giving a race robot's observation the fast trainer's input: the
+    one-hot of its own cell, then the counts of the other racing robots per cell (2 * W * H floats).
+
+    SB3 one-hot encodes each ``MultiDiscrete`` entry; this decodes them back to cells. With it,
+    SB3 PPO and ``training.ppo`` train the same network on the same input (``bench_train.py``).
+    """
+    (th,) = require_train("torch")
+    from stable_baselines3.common.torch_layers import BaseFeaturesExtractor
+
+    class RaceCellFeatures(BaseFeaturesExtractor):
+        def __init__(self, observation_space: Any, width: int, height: int, n_robots: int):
+            super().__init__(observation_space, features_dim=2 * width * height)
+            self.width, self.height, self.n_robots = width, height, n_robots
+
+        def forward(self, obs: Any) -> Any:
+            w, h = self.width, self.height
+            n_cells = w * h
+
+            def cell(at: int) -> Any:
+                return obs[:, at + w : at + w + h].argmax(dim=1) * w + obs[:, at : at + w].argmax(dim=1)
+
+            own = th.nn.functional.one_hot(cell(0), n_cells).float()
+            others = th.zeros_like(own)
+            at = w + h
+            for _ in range(self.n_robots - 1):
+                racing = obs[:, at + w + h]  # the one-hot of finished == 0
+                others += th.nn.functional.one_hot(cell(at), n_cells).float() * racing[:, None]
+                at += w + h + 2
+            return th.cat([own, others], dim=1)
+
+    return RaceCellFeatures

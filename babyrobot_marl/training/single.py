@@ -101,13 +101,16 @@ def train_single(
     callback: Any = None,
     env_kwargs: dict[str, Any] | None = None,
     features: str = "cell",
+    threads: int | None = 1,
     **algo_kwargs: Any,
 ) -> Any:
     """Train PPO or DQN for ``steps`` timesteps on ``n_envs`` copies of ``BabyRobot-v0`` on ``level``;
     returns the SB3 model. ``env_kwargs`` go to ``BabyRobotEnv`` (``max_steps``, rules, ...).
     ``features``: ``"cell"`` (one one-hot per cell, ``cell_features_class``) or ``"xy"`` (SB3's
-    own one-hots of ``x`` and ``y``)."""
+    own one-hots of ``x`` and ``y``). ``threads``: torch threads while training (default 1: more
+    stall for minutes on a busy machine; None: torch's setting), restored afterwards."""
     from ..envs.vector import sb3_vec_env
+    from .ppo import torch_threads
 
     if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 1:
         raise ValueError(f"steps: must be an integer >= 1, got {steps!r}")
@@ -120,8 +123,9 @@ def train_single(
             "features_extractor_class": cell_features_class(),
             "features_extractor_kwargs": {"width": w, "height": h},
         }
-    agent = make_algo(algo, venv, seed, **algo_kwargs)
-    agent.learn(total_timesteps=int(steps), progress_bar=progress_bar, callback=callback)
+    with torch_threads(threads):
+        agent = make_algo(algo, venv, seed, **algo_kwargs)
+        agent.learn(total_timesteps=int(steps), progress_bar=progress_bar, callback=callback)
     return agent
 
 

@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# CI for the RL library integrations (issue 14), in two venvs of their own, torch's CPU build first in each:
+# - .venv-ci-integrations: TorchRL 0.11.1 + BenchMARL 1.5.2 (its pin), Tianshou 2.0.1, SuperSuit, SB3.
+#   BenchMARL requires torchvision, which would pull torch 2.14.1 with CUDA: it imports none of it, so it
+#   is installed with --no-deps after its real requirements (torchrl, tensordict, hydra-core, tqdm, av).
+# - .venv-ci-agilerl: AgileRL 2.58 (pins pettingzoo < 1.27 and tensordict 0.13, imports peft at start-up).
+# - RLlib runs in .ci/rllib.sh's venv (ray[rllib] pins gymnasium 1.2.2).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+start=$SECONDS
+
+venv() {  # venv DIR: a fresh venv with torch's CPU build
+    rm -rf "$1"
+    python3 -m venv "$1"
+    "$1/bin/python" -m pip install -q --upgrade pip
+    "$1/bin/pip" install -q torch==2.13.0
+}
+
+dir=.venv-ci-integrations
+venv "$dir"
+"$dir/bin/pip" install -q "torchrl==0.11.1" "tensordict>=0.11,<0.12" hydra-core tqdm "av<14" "tianshou==2.0.1" pytest -e ".[train]"
+"$dir/bin/pip" install -q --no-deps "benchmarl==1.5.2"
+"$dir/bin/python" -c "import torch, torchrl, benchmarl, tianshou; assert '+cpu' in torch.__version__, torch.__version__"
+echo "integrations venv ready after $((SECONDS - start)) s"
+"$dir/bin/python" -m pytest -q -p no:cacheprovider tests_integrations/test_libraries.py
+
+adir=.venv-ci-agilerl
+venv "$adir"
+"$adir/bin/pip" install -q "agilerl==2.58.0" peft pytest -e .
+"$adir/bin/python" -c "import torch, agilerl; assert '+cpu' in torch.__version__, torch.__version__"
+"$adir/bin/python" -m pytest -q -p no:cacheprovider tests_integrations/test_agilerl.py
+# RLlib's own PettingZoo wrapper on the one-hot race: in the venv .ci/rllib.sh builds (.ci/run runs it first)
+rdir=.venv-ci-rllib
+if [ ! -x "$rdir/bin/python" ]; then
+    venv "$rdir"
+    "$rdir/bin/pip" install -q -e ".[rllib]" pytest
+fi
+"$rdir/bin/python" -m pytest -q -p no:cacheprovider tests_integrations/test_rllib.py
+echo "integrations: $((SECONDS - start)) s in all"

@@ -1,0 +1,6 @@
+#!/usr/bin/env bash
+# Issue 16 (fast PPO trainer): the training benchmark runs end to end in quick mode, beside SB3
+# (tiny budgets: the figures are in README.md). Uses the CI venv that .ci/run made.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+.venv-ci/bin/python benchmarks/bench_train.py --quick

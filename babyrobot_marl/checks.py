@@ -1,0 +1,141 @@
+"""Argument checks and size limits shared by the whole package.
+
+One rule for integer arguments (``check_int``): Python and numpy integers are accepted, bools
+and floats (even ``3.0``) are not. One rule for real numbers (``check_real``): finite Python or
+numpy reals, not bools; a huge integer such as ``10**400`` is refused by name instead of
+raising ``OverflowError``.
+
+The limits below are checked before anything large is allocated; README "Limits" states them.
+
+=======================  ==================================================================
+``check_int``            integers (Python, numpy) in bounds; bools, floats, strings refused
+``check_real``           finite reals; bools, complex, strings, ``10**400`` refused
+``real_array``           a float64 array of real numbers; complex, strings, bools refused
+``check_level_size``     ``width * height <= MAX_LEVEL_CELLS``
+``check_dense_states``   the dense model ``P[s, a, s']`` within ``MAX_DENSE_STATES``
+``check_frame_pixels``   an image within ``MAX_FRAME_PIXELS``; ``max_cell_size`` the largest cell that fits
+``shown``                a short ``repr`` for error messages (never a huge input in full)
+=======================  ==================================================================
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+import operator
+
+import numpy as np
+
+MAX_LEVEL_CELLS = 65_536  # width * height: a 256x256 maze, or a one-row corridor 65,536 cells long
+MAX_LEVEL_TEXT_CHARS = 2 * 1024 * 1024  # a level text (or file, in bytes): the largest level takes under 700 kB, CRLF included
+MAX_DENSE_STATES = 2_500  # planning's dense P[s, a, s']: 5 * S * S floats, 250 MB at 2,500 states (50x50)
+MAX_FRAME_PIXELS = 4096 * 4096  # an rgb_array frame (48 MB of RGB): a 256x256 maze at 16-pixel cells, as render.rgb
+
+
+def check_int(value: object, name: str, lo: int | None = None, hi: int | None = None) -> int:
+    """``value`` as a Python int in ``lo..hi`` (either bound may be None); else a ``ValueError`` naming ``name``.
+
+    Python and numpy integers (and 0-d integer arrays) are accepted; bools, floats and strings are not.
+    """
+    v: int | None = None
+    if not isinstance(value, (bool, np.bool_)):
+        try:
+            v = operator.index(value)  # int, numpy integers, 0-d integer arrays; not float, not str
+        except TypeError:
+            v = None
+    if v is None or (lo is not None and v < lo) or (hi is not None and v > hi):
+        raise ValueError(f"{name}: must be {_int_range(lo, hi)}, got {shown(value)}")
+    return v
+
+
+def check_real(value: object, name: str, lo: float | None = None, hi: float | None = None) -> float:
+    """``value`` as a finite Python float in ``[lo, hi]``; else a ``ValueError`` naming ``name``.
+
+    Python and numpy reals are accepted (integers too, when they fit a float); bools, complex
+    numbers, strings and non-finite values are not.
+    """
+    f: float | None = None
+    if isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_)):
+        try:
+            f = float(value)
+        except (OverflowError, ValueError):  # 10**400 does not fit a float
+            f = None
+    if f is None or not math.isfinite(f) or (lo is not None and f < lo) or (hi is not None and f > hi):
+        low, high = "-inf" if lo is None else lo, "inf" if hi is None else hi
+        bounds = "" if lo is None and hi is None else f" in [{low}, {high}]"
+        raise ValueError(f"{name}: must be a finite number{bounds}, got {shown(value)}")
+    return f
+
+
+def real_array(value: object, name: str) -> np.ndarray:
+    """``value`` as a float64 array, if it holds real numbers only (ints, floats; numpy's too).
+
+    Bools, complex numbers and strings (even numeric ones such as ``"1.5"``) are a ``ValueError``
+    naming ``name``: ``np.array(value, dtype=float)`` alone would take ``"1.5"`` and drop ``1j``.
+    """
+    try:
+        arr = np.asarray(value)
+    except (TypeError, ValueError):  # ragged nesting
+        raise ValueError(f"{name}: expected an array of numbers, got {shown(value)}") from None
+    if arr.dtype.kind not in "iuf":
+        raise ValueError(f"{name}: expected real numbers (ints or floats), got an array of dtype {arr.dtype}")
+    return arr.astype(np.float64)
+
+
+def check_level_size(width: int, height: int, what: str = "width, height") -> None:
+    """A level of ``width x height`` cells is within ``MAX_LEVEL_CELLS``."""
+    if width * height > MAX_LEVEL_CELLS:
+        raise ValueError(
+            f"{what}: a level has at most {MAX_LEVEL_CELLS:,} cells (e.g. 256x256, or a one-row corridor "
+            f"{MAX_LEVEL_CELLS:,} cells long), got {width}x{height} = {width * height:,}"
+        )
+
+
+def check_dense_states(n_states: int, width: int, height: int, what: str = "P") -> None:
+    """A dense ``P[s, a, s']`` of ``n_states`` states is within ``MAX_DENSE_STATES`` (checked before allocating it)."""
+    if n_states > MAX_DENSE_STATES:
+        raise ValueError(
+            f"{what}: the dense model holds at most {MAX_DENSE_STATES:,} states ({5 * 8 * MAX_DENSE_STATES**2 / 1e6:,.0f} MB); "
+            f"this {width}x{height} level has {n_states:,} and would need {5 * 8 * n_states**2 / 1e9:,.1f} GB. "
+            "Use the sparse model instead: model.next, model.prob and model.reward (value_iteration and the "
+            "other planning functions read those)"
+        )
+
+
+def check_frame_pixels(width: int, height: int, what: str = "cell_size", hint: str = "use a smaller cell_size") -> None:
+    """An image of ``width x height`` pixels is within ``MAX_FRAME_PIXELS`` (checked before allocating it)."""
+    if width * height > MAX_FRAME_PIXELS:
+        raise ValueError(
+            f"{what}: the frame would be {width}x{height} = {width * height:,} pixels, more than the limit of "
+            f"{MAX_FRAME_PIXELS:,} ({3 * MAX_FRAME_PIXELS // 10**6} MB of RGB); {hint}"
+        )
+
+
+def max_cell_size(width_cells: int, height_cells: int, extra_height_px: int = 0) -> int:
+    """The largest cell size (pixels) whose frame of ``width_cells x height_cells`` (plus a panel) fits the limit."""
+    size = math.isqrt(MAX_FRAME_PIXELS // max(1, width_cells * height_cells))
+    while size > 0 and size * width_cells * (size * height_cells + extra_height_px) > MAX_FRAME_PIXELS:
+        size -= 1
+    return size
+
+
+def _int_range(lo: int | None, hi: int | None) -> str:
+    if lo is not None and hi is not None:
+        return f"an integer in {lo}..{hi}"
+    if lo is not None:
+        return f"an integer >= {lo}"
+    if hi is not None:
+        return f"an integer <= {hi}"
+    return "an integer"
+
+
+def shown(value: object, limit: int = 60) -> str:
+    """``repr(value)``, cut short: an error message never echoes a huge input in full."""
+    try:
+        text = repr(value)
+    except ValueError:  # int too large to convert to str (over 4,300 digits)
+        if isinstance(value, int):
+            return f"an integer of about {value.bit_length() * 0.30103:.0f} digits"
+        return type(value).__name__
+    return text if len(text) <= limit else f"{text[: limit - 15]}...{text[-12:]} ({len(text):,} characters)"
+

@@ -1,0 +1,92 @@
+"""Argument types of the ``babyrobot-marl`` command: each turns one command-line string into a
+checked value or raises ``argparse.ArgumentTypeError`` with a one-line reason (argparse then
+exits with status 2). Bad text of any length or digit count gets this reason, never a traceback.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+from collections.abc import Callable
+from pathlib import Path
+
+from . import policies
+from .checks import shown
+
+
+def int_at_least(minimum: int) -> Callable[[str], int]:
+    """An argparse type: an integer >= ``minimum``."""
+
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:  # not an integer, or more than Python's 4,300 digits
+            value = minimum - 1
+        if value < minimum:
+            raise argparse.ArgumentTypeError(f"must be an integer >= {minimum}, got {shown(text)}")
+        return value
+
+    return parse
+
+
+non_negative_int = int_at_least(0)
+positive_int = int_at_least(1)
+
+
+def _number(text: str) -> float:
+    try:
+        return float(text)
+    except ValueError:
+        return math.nan
+
+
+def seconds(text: str) -> float:
+    value = _number(text)
+    if not math.isfinite(value) or value < 0:  # nan, inf and negative delays make no animation
+        raise argparse.ArgumentTypeError(f"must be a number of seconds >= 0, got {shown(text)}")
+    return value
+
+
+def probability(text: str) -> float:
+    value = _number(text)
+    if not 0.0 < value <= 1.0:
+        raise argparse.ArgumentTypeError(f"must be a number in (0, 1], got {shown(text)}")
+    return value
+
+
+def positive_float(text: str) -> float:
+    value = _number(text)
+    if not 0.0 < value < math.inf:
+        raise argparse.ArgumentTypeError(f"must be a number > 0, got {shown(text)}")
+    return value
+
+
+def _is_policy(spec: str) -> bool:
+    """A scripted policy's name, or an existing file (a policy saved by ``train --save``)."""
+    if spec in policies.POLICY_NAMES:
+        return True
+    try:
+        return Path(spec).is_file()
+    except (OSError, ValueError):  # a name too long for a path, a NUL byte: no such file
+        return False
+
+
+def policy_spec(text: str) -> str:
+    """``--policy``: a scripted policy, ``keys`` (you drive), or the path of a saved policy."""
+    if text != "keys" and not _is_policy(text):
+        raise argparse.ArgumentTypeError(
+            f"invalid choice: {shown(text)} (choose from {', '.join(policies.POLICY_NAMES)}, keys, or the path of a saved policy)"
+        )
+    return text
+
+
+def policy_list(text: str) -> list[str]:
+    """``random,shortest,...``: scripted policy names or saved policies' paths, comma-separated."""
+    names = [p.strip() for p in text.split(",")]
+    bad = [p for p in names if not _is_policy(p)]
+    if bad:
+        raise argparse.ArgumentTypeError(
+            f"unknown policy {shown(bad[0])}; give a comma-separated list of {', '.join(policies.POLICY_NAMES)} "
+            "or paths of saved policies"
+        )
+    return names

@@ -1,0 +1,297 @@
+"""Play and build levels in a notebook: ``Player`` (the live canvas, buttons, keys) and ``Editor``.
+
+Needs the ``notebook`` extra (ipycanvas, ipywidgets); ``babyrobot_marl.notebook.play`` and
+``.edit`` import this module only when called. Both objects display themselves in a cell, and
+can be driven from Python too (``player.press("ArrowUp")``, ``editor.click_cell((1, 2))``),
+which is what a test without a browser does.
+
+Keys reach the canvas once it has the focus (click it): arrows or WASD move, space stays,
+``r`` restarts, TAB drives the next robot of a race.
+"""
+
+from __future__ import annotations
+
+import html
+from collections.abc import Sequence
+from typing import Any
+
+from .. import policies as policy_lib
+from ..core.actions import Action
+from ..core.level import Level
+from ..envs.common import resolve_level
+from ..envs.race import RaceEnv
+from ..envs.single import BabyRobotEnv
+from ..render.canvas import LiveCanvas
+from ..render.rgb import RgbRenderer
+from . import editor as ed
+from .game import RaceGame, SingleGame
+from .keys import BROWSER_KEYS, RESTART, SWITCH, Command
+
+BUTTONS = (  # (label, command, css class): the class names stable selectors for tests
+    ("\u2190", Action.WEST, "west"), ("\u2191", Action.NORTH, "north"), ("\u2193", Action.SOUTH, "south"),
+    ("\u2192", Action.EAST, "east"), ("stay", Action.STAY, "stay"), ("reset", RESTART, "reset"),
+)  # fmt: skip
+
+
+def make_game(
+    env_or_level: Any = "default", robots: int | None = None, policies: str | Sequence[str] = "random", seed: int | None = None
+) -> SingleGame | RaceGame:
+    """A game from an env (``BabyRobotEnv``, ``RaceEnv``, or a wrapper of one) or a level (name, text,
+    ``Level``): one robot, or a race of ``robots`` (default: the level's starts, when it has several)."""
+    if robots is not None and (isinstance(robots, bool) or not isinstance(robots, int) or robots < 1):
+        raise ValueError(f"robots: must be None (the level's starts) or an integer >= 1, got {robots!r}")
+    env = getattr(env_or_level, "unwrapped", env_or_level)
+    if getattr(env, "render_mode", None) == "human":
+        raise ValueError("env: render_mode='human' draws a canvas of its own at every step; "
+                         "pass an env made without render_mode, or its level, to play it here")
+    if not isinstance(env, (BabyRobotEnv, RaceEnv)):
+        level = resolve_level(env_or_level)
+        n = robots if robots is not None else max(len(level.starts), 1)
+        env = BabyRobotEnv(level=level) if n == 1 else RaceEnv(level=level, n_robots=n, start="fill")
+    elif robots is not None and robots != getattr(env, "n_robots", 1):
+        raise ValueError(f"robots: the env given has {getattr(env, 'n_robots', 1)} robot(s); leave robots out or pass a level")
+    if isinstance(env, BabyRobotEnv):
+        return SingleGame(env, seed)
+    n = env.n_robots
+    names = [policies] * n if isinstance(policies, str) else list(policies)
+    if len(names) != n:
+        raise ValueError(f"policies: give one policy for all robots or one per robot ({n}), got {len(names)}")
+    pols = [policy_lib.make(p, env.table, None if seed is None else seed + 7919 * (i + 1)) for i, p in enumerate(names)]
+    return RaceGame(env, pols, driven=0, seed=seed, switchable=True)
+
+
+class Player:
+    """The game on a live canvas, with buttons for the moves, stay and reset (and the next robot in a race),
+    keys when the canvas has the focus, and a panel of steps and returns. ``widget`` is what is shown."""
+
+    def __init__(
+        self,
+        env_or_level: Any = "default",
+        robots: int | None = None,
+        policies: str | Sequence[str] = "random",
+        seed: int | None = None,
+        cell_size: int = 40,
+        theme: str = "light",
+    ):
+        from ipywidgets import HTML, Button, HBox, Layout, VBox
+
+        self.game = make_game(env_or_level, robots, policies, seed)
+        if isinstance(self.game, RaceGame):
+            self.game.labels = lambda i: f"#{i}"  # the canvas numbers its robots 0, 1, ...
+        self.level: Level = self.game.env.level
+        self.canvas = LiveCanvas(RgbRenderer(self.level, cell_size, theme), animation_frames=0, fps=0)
+        self.canvas.widget.on_key_down(self._on_key)
+        buttons = []
+        specs = list(BUTTONS) + ([("next robot (TAB)", SWITCH, "switch")] if self.is_race else [])
+        for label, cmd, name in specs:
+            b = Button(description=label, layout=Layout(width="auto" if len(label) > 1 else "40px"))
+            b.add_class(f"babyrobot-{name}")
+            b.on_click(lambda _b, cmd=cmd: self.command(cmd))
+            buttons.append(b)
+        self.panel = HTML()
+        self.panel.add_class("babyrobot-panel")
+        hint = HTML("<small>click the grid, then: arrows/WASD move, space stays, r restarts"
+                    + (", TAB drives the next robot" if self.is_race else "") + "</small>")  # fmt: skip
+        self.widget = VBox([self.canvas.widget, HBox(buttons), hint, self.panel])
+        self._refresh()
+
+    @property
+    def is_race(self) -> bool:
+        return isinstance(self.game, RaceGame)
+
+    def _repr_mimebundle_(self, **kwargs: Any) -> Any:
+        return self.widget._repr_mimebundle_(**kwargs)
+
+    # ------------------------------------------------------------------ input
+    def _on_key(self, key: str, shift: bool = False, ctrl: bool = False, meta: bool = False) -> None:
+        if ctrl or meta:
+            return  # the browser's shortcuts are not game keys
+        self.command(BROWSER_KEYS.get(key))
+
+    def press(self, key: str) -> None:
+        """A key by its browser name (``"ArrowUp"``, ``"w"``, ``" "``, ``"r"``, ``"Tab"``), as if typed on the canvas."""
+        self._on_key(key)
+
+    def command(self, cmd: Command | None) -> None:
+        self.game.command(cmd)
+        self._refresh()
+
+    # ------------------------------------------------------------------ output
+    def _refresh(self) -> None:
+        g = self.game
+        if self.is_race:  # the legend over the grid says who is who: you, and the others' policies
+            names = ["you" if i == g.driven else getattr(p, "name", "policy") for i, p in enumerate(g.policies)]
+            if names != getattr(self, "_names", None):
+                g.env.set_overlay(names=names)
+                self._names = names
+        # the env's own scene (poses, bumps, finished robots at their exits), as render_mode="human" draws it
+        scene = g.env._scene() if hasattr(g.env, "_scene") else g.robots
+        self.canvas.draw(scene, g.env.overlay, animate=False)
+        self.panel.value = "<pre style='margin:0'>" + html.escape(self.text) + "</pre>"
+
+    @property
+    def text(self) -> str:
+        """The panel as plain text: steps, returns, the last move, and where the robots are."""
+        g = self.game
+        lines = list(g.status())
+        if self.is_race:
+            others = ", ".join(f"{g.glyph(i)} {getattr(p, 'name', 'policy')}" for i, p in enumerate(g.policies) if i != g.driven)
+            lines.insert(1, f"you drive {g.glyph(g.driven)} (robot_{g.driven}); the others: {others}")
+        lines.append(f"robots at {g.robots}")
+        return "\n".join(lines)
+
+
+# ---------------------------------------------------------------------- the level editor
+EDITOR_COLOURS = {
+    " ": "#ffffff", "p": "#a9d3f5", "P": "#4a90d9", "#": "#4d4d4d", "E": "#f5c542", "start": "#8fd18f",
+}  # fmt: skip
+WALL, GLASS, GRID, ERROR = "#1f1f1f", "#3fa7d6", "#d9d9d9", "#e03131"
+
+
+class Editor:
+    """Click a cell to cycle floor, small puddle, large puddle, blocked, start, exit; click between two
+    cells to cycle open, wall, glass. Width and height boxes resize; the parser's verdict shows live
+    (with the cell at fault outlined); ``level`` and ``text`` give the result; "play it" opens it in a
+    ``Player`` below."""
+
+    def __init__(self, level_or_size: Any = (5, 5), race: bool | None = None, cell_size: int = 40):
+        from ipycanvas import Canvas
+        from ipywidgets import HTML, BoundedIntText, Button, Checkbox, HBox, Layout, VBox
+
+        if isinstance(level_or_size, tuple) and len(level_or_size) == 2:
+            self.draft = ed.blank(*level_or_size, race=bool(race))
+        else:
+            self.draft = ed.from_level(resolve_level(level_or_size))
+            if race is not None:
+                self.draft = ed.with_race(self.draft, race)
+        self.cell_size = int(cell_size)
+        self.player: Player | None = None
+        self._syncing, self._bad_cell = False, None
+        w, h = ed.size(self.draft)
+        self.canvas = Canvas(width=w * self.cell_size, height=h * self.cell_size)
+        self.canvas.on_mouse_down(self.click)
+        self.canvas.on_client_ready(lambda *_: self._draw())
+        box = Layout(width="150px")
+        self.width_box = BoundedIntText(value=w, min=1, max=ed.MAX_SIDE, description="width", layout=box)
+        self.height_box = BoundedIntText(value=h, min=1, max=ed.MAX_SIDE, description="height", layout=box)
+        self.width_box.observe(self._on_size, "value")
+        self.height_box.observe(self._on_size, "value")
+        self.race_box = Checkbox(value=ed.is_race(self.draft), description="race (numbered starts)")
+        self.race_box.observe(lambda ch: self._set(ed.with_race(self.draft, ch["new"])), "value")
+        self.play_button = Button(description="play it")
+        self.play_button.add_class("babyrobot-play-it")
+        self.play_button.on_click(lambda _b: self.play())
+        self.verdict = HTML()
+        self.verdict.add_class("babyrobot-verdict")
+        self.text_view = HTML()
+        self.text_view.add_class("babyrobot-level-text")
+        self.player_box = VBox()
+        controls = HBox([self.width_box, self.height_box, self.race_box, self.play_button])
+        self.widget = VBox([controls, HBox([self.canvas, self.text_view]), self.verdict, self.player_box])
+        self._set(self.draft)
+
+    def _repr_mimebundle_(self, **kwargs: Any) -> Any:
+        return self.widget._repr_mimebundle_(**kwargs)
+
+    # ------------------------------------------------------------------ results
+    @property
+    def text(self) -> str:
+        """The level text drawn so far (valid or not)."""
+        return ed.text(self.draft)
+
+    @property
+    def level(self) -> Level:
+        """The level drawn; the parser's ValueError if the drawing is not a valid level yet."""
+        return Level.from_ascii(self.text)
+
+    # ------------------------------------------------------------------ edits
+    def click(self, px: float, py: float) -> None:
+        """A click at canvas pixel ``(px, py)``: a cell or an edge changes; the border and corners do nothing."""
+        w, h = ed.size(self.draft)
+        target = ed.hit(px, py, self.cell_size, w, h)
+        if target is None:
+            return
+        if target[0] == "cell":
+            self.click_cell(target[1])
+        else:
+            self.click_edge(target[1], target[2])
+
+    def click_cell(self, cell: tuple[int, int]) -> None:
+        self._set(ed.cycle_cell(self.draft, cell, self.race_box.value))
+
+    def click_edge(self, a: tuple[int, int], b: tuple[int, int]) -> None:
+        self._set(ed.cycle_edge(self.draft, a, b))
+
+    def resize(self, width: int, height: int) -> None:
+        self._set(ed.resize(self.draft, width, height))
+
+    def play(self, **kwargs: Any) -> Player | None:
+        """Open the level in a ``Player`` under the editor (None, with the verdict, if it is not valid)."""
+        level, _, _ = ed.verdict(self.draft)
+        if level is None:
+            return None
+        self.player = Player(level, **kwargs)
+        self.player_box.children = (self.player.widget,)
+        return self.player
+
+    def _on_size(self, _change: dict) -> None:
+        if not self._syncing:
+            self.resize(int(self.width_box.value), int(self.height_box.value))
+
+    def _set(self, draft: ed.Draft) -> None:
+        self.draft = draft
+        w, h = ed.size(draft)
+        self._syncing = True  # the boxes show the draft's size without resizing it again
+        try:
+            self.width_box.value, self.height_box.value = w, h
+        finally:
+            self._syncing = False
+        level, message, cell = ed.verdict(draft)
+        self._bad_cell = cell
+        colour = "#2b8a3e" if level is not None else ERROR
+        self.verdict.value = f"<pre style='margin:0;color:{colour}'>" + html.escape(message) + "</pre>"
+        self.text_view.value = "<pre style='margin:0 0 0 12px'>" + html.escape(self.text) + "</pre>"
+        self.play_button.disabled = level is None
+        self._draw()
+
+    def _draw(self) -> None:
+        from ipycanvas import hold_canvas
+
+        cs, d = self.cell_size, self.draft
+        w, h = ed.size(d)
+        c = self.canvas
+        with hold_canvas():
+            if (c.width, c.height) != (w * cs, h * cs):
+                c.width, c.height = w * cs, h * cs
+            c.clear()
+            c.font = f"bold {max(10, cs // 2)}px sans-serif"
+            c.text_align, c.text_baseline = "center", "middle"
+            for y in range(h):
+                for x in range(w):
+                    ch = ed.cell_char(d, (x, y))
+                    kind = "start" if ch == "S" or ch.isdigit() else " " if ch == "." else ch
+                    c.fill_style = EDITOR_COLOURS.get(kind, "#ffffff")
+                    c.fill_rect(x * cs, y * cs, cs, cs)
+                    if kind in ("start", "E"):
+                        c.fill_style = "#1f1f1f"
+                        c.fill_text(ch, (x + 0.5) * cs, (y + 0.5) * cs)
+            c.line_width = 1
+            c.stroke_style = GRID
+            for x in range(1, w):
+                c.stroke_line(x * cs, 0, x * cs, h * cs)
+            for y in range(1, h):
+                c.stroke_line(0, y * cs, w * cs, y * cs)
+            t = max(3, cs // 10)
+            for i, line in enumerate(d):
+                for j, ch in enumerate(line):
+                    if (i + j) % 2 == 0 or ch == " ":
+                        continue  # cells, corners, open edges
+                    c.fill_style = GLASS if ch == "*" else WALL
+                    if i % 2 == 1:  # a vertical edge at x = j // 2
+                        c.fill_rect(j // 2 * cs - t / 2, (i // 2) * cs - t / 2, t, cs + t)
+                    else:  # a horizontal edge at y = i // 2
+                        c.fill_rect((j // 2) * cs - t / 2, i // 2 * cs - t / 2, cs + t, t)
+            if self._bad_cell is not None:
+                x, y = self._bad_cell
+                c.stroke_style, c.line_width = ERROR, 3
+                c.stroke_rect(x * cs + 3, y * cs + 3, cs - 6, cs - 6)

@@ -1,0 +1,596 @@
+"""PPO stepped on the batch engine's arrays: one robot, or a race with one policy shared by every robot.
+
+A CleanRL-style single file, read top to bottom: configuration, observation encoding, the
+actor-critic network, then ``train_ppo``: rollout, advantages, update, evaluation. The algorithm
+and its knobs are Stable-Baselines3's PPO (``n_steps`` per env, ``batch_size``, ``n_epochs``,
+``gamma``, ``gae_lambda``, ``clip_range``, ``ent_coef``, ``vf_coef``, ``max_grad_norm``,
+``learning_rate``, ``net_arch``; advantages normalised per minibatch, truncated episodes
+bootstrapped from their last observation, Adam with ``eps=1e-5``, orthogonal initialisation).
+What is different is where the time goes:
+
+* The environment is ``core.batch.BatchRace``: a step of every env and robot is a few numpy
+  calls, with no Gymnasium, SB3 or per-env Python in the loop.
+* Observations are cell indices, and the network's first layer, a ``Linear`` on the one-hot of
+  those cells, is computed as the sum of the weight rows of those cells (``EmbeddingBag``): the
+  same function and gradient as a dense layer on the one-hot, without building it.
+* One robot observes only its cell, so during a rollout (fixed weights) its policy is a table
+  over the cells: one forward pass per rollout instead of one per step. In an update, the net
+  runs once per distinct cell of the minibatch.
+* A race robot's observation is its own cell plus the cells of the other robots still racing
+  (an occupancy map: the same input whatever the number or order of the others). A robot that
+  has finished is parked until its race ends (``finished="freeze"``): its parked steps are no
+  decisions and are left out of the update (SB3 through SuperSuit trains on them, reward 0).
+
+Determinism: ``torch.manual_seed(seed)``, numpy generators seeded from ``seed``, env ``i``
+seeded ``seed + i``, ``torch.use_deterministic_algorithms(True)`` and a fixed number of torch
+threads (``threads``, default 1) during training: the same seed on the same machine gives the
+same learning curve. One thread also keeps training from stalling when the machine is busy
+(torch's OpenMP threads spin and wait on each other when other processes hold the cores);
+``threads=None`` leaves torch's own setting.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import functools
+import math
+import time
+from collections import deque
+from collections.abc import Callable, Iterator
+from dataclasses import asdict, dataclass, field, fields
+from typing import Any
+
+import numpy as np
+
+from ..core.actions import N_ACTIONS
+from ..core.batch import BatchRace
+from ..core.level import Level
+from ..envs.common import resolve_level
+
+# ---------------------------------------------------------------------------- configuration
+START_CHOICES = ("random", "level")
+
+
+@dataclass(frozen=True)
+class PPOConfig:
+    """PPO's knobs, named and defaulted as in Stable-Baselines3 where they exist there.
+
+    One rollout is ``n_steps`` steps of ``n_envs`` envs (times ``n_robots`` robots in a race);
+    it is learnt from in ``n_epochs`` passes of minibatches of ``batch_size``. ``start``:
+    ``"random"`` (training episodes start on random free cells: exploring starts) or ``"level"``
+    (the level's starts). ``threads``: torch threads while training (None: torch's setting).
+    ``eval_every``: timesteps between evaluations (0: only at the end).
+    """
+
+    n_envs: int = 1024
+    n_steps: int = 16
+    batch_size: int = 16384
+    n_epochs: int = 4
+    learning_rate: float = 3e-3
+    gamma: float = 0.99
+    gae_lambda: float = 0.95
+    clip_range: float = 0.2
+    ent_coef: float = 0.01
+    vf_coef: float = 0.5
+    max_grad_norm: float = 0.5
+    normalize_advantage: bool = True
+    net_arch: tuple[int, ...] = (64, 64)
+    start: str = "random"
+    threads: int | None = 1
+    eval_every: int = 65536
+    eval_episodes: int = 10
+
+    def __post_init__(self) -> None:
+        for name in ("n_envs", "n_steps", "batch_size", "n_epochs", "eval_episodes"):
+            _check_int(getattr(self, name), name, 1)
+        _check_int(self.eval_every, "eval_every", 0)
+        if self.threads is not None:
+            _check_int(self.threads, "threads", 1)
+        for name, low, high in (("gamma", 0.0, 1.0), ("gae_lambda", 0.0, 1.0)):
+            v = getattr(self, name)
+            if not isinstance(v, (int, float)) or isinstance(v, bool) or not low <= v <= high:
+                raise ValueError(f"{name}: must be a number in [{low:g}, {high:g}], got {v!r}")
+        for name in ("learning_rate", "clip_range", "max_grad_norm"):
+            v = getattr(self, name)
+            if not isinstance(v, (int, float)) or isinstance(v, bool) or not 0.0 < v < math.inf:
+                raise ValueError(f"{name}: must be a number > 0, got {v!r}")
+        for name in ("ent_coef", "vf_coef"):
+            v = getattr(self, name)
+            if not isinstance(v, (int, float)) or isinstance(v, bool) or not 0.0 <= v < math.inf:
+                raise ValueError(f"{name}: must be a number >= 0, got {v!r}")
+        arch = tuple(self.net_arch)
+        for h in arch:
+            _check_int(h, "net_arch", 1)
+        object.__setattr__(self, "net_arch", arch)
+        if self.start not in START_CHOICES:
+            raise ValueError(f"start: must be one of {', '.join(map(repr, START_CHOICES))}, got {self.start!r}")
+
+    def replace(self, **changes: Any) -> PPOConfig:
+        return PPOConfig(**{**asdict(self), **_known_settings(changes, "replace")})
+
+
+def _known_settings(changes: dict[str, Any], caller: str) -> dict[str, Any]:
+    """``changes`` if every key is a ``PPOConfig`` field, else Python's own ``TypeError`` and the known names."""
+    known = {f.name for f in fields(PPOConfig)}
+    unknown = sorted(set(changes) - known)
+    if unknown:
+        names = ", ".join(sorted(known))
+        raise TypeError(f"{caller}() got an unexpected keyword argument {unknown[0]!r}; PPO settings are: {names}")
+    return changes
+
+
+def _check_int(value: object, name: str, minimum: int) -> int:
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)) or value < minimum:
+        raise ValueError(f"{name}: must be an integer >= {minimum}, got {value!r}")
+    return int(value)
+
+
+# ---------------------------------------------------------------------------- observations
+# A robot's observation is a row of K cell indices into the first layer's 2 * n_cells + 1 rows:
+# its own cell c (row c), then each other robot still racing (row n_cells + c), or the padding
+# row 2 * n_cells (all zeros) for a finished one. One robot: K = 1, rows 0..n_cells-1.
+def n_inputs(n_cells: int, n_robots: int) -> int:
+    """Width of the one-hot input: the robot's cell, and in a race the others' cells too."""
+    return n_cells if n_robots == 1 else 2 * n_cells
+
+
+def others_order(n_robots: int) -> np.ndarray:
+    """Robot ``i`` sees robots ``i+1, ..., i-1`` (mod n): ``race_v0``'s observation order."""
+    return np.array([[(i + k) % n_robots for k in range(1, n_robots)] for i in range(n_robots)], dtype=np.intp)
+
+
+def encode_batch(cells: np.ndarray, racing: np.ndarray, n_cells: int) -> np.ndarray:
+    """Every robot's observation from the batch's ``(n_envs, n_robots)`` arrays: int64 ``(E, R, K)``."""
+    n = cells.shape[1]
+    if n == 1:
+        return cells[:, :, None]
+    order = others_order(n)
+    others = np.where(racing[:, order], n_cells + cells[:, order], 2 * n_cells)  # (E, R, R-1)
+    return np.concatenate([cells[:, :, None], others], axis=2)
+
+
+def encode_observation(obs: Any, width: int, height: int, n_robots_trained: int) -> np.ndarray:
+    """One env's ``MultiDiscrete`` observation (``[x, y]``, then ``[x, y, finished]`` per other robot)
+    as the row of indices ``encode_batch`` gives. A one-robot policy reads only ``[x, y]``."""
+    o = np.asarray(obs, dtype=np.int64).reshape(-1)
+    n_cells = width * height
+    own = int(o[1]) * width + int(o[0])
+    if n_robots_trained == 1:
+        return np.array([own], dtype=np.int64)
+    rest = o[2:].reshape(-1, 3)
+    others = np.where(rest[:, 2] == 0, n_cells + rest[:, 1] * width + rest[:, 0], 2 * n_cells)
+    return np.concatenate([[own], others]).astype(np.int64)
+
+
+def one_hot(index: np.ndarray, n_cells: int, n_robots: int) -> np.ndarray:
+    """The dense float32 one-hot (counts for the others' cells) that rows of indices stand for."""
+    idx = np.asarray(index).reshape(-1, np.shape(index)[-1])
+    dense = np.zeros((idx.shape[0], 2 * n_cells + 1), dtype=np.float32)
+    np.add.at(dense, (np.arange(idx.shape[0])[:, None], idx), 1.0)
+    return dense[:, : n_inputs(n_cells, n_robots)].reshape(*np.shape(index)[:-1], -1)
+
+
+# ---------------------------------------------------------------------------- the network
+@functools.cache
+def _torch() -> Any:
+    from .deps import require_train
+
+    (torch,) = require_train("torch")
+    return torch
+
+
+def make_net(n_in: int, net_arch: tuple[int, ...] = (64, 64)) -> Any:
+    """SB3's ``MlpPolicy`` for a discrete action: separate actor and critic MLPs (tanh), orthogonal
+    initialisation (gain sqrt(2), 0.01 for the action head, 1 for the value head).
+
+    Each MLP's first layer is a ``Linear(n_in, width)`` on the one-hot of a row of indices, stored
+    as its weight's rows (``first``, row ``n_in``: padding, kept zero). ``forward_cached`` and
+    ``backward`` are the MLP's forward pass keeping its activations and its gradient written out:
+    autograd took 1.6-2.5x as long per update on nets this small (``tests/test_ppo.py`` holds the two to
+    the same gradients).
+    """
+    torch = _torch()
+    nn = torch.nn
+    one = torch.ones(())
+
+    class MLP(nn.Module):
+        def __init__(self, out: int, head_gain: float):
+            super().__init__()
+            sizes = [*net_arch, out]
+            self.first = nn.Parameter(torch.empty(n_in + 1, sizes[0]))
+            self.first_bias = nn.Parameter(torch.zeros(sizes[0]))
+            self.layers = nn.ModuleList(nn.Linear(a, b) for a, b in zip(sizes[:-1], sizes[1:]))
+            with torch.no_grad():
+                w = torch.empty(sizes[0], n_in)
+                nn.init.orthogonal_(w, math.sqrt(2) if net_arch else head_gain)  # as SB3 does the dense layer
+                self.first[:n_in] = w.T
+                self.first[n_in] = 0.0
+                for k, layer in enumerate(self.layers):
+                    nn.init.orthogonal_(layer.weight, head_gain if k == len(self.layers) - 1 else math.sqrt(2))
+                    nn.init.zeros_(layer.bias)
+
+        def forward(self, idx: Any) -> Any:
+            return self.forward_cached(idx, dense_input(idx, n_in))[0]
+
+        def forward_cached(self, idx: Any, dense: Any = None) -> tuple[Any, list[Any]]:
+            """The output and the activations; ``dense``: the one-hot counts of ``idx`` (``dense_input``),
+            faster than row look-ups for several indices per row."""
+            b, k = idx.shape
+            if dense is not None:
+                h = torch.addmm(self.first_bias, dense, self.first)
+            else:
+                h = self.first.index_select(0, idx.reshape(-1))
+                h = (h if k == 1 else h.view(b, k, -1).sum(1)) + self.first_bias
+            acts = []
+            for layer in self.layers:
+                h = torch.tanh(h)
+                acts.append(h)
+                h = torch.addmm(layer.bias, h, layer.weight.T)
+            return h, acts
+
+        def backward(self, idx: Any, acts: list[Any], d: Any, dense: Any = None) -> None:
+            """Set every parameter's ``.grad`` from ``d``, the loss's gradient at the output."""
+            for layer, a in zip(reversed(self.layers), reversed(acts)):
+                layer.weight.grad = d.T @ a
+                layer.bias.grad = d.sum(0)
+                d = (d @ layer.weight).mul_(torch.addcmul(one, a, a, value=-1.0))  # through tanh: 1 - a^2
+            if dense is not None:
+                grad = dense.T @ d
+            else:
+                k = idx.shape[1]
+                grad = torch.zeros_like(self.first)
+                grad.index_add_(0, idx.reshape(-1), d if k == 1 else d.repeat_interleave(k, 0))
+            grad[n_in] = 0.0  # the padding row stays zero
+            self.first.grad = grad
+            self.first_bias.grad = d.sum(0)
+
+    class ActorCritic(nn.Module):
+        def __init__(self) -> None:
+            super().__init__()
+            self.n_in, self.net_arch = n_in, tuple(net_arch)
+            self.actor = MLP(N_ACTIONS, 0.01)
+            self.critic = MLP(1, 1.0)
+
+        def forward(self, idx: Any) -> tuple[Any, Any]:
+            return self.actor(idx), self.critic(idx).squeeze(-1)
+
+    return ActorCritic()
+
+
+def log_softmax(z: Any) -> Any:
+    torch = _torch()
+    s = z - z.amax(1, keepdim=True)  # torch.log_softmax is several times slower along a dim of 5
+    return s - torch.log(torch.exp(s).sum(1, keepdim=True))
+
+
+DENSE_LIMIT = 1024  # inputs up to which a race's one-hot is built densely in updates (faster than row look-ups)
+
+
+def dense_input(rows: Any, n_in: int) -> Any:
+    """The one-hot counts of rows of several indices, ``(B, n_in + 1)``; None for one index per row
+    (a look-up is cheapest) or a wide input (the dense matrix would be large)."""
+    if rows.shape[1] == 1 or n_in > DENSE_LIMIT:
+        return None
+    torch = _torch()
+    return torch.zeros(rows.shape[0], n_in + 1).scatter_add_(1, rows, torch.ones(rows.shape))
+
+
+def grads_of(params: list[Any]) -> list[Any]:
+    return [p.grad for p in params]
+
+
+def clip_grad_norm(grads: list[Any], max_norm: float) -> None:
+    """``torch.nn.utils.clip_grad_norm_`` without its checks and grouping (a third of an update here)."""
+    torch = _torch()
+    total = torch.linalg.vector_norm(torch.stack(torch._foreach_norm(grads)))
+    torch._foreach_mul_(grads, torch.clamp(max_norm / (total + 1e-6), max=1.0))
+
+
+def ppo_gradients(
+    net: Any, rows: Any, inv: Any, actions: Any, old_logp: Any, adv: Any, returns: Any, cfg: PPOConfig
+) -> None:
+    """Set ``.grad`` of every parameter to the gradient of SB3's PPO loss on one minibatch.
+
+    ``loss = -mean(min(A r, A clip(r, 1 - c, 1 + c))) - ent_coef * mean(entropy) + vf_coef * mean((v - R)^2)``
+    with ``r = exp(logp - old_logp)`` and ``A`` the advantages, normalised over the minibatch.
+    The net runs once per distinct observation: ``rows`` (U, K), sample ``i`` being row ``inv[i]``.
+    """
+    torch = _torch()
+    B, U = actions.shape[0], rows.shape[0]
+    with torch.no_grad():
+        dense = dense_input(rows, net.n_in)
+        z, actor_acts = net.actor.forward_cached(rows, dense)
+        v_rows, critic_acts = net.critic.forward_cached(rows, dense)
+        logp_rows = log_softmax(z)
+        p = torch.exp(logp_rows)
+        entropy = -(p * logp_rows).sum(1)
+        flat = inv * N_ACTIONS + actions
+        logp = logp_rows.reshape(-1).take(flat)
+        a = adv
+        if cfg.normalize_advantage and B > 1:
+            a = (a - a.mean()) / (a.std() + 1e-8)
+        ratio = torch.exp(logp - old_logp)
+        unclipped = a * ratio
+        active = unclipped <= a * ratio.clamp(1.0 - cfg.clip_range, 1.0 + cfg.clip_range)  # min picks it
+        g = torch.where(active, -unclipped / B, 0.0)  # d loss / d logp
+        # d logp_i / d z = onehot(a_i) - p;  d entropy / d z = -p (log p + entropy)
+        per_row = torch.zeros(U, dtype=g.dtype).index_add_(0, inv, g)
+        count = torch.bincount(inv, minlength=U).to(z.dtype)
+        dz = torch.zeros(U * N_ACTIONS, dtype=g.dtype).index_add_(0, flat, g).view(U, N_ACTIONS)
+        dz -= per_row[:, None] * p
+        dz += (cfg.ent_coef / B) * count[:, None] * p * (logp_rows + entropy[:, None])
+        dv = (2.0 * cfg.vf_coef / B) * (v_rows[:, 0].take(inv) - returns)
+        net.actor.backward(rows, actor_acts, dz, dense)
+        net.critic.backward(rows, critic_acts, torch.zeros(U, dtype=dv.dtype).index_add_(0, inv, dv)[:, None], dense)
+
+
+# ---------------------------------------------------------------------------- training
+@dataclass
+class EvalPoint:
+    """One evaluation: timesteps and training seconds so far, the mean training return of recent
+    episodes, and the evaluation's score (one robot: mean greedy return; race: win rate)."""
+
+    timesteps: int
+    seconds: float
+    train_return: float
+    score: float
+
+
+@dataclass
+class TrainResult:
+    """What ``train_ppo`` returns: the network, where it was trained, the curve and the totals.
+
+    ``seconds`` is training time (rollouts and updates, evaluations excluded); ``reached`` the
+    first ``(timesteps, seconds)`` whose evaluation met ``target`` (None if never or no target).
+    """
+
+    net: Any
+    level: Level
+    n_robots: int
+    config: PPOConfig
+    seed: int
+    timesteps: int = 0
+    seconds: float = 0.0
+    eval_seconds: float = 0.0
+    history: list[EvalPoint] = field(default_factory=list)
+    reached: tuple[int, float] | None = None
+
+    @property
+    def steps_per_second(self) -> float:
+        return self.timesteps / self.seconds if self.seconds > 0 else float("nan")
+
+    def policy(self, deterministic: bool = True, seed: int | None = None) -> Any:
+        """The trained policy with the scripted policies' interface (``policy(obs) -> action``)."""
+        from .policy import TrainedPolicy
+
+        return TrainedPolicy(self.net, self.level.width, self.level.height, self.n_robots, deterministic, seed)
+
+    def save(self, path: str) -> str:
+        """Write the network and what it was trained on to ``path`` exactly (a torch file); returns it."""
+        from .policy import save_policy
+
+        return save_policy(self, path)
+
+
+@contextlib.contextmanager
+def torch_threads(threads: int | None) -> Iterator[None]:
+    """Run with ``threads`` torch threads (None: leave torch's setting), restored afterwards."""
+    torch = _torch()
+    before = torch.get_num_threads()
+    if threads is not None:
+        torch.set_num_threads(threads)
+    try:
+        yield
+    finally:
+        torch.set_num_threads(before)
+
+
+@contextlib.contextmanager
+def _deterministic(seed: int) -> Iterator[None]:
+    torch = _torch()
+    # torch's CPU kernels used here are deterministic at a fixed thread count; only the generator
+    # needs seeding (torch.use_deterministic_algorithms would import torch's compiler: 3 s)
+    torch.manual_seed(seed)
+    yield
+
+
+def make_batch(level: Level, n_robots: int, n_envs: int, start: str, seed: int, **env_kwargs: Any) -> BatchRace:
+    """``n_envs`` envs of ``level`` on the batch engine (one robot: ``BabyRobot-v0``; more: ``race_v0``
+    with ``finished="freeze"``), env ``i`` seeded ``seed + i``, every episode started."""
+    from ..envs.race import RaceEnv
+    from ..envs.single import BabyRobotEnv
+
+    if n_robots == 1:
+        batch = BabyRobotEnv(level=level, start="random" if start == "random" else None, **env_kwargs).batch(n_envs)
+    else:
+        batch = RaceEnv(level=level, n_robots=n_robots, start=start, finished="freeze", **env_kwargs).batch(n_envs)
+    batch.seed([seed + i for i in range(n_envs)])
+    batch.reset_envs(np.arange(n_envs))
+    return batch
+
+
+def train_ppo(
+    level: str | Level = "maze-8x8",
+    n_robots: int = 1,
+    timesteps: int = 100_000,
+    seed: int = 0,
+    config: PPOConfig | None = None,
+    evaluate: Callable[[TrainResult], float] | None = None,
+    target: float | None = None,
+    stop_at_target: bool = False,
+    max_seconds: float | None = None,
+    on_update: Callable[[int, float, float], None] | None = None,
+    on_eval: Callable[[EvalPoint], None] | None = None,
+    init: Any = None,
+    env_kwargs: dict[str, Any] | None = None,
+    **overrides: Any,
+) -> TrainResult:
+    """Train PPO for ``timesteps`` robot-steps (SB3's ``num_timesteps``: one per robot per step).
+
+    ``config`` (default ``PPOConfig()``) with keyword ``overrides`` (``n_envs=16, ...``).
+    ``evaluate(result) -> score`` runs every ``config.eval_every`` timesteps and at the end (its
+    time is not training time); ``target``: the score to reach (``result.reached``), training
+    stops there if ``stop_at_target``; ``max_seconds``: stop after this much training time.
+    ``on_update(timesteps, seconds, mean_return)`` after each update, ``on_eval(point)`` after
+    each evaluation. ``init``: a network (``make_net`` layout) to start from, e.g. a loaded policy's.
+    ``env_kwargs`` go to the env (``max_steps``/``max_cycles``, rules, ``collisions``).
+    """
+    torch = _torch()
+    cfg = config or PPOConfig()
+    if overrides:
+        cfg = cfg.replace(**_known_settings(overrides, "train_ppo"))
+    level = resolve_level(level)
+    n = _check_int(n_robots, "n_robots", 1)
+    total = _check_int(timesteps, "timesteps", 1)
+    _check_int(seed, "seed", 0)
+    batch = make_batch(level, n, cfg.n_envs, cfg.start, seed, **(env_kwargs or {}))
+    n_cells, E, T = level.n_cells, cfg.n_envs, cfg.n_steps
+    K = 1 if n == 1 else n
+    rng = np.random.default_rng(seed)  # actions and minibatch order
+
+    with torch_threads(cfg.threads), _deterministic(seed):
+        net = make_net(n_inputs(n_cells, n), cfg.net_arch)
+        if init is not None:
+            if init.n_in != net.n_in or tuple(init.net_arch) != cfg.net_arch:
+                raise ValueError(
+                    f"init: the network has {init.n_in} inputs and layers {init.net_arch}; this run needs "
+                    f"{net.n_in} inputs ({level.width}x{level.height}, {n} robot(s)) and layers {cfg.net_arch}"
+                )
+            net.load_state_dict(init.state_dict())
+        params = list(net.parameters())
+        optim = torch.optim.Adam(params, lr=cfg.learning_rate, eps=1e-5, fused=True)  # one kernel for all
+        result = TrainResult(net, level, n, cfg, seed)
+        all_cells = torch.arange(n_cells)[:, None]
+
+        # rollout storage: (T, E, R) per robot-step
+        obs_buf = np.zeros((T, E, n, K), dtype=np.int64)
+        act_buf = np.zeros((T, E, n), dtype=np.int64)
+        logp_buf = np.zeros((T, E, n), dtype=np.float32)
+        rew_buf = np.zeros((T, E, n), dtype=np.float32)
+        valid_buf = np.zeros((T, E, n), dtype=bool)  # a decision: the robot was racing
+        done_buf = np.zeros((T, E, n), dtype=bool)  # the robot's episode ended at this step
+        trunc_buf = np.zeros((T, E, n), dtype=bool)  # ... by the time limit: bootstrap from final_buf
+        final_buf = np.zeros((T, E, n, K), dtype=np.int64)
+        ep_return = np.zeros((E, n))
+        recent: deque[float] = deque(maxlen=100)
+        next_eval = cfg.eval_every if cfg.eval_every else math.inf
+        t_train = time.perf_counter()
+
+        def values_of(idx: np.ndarray) -> np.ndarray:
+            """Critic values of rows of indices (one robot: a table over the cells, looked up)."""
+            if n == 1:
+                return net.critic(all_cells).squeeze(-1).numpy()[idx[..., 0]]
+            flat = idx.reshape(-1, K)
+            return net.critic(torch.from_numpy(flat)).squeeze(-1).numpy().reshape(idx.shape[:-1])
+
+        def run_evaluation() -> bool:
+            nonlocal t_train
+            result.seconds += time.perf_counter() - t_train
+            t0 = time.perf_counter()
+            net.eval()
+            score = float(evaluate(result)) if evaluate is not None else float("nan")
+            point = EvalPoint(result.timesteps, result.seconds, float(np.mean(recent)) if recent else float("nan"), score)
+            result.history.append(point)
+            if target is not None and result.reached is None and score >= target:
+                result.reached = (result.timesteps, result.seconds)
+            result.eval_seconds += time.perf_counter() - t0
+            if on_eval is not None:
+                on_eval(point)
+            t_train = time.perf_counter()
+            return stop_at_target and result.reached is not None
+
+        while result.timesteps < total:
+            # ---- rollout: n_steps steps of every env, actions sampled from the current policy
+            with torch.no_grad():
+                if n == 1:  # the policy is a table over cells while the weights stay fixed
+                    logp_table = log_softmax(net.actor(torch.arange(n_cells)[:, None])).numpy()
+                    cdf_table = np.cumsum(np.exp(logp_table), axis=1)
+                for t in range(T):
+                    obs = encode_batch(batch.cells, batch.racing, n_cells)
+                    if n == 1:
+                        cells = batch.cells[:, 0]
+                        cdf = cdf_table[cells]
+                    else:
+                        logp_all = log_softmax(net.actor(torch.from_numpy(obs.reshape(-1, K)))).numpy()
+                        cdf = np.cumsum(np.exp(logp_all), axis=1)
+                    u = rng.random((cdf.shape[0], 1))
+                    actions = np.minimum((u >= cdf).sum(axis=1), N_ACTIONS - 1)  # inverse-CDF sampling
+                    racing = batch.racing.copy()
+                    rewards, finishing, _, _, over = batch.step(actions.reshape(E, n))
+                    obs_buf[t], act_buf[t], valid_buf[t] = obs, actions.reshape(E, n), racing
+                    if n == 1:
+                        logp_buf[t, :, 0] = logp_table[cells, actions]
+                    else:
+                        logp_buf[t] = logp_all[np.arange(actions.size), actions].reshape(E, n)
+                    rew_buf[t] = rewards
+                    ended = racing & (finishing | over[:, None])
+                    done_buf[t] = ended | ~racing  # parked steps end nothing: isolated, masked out
+                    trunc_buf[t] = racing & over[:, None] & ~finishing
+                    ep_return += rewards
+                    if np.count_nonzero(ended):
+                        recent.extend(ep_return[ended].tolist())
+                        ep_return[ended] = 0.0
+                    if np.count_nonzero(over):
+                        envs = np.flatnonzero(over)
+                        if np.count_nonzero(trunc_buf[t]):
+                            final_buf[t] = encode_batch(batch.cells, batch.racing, n_cells)
+                        batch.reset_envs(envs)
+
+                # ---- advantages (GAE), truncated episodes bootstrapped from their last observation
+                values = values_of(obs_buf)
+                rewards_b = rew_buf.copy()
+                if np.count_nonzero(trunc_buf):
+                    rewards_b[trunc_buf] += cfg.gamma * values_of(final_buf[trunc_buf][:, None, :])[:, 0]
+                next_value = values_of(encode_batch(batch.cells, batch.racing, n_cells))
+                adv = np.zeros((T, E, n), dtype=np.float32)
+                last = np.zeros((E, n), dtype=np.float32)
+                for t in reversed(range(T)):
+                    nonterminal = 1.0 - done_buf[t]
+                    nv = next_value if t == T - 1 else values[t + 1]
+                    delta = rewards_b[t] + cfg.gamma * nv * nonterminal - values[t]
+                    last = delta + cfg.gamma * cfg.gae_lambda * nonterminal * last
+                    adv[t] = last
+                returns = adv + values
+
+            # ---- update: n_epochs passes over the decisions of the rollout, in minibatches
+            net.train()
+            keep = slice(None) if n == 1 else valid_buf  # one robot: every step is a decision
+            b_obs = torch.from_numpy(obs_buf[keep].reshape(-1, K))
+            b_act = torch.from_numpy(act_buf[keep].reshape(-1))
+            b_logp = torch.from_numpy(logp_buf[keep].reshape(-1))
+            b_adv = torch.from_numpy(adv[keep].reshape(-1))
+            b_ret = torch.from_numpy(returns[keep].reshape(-1).astype(np.float32))
+            size = b_act.shape[0]
+            for _ in range(cfg.n_epochs):
+                whole = size <= cfg.batch_size  # one minibatch holds the rollout: its order changes nothing
+                order = None if whole else rng.permutation(size)
+                for start in range(0, size, cfg.batch_size):
+                    mb = slice(None) if order is None else torch.from_numpy(order[start : start + cfg.batch_size])
+                    mb_obs = b_obs[mb]
+                    if n == 1 and n_cells <= cfg.batch_size:  # one robot: the net runs once per cell
+                        rows, inv = all_cells, mb_obs[:, 0]
+                    elif n == 1:  # ... or once per distinct cell of the minibatch
+                        cells, inv = torch.unique(mb_obs[:, 0], return_inverse=True)
+                        rows = cells[:, None]
+                    else:
+                        rows, inv = mb_obs, torch.arange(mb_obs.shape[0])
+                    ppo_gradients(net, rows, inv, b_act[mb], b_logp[mb], b_adv[mb], b_ret[mb], cfg)
+                    clip_grad_norm(grads_of(params), cfg.max_grad_norm)
+                    optim.step()
+
+            result.timesteps += T * E * n
+            elapsed = result.seconds + time.perf_counter() - t_train
+            if on_update is not None:
+                on_update(result.timesteps, elapsed, float(np.mean(recent)) if recent else float("nan"))
+            if max_seconds is not None and elapsed >= max_seconds:
+                break
+            if result.timesteps >= next_eval and result.timesteps < total:
+                next_eval += cfg.eval_every
+                if run_evaluation():
+                    break
+        if not result.history or result.history[-1].timesteps != result.timesteps:
+            run_evaluation()
+        else:
+            result.seconds += time.perf_counter() - t_train
+        net.eval()
+    return result

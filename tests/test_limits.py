@@ -1,0 +1,166 @@
+"""Size limits (README "Limits"), checked before anything large is allocated, and the level-text
+edges of issue 15: whitespace lines, CR line ends, rewards too large for a float."""
+
+from __future__ import annotations
+
+import tracemalloc
+
+import pytest
+
+from babyrobot_marl import Level, levels
+from babyrobot_marl.checks import MAX_DENSE_STATES, MAX_LEVEL_CELLS, MAX_LEVEL_TEXT_CHARS, check_frame_pixels, max_cell_size
+from babyrobot_marl.core.rules import Rules
+from babyrobot_marl.envs.common import resolve_level
+from babyrobot_marl.planning import model, value_iteration
+
+TINY = "+-+-+\n|S E|\n+-+-+"
+
+
+def corridor(n: int) -> str:
+    """A one-row corridor of ``n`` cells: start at the left end, exit at the right end."""
+    return "\n".join(["+" + "-+" * n, "|S" + " " * (2 * n - 3) + "E|", "+" + "-+" * n])
+
+
+def peak_bytes(fn) -> int:
+    tracemalloc.start()
+    try:
+        fn()
+        return tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+
+
+# ------------------------------------------------------------------------ level size
+def test_the_largest_maze_is_within_the_level_size_limit():
+    assert MAX_LEVEL_CELLS >= 256 * 256
+    assert levels.get("maze-256x256").n_cells == 65_536
+
+
+def test_a_one_row_corridor_of_the_limits_length_is_allowed():
+    level = Level.from_ascii(corridor(MAX_LEVEL_CELLS))
+    assert (level.width, level.height) == (MAX_LEVEL_CELLS, 1)
+
+
+def test_the_longest_level_text_with_crlf_line_ends_and_an_indent_is_within_the_character_limit():
+    """A one-column corridor of 65,536 cells has the most lines (131,073): indented by 2, with CRLF."""
+    rows = ["+-+", "|S|"] + ["+ +", "| |"] * (MAX_LEVEL_CELLS - 2) + ["+ +", "|E|", "+-+"]
+    text = "\r\n".join("  " + row for row in rows)
+    assert len(text) <= MAX_LEVEL_TEXT_CHARS
+    level = Level.from_ascii(text)
+    assert (level.width, level.height) == (1, MAX_LEVEL_CELLS)
+
+
+def test_a_level_one_cell_past_the_limit_is_refused_by_name():
+    with pytest.raises(ValueError, match=r"width, height: a level has at most 65,536 cells.*65537x1"):
+        Level(width=MAX_LEVEL_CELLS + 1, height=1, exits=[(0, 0)])
+
+
+def test_a_text_past_the_cell_limit_is_refused_before_it_is_parsed():
+    """The 257x256 text ends in a bad character: the size error comes first, so no cell was parsed."""
+    text = "\n".join(["+" + "-+" * 257] + ["|" + " |" * 257, "+" + "-+" * 257] * 256)
+    text = text[:-1] + "?"
+    with pytest.raises(ValueError, match="text: a level has at most 65,536 cells") as info:
+        Level.from_ascii(text)
+    assert "bad character" not in str(info.value)
+
+
+def test_a_text_past_the_character_limit_is_refused_before_it_is_split():
+    text = TINY + "\n" + " " * MAX_LEVEL_TEXT_CHARS
+    assert peak_bytes(lambda: pytest.raises(ValueError, Level.from_ascii, text)) < 2**20
+
+
+# ------------------------------------------------------------------------ dense model
+def test_the_dense_model_past_its_limit_names_the_limit_and_the_sparse_alternative():
+    m = model("maze-256x256")
+    holder = {}
+
+    def ask():
+        with pytest.raises(ValueError) as info:
+            _ = m.P
+        holder["message"] = str(info.value)
+
+    assert peak_bytes(ask) < 2**20  # refused before the 172 GB array
+    message = holder["message"]
+    assert f"at most {MAX_DENSE_STATES:,} states" in message and "65,536" in message
+    assert "sparse" in message and "model.next" in message
+    assert value_iteration(model("maze-16x16")).iterations > 0  # the sparse path all planning uses
+
+
+def test_the_core_dense_arrays_past_the_limit_are_refused_before_allocating():
+    from babyrobot_marl.core import compile_level, transition_arrays
+
+    table = compile_level(levels.get("maze-128x128"))
+    with pytest.raises(ValueError, match="transition_arrays: the dense model holds at most"):
+        transition_arrays(table)
+
+
+def test_the_dense_model_within_its_limit_is_built():
+    m = model("maze-16x16")
+    assert m.P.shape == (256, 5, 256)
+
+
+# ------------------------------------------------------------------------ frames (helper for the renderer)
+def test_frame_pixels_past_the_limit_are_refused_naming_cell_size_and_the_way_out():
+    with pytest.raises(ValueError, match="cell_size: .* more than the limit .* use a smaller cell_size"):
+        check_frame_pixels(256 * 256, 256 * 256)
+    check_frame_pixels(1000, 1000)
+
+
+def test_max_cell_size_is_the_largest_size_whose_frame_fits():
+    size = max_cell_size(256, 256, extra_height_px=40)
+    check_frame_pixels(size * 256, size * 256 + 40)
+    with pytest.raises(ValueError):
+        check_frame_pixels((size + 1) * 256, (size + 1) * 256 + 40)
+
+
+# ------------------------------------------------------------------------ caches
+def test_the_maze_cache_is_bounded_whatever_sizes_and_seeds_are_asked_for():
+    for seed in range(20):
+        levels.get(f"maze-4x4-s{seed}")
+    info = levels._maze.cache_info()
+    assert info.maxsize is not None and info.currsize <= info.maxsize <= 16
+
+
+# ------------------------------------------------------------------------ whitespace and line ends
+@pytest.mark.parametrize("char", ["\f", "\v", "\t", "\x1c", "\xa0", "\u3000"])
+def test_a_level_line_made_only_of_a_whitespace_character_is_an_error_like_inside_a_line(char):
+    inside = "+-+-+\n|S E|\n+" + char + "+ +\n|   |\n+-+-+"
+    alone = "+-+-+\n|S E|\n" + char + "\n|   |\n+-+-+"
+    for text in (inside, alone):
+        with pytest.raises(ValueError, match=r"line 3, column \d+: bad character " + repr(char).replace("\\", "\\\\")):
+            Level.from_ascii(text)
+
+
+def test_a_trailing_form_feed_is_a_character_not_trimmed_whitespace():
+    with pytest.raises(ValueError, match="line 2"):
+        Level.from_ascii("+-+-+\n|S E|\f\n+-+-+")
+
+
+def test_trailing_spaces_and_blank_lines_of_spaces_and_tabs_around_the_level_are_still_allowed():
+    assert Level.from_ascii(" \t\n\n+-+-+   \n|S E|\n+-+-+  \n\t\n") == Level.from_ascii(TINY)
+
+
+@pytest.mark.parametrize("sep", ["\r", "\r\n", "\n"])
+def test_cr_crlf_and_lf_line_ends_read_the_same_level(sep):
+    assert Level.from_ascii(TINY.replace("\n", sep)) == Level.from_ascii(TINY)
+
+
+def test_a_cr_only_level_text_given_to_an_env_is_a_level_not_a_name():
+    level = resolve_level(TINY.replace("\n", "\r"))
+    assert (level.width, level.height, level.starts) == (2, 1, ((0, 0),))
+
+
+# ------------------------------------------------------------------------ rewards too large for a float
+@pytest.mark.parametrize("field", ["floor_reward", "exit_reward", "win_bonus", "glass_pass_prob"])
+def test_a_rule_too_large_for_a_float_is_a_value_error_naming_the_field(field):
+    with pytest.raises(ValueError, match=f"^{field}: must be a finite number"):
+        Rules(**{field: 10**400})
+
+
+def test_a_custom_reward_too_large_for_a_float_is_a_value_error_naming_rewards():
+    level = Level.from_ascii(TINY)
+    with pytest.raises(ValueError, match="^rewards: a reward must be a finite number"):
+        level.with_rewards({(0, 0): 10**400})
+    with pytest.raises(ValueError, match="^rewards: a reward must be a finite number"):
+        level.with_rewards({(0, 0): -(10**400)})
+    assert level.with_rewards({(0, 0): 10**300}).reward_map() == {(0, 0): 1e300}  # a big int that fits a float

@@ -1,0 +1,82 @@
+"""``babyrobot-marl train`` with the fast trainer, and saved policies replayed by ``play`` and ``race``."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+pytest.importorskip("torch", reason="the train extra is not installed")  # CI installs it (test extra)
+
+from babyrobot_marl import cli  # noqa: E402
+
+SMALL = ["--n-envs", "16", "--n-steps", "16", "--batch-size", "128", "--eval-every", "512"]
+
+
+def run(argv: list[str]) -> int:
+    try:
+        return cli.main(argv)
+    except SystemExit as exit_:
+        return exit_.code if isinstance(exit_.code, int) else 1
+
+
+def last_json(out: str) -> dict:
+    return json.loads(out.strip().splitlines()[-1])
+
+
+def test_one_robot_prints_evaluation_lines_and_ends_with_the_json_figures(tmp_path, capsys):
+    policy, curve = tmp_path / "m", tmp_path / "curve.png"
+    argv = ["train", "--level", "default", "--steps", "4096", "--save", str(policy), "--curve", str(curve), *SMALL]
+    assert run(argv) == 0
+    out = capsys.readouterr().out
+    figures = last_json(out)
+    assert set(figures) >= {"env_steps_per_second", "timesteps", "seconds", "optimal_return", "final_return",
+                            "timesteps_to_95", "seconds_to_95"}
+    assert figures["backend"] == "fast" and figures["optimal_return"] == -3 and figures["timesteps"] >= 4096
+    assert figures["final_return"] == -3 and 0 < figures["timesteps_to_95"] <= figures["timesteps"]
+    assert figures["env_steps_per_second"] == pytest.approx(figures["timesteps"] / figures["seconds"], rel=1e-3)
+    assert sum(" steps/s " in line and "eval greedy return" in line for line in out.splitlines()) >= 4  # not a terminal
+    assert f"policy saved to {policy}\n" in out and policy.is_file() and not (tmp_path / "m.zip").exists()
+    assert curve.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    # the saved policy plays, and training can go on from it
+    assert run(["play", "--level", "default", "--policy", str(policy), "--seed", "0", "--no-delay"]) == 0
+    assert "policy " + str(policy) in capsys.readouterr().out
+    assert run(["train", "--level", "default", "--steps", "256", "--load", str(policy), "--no-progress", *SMALL]) == 0
+    assert last_json(capsys.readouterr().out)["final_return"] == -3
+
+
+def test_a_race_reports_win_and_tie_rates_and_its_policy_races(tmp_path, capsys):
+    policy = tmp_path / "racer.pt"
+    argv = ["train", "--level", "race-2", "--robots", "2", "--steps", "2048", "--episodes", "20", "--save", str(policy),
+            "--no-progress", *SMALL]
+    assert run(argv) == 0
+    out = capsys.readouterr().out
+    figures = last_json(out)
+    assert figures["opponents"] == ["random"] and figures["vs_shortest"]["opponents"] == ["shortest"]
+    assert 0 <= figures["tie_rate"] <= figures["win_rate"] <= 1 and figures["races"] == 20
+    assert "eval" not in out  # --no-progress: no evaluation lines
+    argv = ["race", "--level", "race-2", "--robots", "2", "--policies", f"{policy},shortest", "--seed", "0", "--no-delay"]
+    assert run(argv) == 0
+    assert str(policy) in capsys.readouterr().out
+
+
+@pytest.mark.parametrize(("argv", "message"), [
+    (["train", "--steps", "10", "--algo", "dqn"], "--algo dqn: only for one robot with --backend sb3"),
+    (["train", "--steps", "10", "--load", "nowhere.pt"], "policy: no such policy file 'nowhere.pt'"),
+    (["train", "--steps", "10", "--backend", "sb3", "--load", "x"], "--load: starting from a saved policy needs --backend fast"),
+    (["train", "--steps", "10", "--net-arch", "64,x"], "--net-arch: must be layer sizes"),
+    (["train", "--steps", "10", "--gamma", "2"], r"gamma: must be a number in [0, 1]"),
+    (["play", "--policy", "missing.pt"], "invalid choice: 'missing.pt'"),
+])
+def test_bad_train_input_is_one_line_and_status_2(argv, message, capsys):
+    assert run(argv) == 2
+    err = capsys.readouterr().err
+    assert message in err and len(err.strip().splitlines()) == 1
+
+
+def test_a_policy_for_another_level_size_is_refused_by_play(tmp_path, capsys):
+    policy = tmp_path / "p.pt"
+    assert run(["train", "--level", "default", "--steps", "256", "--save", str(policy), "--no-progress", *SMALL]) == 0
+    capsys.readouterr()
+    assert run(["play", "--level", "walls", "--policy", str(policy), "--no-delay"]) == 2
+    assert "was trained on default (3x3); this level is 5x5" in capsys.readouterr().err
