@@ -114,7 +114,7 @@ def collision_picture(name: str, cell_size: int = 48) -> np.ndarray:
     env.set_overlay(arrows=arrows, panel=[f"{mode}: before"] + [f"{n}: {a.name.lower()}" for n, a in zip(names, actions)])
     before = env.render()
     _, _, _, _, infos = env.step({agent: int(a) for agent, a in zip(env.possible_agents, actions)})
-    moved = [infos[a]["cell"] != cell for a, cell in zip(env.possible_agents, cells)]
+    moved = [tuple(int(v) for v in infos[a]["cell"]) != cell for a, cell in zip(env.possible_agents, cells)]
     after_lines = [f"{n}: {'moved' if m else 'stayed'}" for n, m in zip(names, moved)]
     env.set_overlay(arrows=None, panel=["after one step", *after_lines])
     after = env.render()
