@@ -10,7 +10,7 @@ from pathlib import Path
 import pytest
 
 SNIPPETS = Path(__file__).parent / "snippets"
-README = Path(__file__).parent.parent / "README.md"
+README = Path(__file__).parent.parent / "docs" / "guides" / "other-libraries.md"  # the snippets moved from README.md to the site
 
 
 def run_snippet(name: str, tmp_path: Path, timeout: float = 600) -> str:

@@ -1,0 +1,152 @@
+"""The built site in headless Chromium: the home page and an env page load, with their pictures.
+
+Run by ``bash .ci/docs.sh`` after ``mkdocs build --strict`` (the site in ``site/``, or
+``$BABYROBOT_SITE``). The browser is Debian's ``/usr/bin/chromium`` (``.ci/browser.sh``; never
+``playwright install``). Screenshots go to ``$BABYROBOT_SCREENSHOTS`` (default
+``<tmp>/babyrobot_marl_screenshots``); their paths are printed.
+"""
+
+from __future__ import annotations
+
+import functools
+import http.server
+import os
+import shutil
+import tempfile
+import threading
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+SITE = Path(os.environ.get("BABYROBOT_SITE", ROOT / "site"))
+SHOTS = Path(os.environ.get("BABYROBOT_SCREENSHOTS", Path(tempfile.gettempdir()) / "babyrobot_marl_screenshots"))
+CHROMIUM_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage", "--no-first-run", "--disable-background-networking"]
+
+# every <img> of the page: its src, whether it finished loading, and its natural size (0 if broken)
+IMAGES = """() => Array.from(document.images).map(
+    i => ({src: i.getAttribute('src'), complete: i.complete, w: i.naturalWidth, h: i.naturalHeight}))"""
+
+
+def chromium() -> str:
+    for candidate in (os.environ.get("CHROMIUM"), "/usr/bin/chromium", shutil.which("chromium")):
+        if candidate and os.access(candidate, os.X_OK):
+            return candidate
+    pytest.fail("no Chromium: run `bash .ci/browser.sh` (apt-get install -y chromium fonts-liberation) as root")
+
+
+@pytest.fixture(scope="module")
+def server():
+    assert (SITE / "index.html").is_file(), f"no built site in {SITE}: run `mkdocs build --strict` first"
+    class Quiet(http.server.SimpleHTTPRequestHandler):
+        def log_message(self, *args) -> None:  # no line per request in the test output
+            pass
+
+    handler = functools.partial(Quiet, directory=str(SITE))
+    httpd = http.server.ThreadingHTTPServer(("127.0.0.1", 0), handler)
+    thread = threading.Thread(target=httpd.serve_forever, daemon=True)
+    thread.start()
+    yield f"http://127.0.0.1:{httpd.server_address[1]}"
+    httpd.shutdown()
+    httpd.server_close()
+
+
+@pytest.fixture(scope="module")
+def page():
+    from playwright.sync_api import sync_playwright
+
+    with sync_playwright() as pw:
+        browser = pw.chromium.launch(executable_path=chromium(), headless=True, args=CHROMIUM_ARGS)
+        try:
+            yield browser.new_page(viewport={"width": 1280, "height": 900})
+        finally:
+            browser.close()
+
+
+def visit(page, url: str) -> list[dict]:
+    page.goto(url, wait_until="load", timeout=60_000)
+    page.wait_for_function("() => Array.from(document.images).every(i => i.complete)", timeout=30_000)
+    return page.evaluate(IMAGES)
+
+
+def screenshot(page, name: str) -> np.ndarray:
+    import imageio.v3 as iio
+
+    SHOTS.mkdir(parents=True, exist_ok=True)
+    path = SHOTS / f"docs_{name}.png"
+    page.screenshot(path=str(path), full_page=False)
+    print(f"screenshot: {path}")
+    return iio.imread(path)[..., :3]
+
+
+def header_colour(page) -> list[int]:
+    """The header bar's background colour as the theme's CSS computes it, ``[r, g, b]``."""
+    css = page.evaluate("() => getComputedStyle(document.querySelector('.md-header')).backgroundColor")
+    return [int(v) for v in css[css.index("(") + 1 : css.index(")")].split(",")[:3]]
+
+
+def colour_share(img: np.ndarray, colour: list[int]) -> float:
+    """Share of the top band's pixels (the header bar) in ``colour``."""
+    band = img[:40].reshape(-1, 3).astype(int)
+    return float((np.abs(band - colour).sum(axis=1) < 12).mean())
+
+
+def test_home_page_shows_its_title_the_race_animation_and_the_navigation(server, page):
+    images = visit(page, f"{server}/")
+    assert page.title() == "Baby Robot"
+    assert page.locator("h1").first.inner_text().rstrip("¶").strip() == "Baby Robot"
+    gif = [i for i in images if i["src"].endswith("race_v0.gif")]
+    assert gif and gif[0]["w"] > 0 and gif[0]["h"] > 0, images
+    nav = page.locator("nav.md-nav--primary").inner_text()
+    for entry in ("Environments", "BabyRobot-v0", "race_v0", "Rules and collisions", "API reference"):
+        assert entry in nav, nav
+    img = screenshot(page, "home")
+    colour = header_colour(page)
+    assert colour != [255, 255, 255] and colour_share(img, colour) > 0.5  # the theme's stylesheet loaded and drew the header
+    assert img.std() > 20  # text and pictures, not a blank page
+
+
+def test_race_env_page_shows_the_animation_drawn_by_the_env_and_its_table(server, page):
+    from babyrobot_marl import race_v0
+
+    images = visit(page, f"{server}/environments/race_v0/")
+    assert page.title().startswith("race_v0")
+    gif = [i for i in images if i["src"].endswith("race_v0.gif")]
+    assert gif, images
+    frame = race_v0.parallel_env(level="race-4", n_robots=4, render_mode="rgb_array")
+    frame.reset(seed=0)
+    h, w, _ = frame.render().shape
+    assert (gif[0]["w"], gif[0]["h"]) == (w, h)  # the GIF is the env's own rgb_array frames
+    import urllib.request
+
+    import imageio.v3 as iio
+
+    with urllib.request.urlopen(f"{server}/environments/race_v0/{gif[0]['src']}") as response:
+        frames = iio.imread(response.read(), extension=".gif", index=None)
+    assert frames.shape[0] > 10 and not (frames[0] == frames[-1]).all()  # an animation: the robots move
+    table = page.locator("table").first.inner_text()
+    for row in ("Actions", "Observations", "Rewards", "Termination", "Arguments", "Version history"):
+        assert row in table, table
+    headings = page.locator("h2").all_inner_texts()
+    assert any(h.startswith("Version history") for h in headings), headings  # the docstring's sections
+    img = screenshot(page, "race_v0")
+    assert img.std() > 20
+
+
+def test_collision_pictures_all_load(server, page):
+    images = visit(page, f"{server}/guides/rules/")
+    pictures = [i for i in images if "/collisions/" in i["src"]]
+    assert len(pictures) == 7, images
+    assert all(i["w"] > 0 and i["h"] > 0 for i in pictures), pictures
+    screenshot(page, "rules")
+
+
+def test_tutorial_page_holds_the_executed_notebook_outputs_and_the_canvas_pictures(server, page):
+    images = visit(page, f"{server}/tutorials/quickstart/")
+    text = page.locator("article").inner_text()
+    assert "quickstart notebook: done" in text  # the last cell's output: the notebook ran at build time
+    # the live canvas's outputs carry a PNG of their frame: the static page shows those pictures
+    pictures = [i for i in images if (i["src"] or "").startswith("data:image/png")]
+    assert len(pictures) >= 2 and all(i["w"] > 100 and i["h"] > 100 for i in pictures), images
+    screenshot(page, "tutorial_quickstart")
