@@ -139,6 +139,14 @@ def assert_backing_store_is_twice_the_css_size(page) -> None:
 
 SINGLE_ACTIONS = [2, 3, 3, 2]  # EAST, SOUTH, SOUTH, EAST on mixed-8x8 from its start (0, 0)
 GLASS = ((1, 6), (2, 6))  # mixed-8x8's glass wall
+# a notebook cell: one robot on mixed-8x8 takes SINGLE_ACTIONS on its live canvas
+WALK_CELL = f"""
+from babyrobot_marl import BabyRobotEnv
+env = BabyRobotEnv(level="mixed-8x8", render_mode="human", cell_size={CELL})
+env.reset(seed=0)
+for a in {SINGLE_ACTIONS}:
+    env.step(a)
+"""
 
 
 def test_single_robot_live_canvas(lab, page, capsys):
@@ -257,15 +265,7 @@ def test_canvas_redrawn_when_a_browser_reconnects(lab, page, capsys):
     from babyrobot_marl.render.palette import THEMES
 
     name = "reconnect_canvas"
-    run_in_browser(lab, page, name, [
-        f"""
-        from babyrobot_marl import BabyRobotEnv
-        env = BabyRobotEnv(level="mixed-8x8", render_mode="human", cell_size={CELL})
-        env.reset(seed=0)
-        for a in {SINGLE_ACTIONS}:
-            env.step(a)
-        """,
-    ], capsys)  # fmt: skip
+    run_in_browser(lab, page, name, [WALK_CELL], capsys)
     page.save_and_reopen(f"{name}.ipynb", MARKER)
     env = BabyRobotEnv(level="mixed-8x8")
     env.reset(seed=0)
@@ -292,18 +292,9 @@ def test_a_saved_notebook_opened_elsewhere_shows_the_picture_of_the_last_frame(l
     import nbformat
 
     name = "saved_canvas"
-    run_in_browser(lab, page, name, [
-        f"""
-        from babyrobot_marl import BabyRobotEnv
-        env = BabyRobotEnv(level="mixed-8x8", render_mode="human", cell_size={CELL})
-        env.reset(seed=0)
-        for a in {SINGLE_ACTIONS}:
-            env.step(a)
-        """,
-    ], capsys)  # fmt: skip
+    run_in_browser(lab, page, name, [WALK_CELL], capsys)
     p = page.page
-    p.evaluate("() => window.jupyterapp.commands.execute('docmanager:save')")
-    p.wait_for_function("() => { const w = window.jupyterapp.shell.currentWidget; return !!w && !w.context.model.dirty; }")
+    page.save()
     lab.shutdown_kernels()
     nb = nbformat.read(lab.root_dir / f"{name}.ipynb", as_version=4)
     nb.metadata["copied_from"] = "elsewhere"  # changed outside the server: no longer signed

@@ -99,15 +99,19 @@ class NotebookPage:
         except Exception as e:
             raise AssertionError(f"marker {marker!r} never appeared; outputs:\n{self.outputs_text()}") from e
 
+    def save(self, timeout: float = 90.0) -> None:
+        """Save the notebook in focus and wait until it is saved."""
+        self.page.evaluate("() => window.jupyterapp.commands.execute('docmanager:save')")
+        self.page.wait_for_function(
+            "() => { const w = window.jupyterapp.shell.currentWidget; return !!w && !w.context.model.dirty; }",
+            timeout=timeout * 1000,
+            polling=200,
+        )
+
     def save_and_reopen(self, notebook: str, marker: str, timeout: float = 90.0) -> None:
         """Save the notebook, load the page again (a browser reconnecting to the same kernel), wait for ``marker``."""
         page, ms = self.page, timeout * 1000
-        page.evaluate("() => window.jupyterapp.commands.execute('docmanager:save')")
-        page.wait_for_function(
-            "() => { const w = window.jupyterapp.shell.currentWidget; return !!w && !w.context.model.dirty; }",
-            timeout=ms,
-            polling=200,
-        )
+        self.save(timeout)
         page.goto(self.lab.url(f"lab/tree/{notebook}"), timeout=ms)
         page.wait_for_function(_KERNEL_IDLE, timeout=ms, polling=200)
         page.wait_for_function(
