@@ -31,8 +31,8 @@ import torch
 
 from babyrobot_marl import BabyRobotEnv, levels
 from babyrobot_marl.training.evaluate import race_rates
-from babyrobot_marl.training.ppo import PPOConfig, train_ppo
-from babyrobot_marl.training.race import evaluate_race, race_cell_features_class
+from babyrobot_marl.training.ppo import PPOConfig, near_offsets, train_ppo
+from babyrobot_marl.training.race import evaluate_race, race_near_features_class
 from babyrobot_marl.training.single import cell_features_class, evaluate_single, optimal_return
 
 SPEED_FLOOR, SPEED_AIM = 20.0, 50.0
@@ -60,8 +60,9 @@ def sb3_ppo(level: str, n_robots: int, seed: int, run: dict, **env_kwargs):
         features = {"features_extractor_class": cell_features_class(),
                     "features_extractor_kwargs": {"width": lv.width, "height": lv.height}}
     else:
-        features = {"features_extractor_class": race_cell_features_class(),
-                    "features_extractor_kwargs": {"width": lv.width, "height": lv.height, "n_robots": n_robots}}
+        features = {"features_extractor_class": race_near_features_class(),
+                    "features_extractor_kwargs": {"width": lv.width, "height": lv.height, "n_robots": n_robots,
+                                                  "near": near_offsets(PPOConfig().near_radius)}}
     policy_kwargs = {"net_arch": {"pi": [64, 64], "vf": [64, 64]}, **features}
     return PPO("MlpPolicy", venv, seed=seed, device="cpu", policy_kwargs=policy_kwargs, **run)
 
@@ -178,7 +179,7 @@ def main() -> int:
     a = p.parse_args()
     torch.set_num_threads(1)
     quick = a.quick
-    speed_steps = 4096 if quick else 262144
+    speed_steps = 4096 if quick else 2**20
     budget8, budget16, every = (4096, 4096, 2048) if quick else (5_000_000, 30_000_000, 32768)
     sb3_budget8, sb3_budget16 = (2048, 2048) if quick else (200_000, 400_000)
     race_seconds, race_every, races = (2.0, 8192, 20) if quick else (RACE_SECONDS, 32768, 500)

@@ -12,12 +12,12 @@ from babyrobot_marl import BabyRobotEnv, levels, race_v0  # noqa: E402
 from babyrobot_marl.training.evaluate import race_rates  # noqa: E402
 from babyrobot_marl.training.policy import TrainedPolicy, load_policy, make_policy  # noqa: E402
 from babyrobot_marl.training.ppo import (  # noqa: E402
+    Inputs,
     PPOConfig,
-    encode_batch,
-    encode_observation,
     make_batch,
+    make_inputs,
     make_net,
-    one_hot,
+    near_offsets,
     ppo_gradients,
     torch_threads,
     train_ppo,
@@ -38,7 +38,8 @@ def test_the_race_policy_beats_random_robots_after_a_short_run():
     lv = levels.get("race-2")
     result = train_ppo(lv, 2, 60_000, seed=0, config=SMALL)
     trained = race_rates(result.policy(), lv, 2, "random", races=100, seed=1).win_rate
-    untrained = race_rates(TrainedPolicy(make_net(2 * lv.n_cells), lv.width, lv.height, 2), lv, 2, "random", 100, 1).win_rate
+    inputs = make_inputs(lv, 2, SMALL.near_radius)
+    untrained = race_rates(TrainedPolicy(make_net(inputs.n_in), inputs, 2), lv, 2, "random", 100, 1).win_rate
     assert trained >= 0.9 > untrained
 
 
@@ -59,16 +60,20 @@ def test_the_hand_written_gradient_is_autograds_gradient_of_ppos_loss(k, n_in):
     torch.manual_seed(0)
     net, cfg, b = make_net(n_in, (16, 8)), PPOConfig(), 200
     idx = torch.randint(0, n_in + (k > 1), (b, k))  # rows repeat; the race's include the padding row
-    act, old = torch.randint(0, 5, (b,)), torch.randn(b) * 0.5 - 1.6  # ratios on both sides of the clip
-    adv, ret = torch.randn(b), torch.randn(b)
-    _reference_loss(net, idx, act, old, adv, ret, cfg).backward()
-    expected = [p.grad.clone() for p in net.parameters()]
     if k == 1:
         cells, inv = torch.unique(idx[:, 0], return_inverse=True)
         rows = cells[:, None]
     else:
-        rows, inv = idx, torch.arange(b)
-    ppo_gradients(net, rows, inv, act, old, adv, ret, cfg)
+        rows, inv = torch.unique(idx, dim=0, return_inverse=True)
+    act = torch.randint(0, 5, (b,))
+    old_rows = torch.log_softmax(torch.randn(rows.shape[0], 5) * 2.0, 1)  # the rollout's policy: ratios both sides of the clip
+    old = old_rows[inv, act]  # a sample's old log-probability is its row's and action's
+    adv, ret = torch.randn(b), torch.randn(b)
+    _reference_loss(net, idx, act, old, adv, ret, cfg).backward()
+    expected = [p.grad.clone() for p in net.parameters()]
+    ratio = torch.exp(torch.log_softmax(net.actor(rows), 1) - old_rows)[inv, act]
+    assert ((ratio < 0.8) & (adv > 0)).any() and ((ratio > 1.2) & (adv < 0)).any() and ((ratio > 1.2) & (adv > 0)).any()
+    ppo_gradients(net, rows, inv, act, old_rows, adv, ret, cfg)
     for (name, p), want in zip(net.named_parameters(), expected):
         if name.endswith("first"):  # the padding row (a finished robot) is no input: it stays zero
             assert not p.grad[n_in].any()
@@ -79,37 +84,51 @@ def test_the_hand_written_gradient_is_autograds_gradient_of_ppos_loss(k, n_in):
     assert max(float(g.abs().max()) for g in expected) > 1e-3  # not a vacuous comparison
 
 
-def _one_hot_from_observation(obs, w, h, n_robots):
-    """The input the net means, built from a single env's MultiDiscrete observation by hand."""
-    vec = np.zeros(w * h if n_robots == 1 else 2 * w * h, dtype=np.float32)
-    vec[obs[1] * w + obs[0]] = 1
-    for x, y, finished in np.asarray(obs[2:]).reshape(-1, 3):
-        if not finished:
-            vec[w * h + y * w + x] += 1
+def _input_from_observation(obs, w, h, n_robots, radius):
+    """The input the net means, built by hand from a single env's MultiDiscrete observation: the
+    one-hot of the robot's cell, then for each offset within ``radius`` steps (Manhattan, row by
+    row) a 1 when a racing robot stands there."""
+    x, y = int(obs[0]), int(obs[1])
+    near = [] if n_robots == 1 else [(dx, dy) for dy in range(-radius, radius + 1) for dx in range(-radius, radius + 1)
+                                     if 0 < abs(dx) + abs(dy) <= radius]
+    vec = np.zeros(w * h + len(near), dtype=np.float32)
+    vec[y * w + x] = 1
+    others = {(int(ox), int(oy)) for ox, oy, finished in np.asarray(obs[2:]).reshape(-1, 3) if not finished}
+    for b, (dx, dy) in enumerate(near):
+        vec[w * h + b] = (x + dx, y + dy) in others
     return vec
 
 
-@pytest.mark.parametrize("n_robots", [1, 3])
-def test_the_batch_encoding_is_the_one_hot_of_the_single_envs_observation(n_robots):
+def test_near_offsets_are_the_cells_within_the_radius():
+    assert near_offsets(0) == ()
+    assert set(near_offsets(1)) == {(1, 0), (-1, 0), (0, 1), (0, -1)}
+    assert len(near_offsets(2)) == 12 and all(0 < abs(dx) + abs(dy) <= 2 for dx, dy in near_offsets(2))
+
+
+@pytest.mark.parametrize(("n_robots", "radius"), [(1, 2), (3, 1), (4, 2), (4, 3)])
+def test_the_batch_encoding_is_the_input_built_from_the_single_envs_observation(n_robots, radius):
     level = levels.get("race-4")
     w, h, e = level.width, level.height, 4
     if n_robots == 1:
         envs = [BabyRobotEnv(level=level, start="random") for _ in range(e)]
     else:
         envs = [race_v0.parallel_env(level=level, n_robots=n_robots, start="random", finished="freeze") for _ in range(e)]
+    inputs = make_inputs(level, n_robots, radius)
     batch = make_batch(level, n_robots, e, "random", seed=5)
     obs = [env.reset(seed=5 + i)[0] for i, env in enumerate(envs)]
     rng = np.random.default_rng(0)
-    checked = 0
+    checked = near = 0
     for _ in range(60):
-        rows = encode_batch(batch.cells, batch.racing, w * h)
+        keys = inputs.keys(batch.cells, batch.racing)
         for i, env in enumerate(envs):
             agents = ["single"] if n_robots == 1 else env.possible_agents
             for r, agent in enumerate(agents):
                 o = obs[i] if n_robots == 1 else obs[i][agent]
-                assert np.array_equal(rows[i, r], encode_observation(o, w, h, n_robots))
-                assert np.array_equal(one_hot(rows[i, r], w * h, n_robots), _one_hot_from_observation(o, w, h, n_robots))
+                assert keys[i, r] == inputs.key_of_observation(o)
+                want = _input_from_observation(o, w, h, n_robots, radius)
+                assert np.array_equal(inputs.one_hot(keys[i, r]), want)
                 checked += 1
+                near += bool(want[w * h:].any())
         actions = rng.integers(0, 5, size=(e, n_robots))
         _, _, _, _, over = batch.step(actions)
         if over.any():
@@ -121,6 +140,16 @@ def test_the_batch_encoding_is_the_one_hot_of_the_single_envs_observation(n_robo
                 live = {a: int(actions[i, k]) for k, a in enumerate(env.possible_agents) if a in env.agents}
                 obs[i] = env.step(live)[0]
     assert checked >= 20 * e * n_robots
+    assert n_robots == 1 or near > 0  # robots were seen near each other: the bits were checked set too
+
+
+def test_a_robot_off_the_grid_edge_or_finished_is_no_input():
+    inputs = Inputs(3, 3, near_offsets(1))
+    cells = np.array([[0, 1, 3, 8]])  # robot 0 in the corner: robots 1 (right) and 2 (below) next to it
+    assert inputs.one_hot(inputs.keys(cells, np.array([[True, True, True, True]]))[0, 0])[9:].sum() == 2
+    assert inputs.one_hot(inputs.keys(cells, np.array([[True, False, True, True]]))[0, 0])[9:].sum() == 1
+    lonely = inputs.keys(np.array([[8, 0]]), np.array([[True, True]]))[0, 0]  # no robot near the far corner
+    assert lonely == 8 << 4 and inputs.rows(np.array([lonely])).tolist() == [[8, 13, 13, 13, 13]]
 
 
 def test_same_seed_same_learning_curve_and_weights():
@@ -164,6 +193,12 @@ def test_a_policy_of_another_size_or_a_foreign_file_is_refused(tmp_path):
     (tmp_path / "text.pt").write_text("not a policy")
     with pytest.raises(ValueError, match="is not a policy saved by 'babyrobot-marl train'"):
         load_policy(tmp_path / "text.pt")
+    old = torch.load(tmp_path / "p.pt", weights_only=True)
+    torch.save({**old, "version": 1}, tmp_path / "v1.pt")  # one robot: version 1 had the same net
+    assert load_policy(tmp_path / "v1.pt")(np.array([0, 0])) == result.policy()(np.array([0, 0]))
+    torch.save({**old, "version": 1, "n_robots": 2}, tmp_path / "v1-race.pt")
+    with pytest.raises(ValueError, match="is a race policy of format version 1 .* train it again"):
+        load_policy(tmp_path / "v1-race.pt")
     with pytest.raises(ValueError, match="no such policy file"):
         make_policy(str(tmp_path / "missing.pt"), BabyRobotEnv(level="default").table)
     assert make_policy("shortest", BabyRobotEnv(level="default").table).name == "shortest"
@@ -187,6 +222,7 @@ def test_training_runs_on_the_threads_it_is_given_and_restores_torchs_setting():
     ({"net_arch": (64, 0)}, "net_arch: must be an integer >= 1"),
     ({"start": "corner"}, "start: must be one of 'random', 'level'"),
     ({"threads": True}, "threads: must be an integer >= 1"),
+    ({"near_radius": -1}, "near_radius: must be an integer >= 0"),
 ])
 def test_bad_settings_are_clear_errors(change, message):
     with pytest.raises(ValueError, match=message):

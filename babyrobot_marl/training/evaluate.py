@@ -15,7 +15,7 @@ import numpy as np
 
 from ..core.level import Level
 from ..policies import POLICY_NAMES, shortest_path_actions
-from .ppo import _torch, encode_batch, make_batch, torch_threads
+from .ppo import _torch, make_batch, torch_threads
 
 
 @dataclass(frozen=True)
@@ -41,11 +41,11 @@ def race_rates(
 def _race_rates(policy: Any, level: Level, n_robots: int, opponent: str, races: int, seed: int, start: str) -> RaceRates:
     torch = _torch()
     batch = make_batch(level, n_robots, races, start, seed)
-    n_cells = level.n_cells
+    inputs = policy.inputs
     rng = np.random.default_rng(seed)
     table = shortest_path_actions(batch.table) if opponent == "shortest" else None
     while not batch.over.all():
-        rows = encode_batch(batch.cells, batch.racing, n_cells)[:, 0]
+        rows = inputs.rows(inputs.keys(batch.cells, batch.racing)[:, 0])
         with torch.no_grad():
             mine = policy.net.actor(torch.from_numpy(rows)).argmax(1).numpy()
         others = rng.integers(0, 5, size=(races, n_robots - 1)) if table is None else table[batch.cells[:, 1:]]

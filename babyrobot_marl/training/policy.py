@@ -20,41 +20,42 @@ from typing import Any
 import numpy as np
 
 from ..core.table import Table
-from .ppo import _torch, encode_observation, make_net, n_inputs
+from .ppo import TABLE_LIMIT, Inputs, _torch, make_net, near_offsets
 
 FORMAT = "babyrobot_marl.ppo"
-VERSION = 1
+VERSION = 2  # 2: a race policy sees the robots near it (version 1 read every robot's cell)
 
 
 class TrainedPolicy:
-    """Acts with a trained actor: greedy (``deterministic=True``) or sampled from its own generator."""
+    """Acts with a trained actor on the input ``inputs`` describes: greedy (``deterministic=True``) or
+    sampled from its own generator."""
 
     name = "trained"
 
-    def __init__(self, net: Any, width: int, height: int, n_robots: int, deterministic: bool = True, seed: int | None = None):
-        self.net, self.width, self.height, self.n_robots = net, width, height, n_robots
+    def __init__(self, net: Any, inputs: Inputs, n_robots: int, deterministic: bool = True, seed: int | None = None):
+        self.net, self.inputs, self.n_robots = net, inputs, n_robots
+        self.width, self.height = inputs.width, inputs.height
         self.deterministic = deterministic
         self.rng = np.random.default_rng(seed)
-        self._table: list[int] | None = None
+        self.probs: np.ndarray | None = None
+        if inputs.n_keys <= TABLE_LIMIT:  # few inputs: one forward pass gives the probabilities for every one
+            self.probs = self._probabilities(np.arange(inputs.n_keys))
+            self._greedy = np.argmax(self.probs, axis=1).tolist()
+
+    def _probabilities(self, keys: np.ndarray) -> np.ndarray:
         torch = _torch()
-        if n_robots == 1:  # it sees only its cell: one forward pass gives its probabilities in every cell
-            with torch.no_grad():
-                self.probs = torch.softmax(net.actor(torch.arange(width * height)[:, None]), 1).numpy().astype(np.float64)
-            self._table = np.argmax(self.probs, axis=1).tolist()
+        with torch.no_grad():
+            rows = torch.from_numpy(self.inputs.rows(keys))
+            return torch.softmax(self.net.actor(rows), 1).numpy().astype(np.float64)
 
     def action_probabilities(self, obs: Any) -> np.ndarray:
         """The policy's probabilities of the five actions given ``obs``."""
-        idx = encode_observation(obs, self.width, self.height, self.n_robots)
-        if self.n_robots == 1:
-            return self.probs[idx[0]]
-        torch = _torch()
-        with torch.no_grad():
-            return torch.softmax(self.net.actor(torch.from_numpy(idx[None, :])), 1).numpy()[0].astype(np.float64)
+        key = self.inputs.key_of_observation(obs)
+        return self.probs[key] if self.probs is not None else self._probabilities(np.array([key]))[0]
 
     def __call__(self, obs: Any = None) -> int:
-        if self.deterministic and self._table is not None:
-            o = np.asarray(obs).reshape(-1)
-            return self._table[int(o[1]) * self.width + int(o[0])]
+        if self.deterministic and self.probs is not None:
+            return self._greedy[self.inputs.key_of_observation(obs)]
         p = self.action_probabilities(obs)
         if self.deterministic:
             return int(np.argmax(p))
@@ -110,14 +111,24 @@ def load_checkpoint(path: str | os.PathLike) -> dict[str, Any]:
         raise ValueError(f"policy: {str(path)!r} is not a policy saved by 'babyrobot-marl train' ({what})") from None
     if not isinstance(data, dict) or data.get("format") != FORMAT:
         raise ValueError(f"policy: {str(path)!r} is not a policy saved by 'babyrobot-marl train'")
-    if data.get("version") != VERSION:
-        raise ValueError(f"policy: {str(path)!r} has format version {data.get('version')!r}; this version reads {VERSION}")
+    version = data.get("version")
+    if version == 1 and data.get("n_robots") != 1:  # a one-robot policy of version 1 is the same net
+        raise ValueError(f"policy: {str(path)!r} is a race policy of format version 1 (it read every robot's cell); "
+                         f"train it again with this version")
+    if version not in (1, VERSION):
+        raise ValueError(f"policy: {str(path)!r} has format version {version!r}; this version reads {VERSION}")
     return data
+
+
+def inputs_of(data: dict[str, Any]) -> Inputs:
+    """The input of loaded data's network: its cell, and in a race the robots near it."""
+    near = near_offsets(data["config"]["near_radius"]) if data["n_robots"] > 1 else ()
+    return Inputs(data["width"], data["height"], near)
 
 
 def load_net(data: dict[str, Any]) -> Any:
     """The network of loaded data (``load_checkpoint``)."""
-    net = make_net(n_inputs(data["width"] * data["height"], data["n_robots"]), tuple(data["net_arch"]))
+    net = make_net(inputs_of(data).n_in, tuple(data["net_arch"]))
     net.load_state_dict(data["state_dict"])
     net.eval()
     return net
@@ -135,7 +146,7 @@ def load_policy(
             f"policy: {str(path)!r} was trained on {name} ({w}x{h}); this level is {table.width}x{table.height} "
             f"(pass --level {data['level_name'] or 'a level of that size'})"
         )
-    return TrainedPolicy(load_net(data), w, h, data["n_robots"], deterministic, seed)
+    return TrainedPolicy(load_net(data), inputs_of(data), data["n_robots"], deterministic, seed)
 
 
 def make_policy(spec: str, table: Table, seed: int | None = None) -> Any:

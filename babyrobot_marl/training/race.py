@@ -198,35 +198,39 @@ def evaluate_race(
 
 
 
-def race_cell_features_class() -> type:
-    """An SB3 features extractor giving a race robot's observation the fast trainer's input: the
-    one-hot of its own cell, then the counts of the other racing robots per cell (2 * W * H floats).
+def race_near_features_class() -> type:
+    """An SB3 features extractor giving a race robot's observation the fast trainer's input
+    (``training.ppo.Inputs``): the one-hot of its own cell, then one bit per cell of ``near``
+    (offsets), set when a racing robot stands there (``W * H + len(near)`` floats).
 
-    SB3 one-hot encodes each ``MultiDiscrete`` entry; this decodes them back to cells. With it,
+    SB3 one-hot encodes each ``MultiDiscrete`` entry; this decodes them back to positions. With it,
     SB3 PPO and ``training.ppo`` train the same network on the same input (``bench_train.py``).
     """
     (th,) = require_train("torch")
     from stable_baselines3.common.torch_layers import BaseFeaturesExtractor
 
-    class RaceCellFeatures(BaseFeaturesExtractor):
-        def __init__(self, observation_space: Any, width: int, height: int, n_robots: int):
-            super().__init__(observation_space, features_dim=2 * width * height)
+    class RaceNearFeatures(BaseFeaturesExtractor):
+        def __init__(self, observation_space: Any, width: int, height: int, n_robots: int, near: tuple[tuple[int, int], ...]):
+            super().__init__(observation_space, features_dim=width * height + len(near))
             self.width, self.height, self.n_robots = width, height, n_robots
+            self.register_buffer("near", th.as_tensor(near, dtype=th.long).reshape(-1, 2), persistent=False)
 
         def forward(self, obs: Any) -> Any:
             w, h = self.width, self.height
-            n_cells = w * h
 
-            def cell(at: int) -> Any:
-                return obs[:, at + w : at + w + h].argmax(dim=1) * w + obs[:, at : at + w].argmax(dim=1)
+            def xy(at: int) -> tuple[Any, Any]:
+                return obs[:, at : at + w].argmax(dim=1), obs[:, at + w : at + w + h].argmax(dim=1)
 
-            own = th.nn.functional.one_hot(cell(0), n_cells).float()
-            others = th.zeros_like(own)
+            x, y = xy(0)
+            own = th.nn.functional.one_hot(y * w + x, w * h).float()
+            bits = th.zeros(obs.shape[0], self.near.shape[0])
             at = w + h
             for _ in range(self.n_robots - 1):
-                racing = obs[:, at + w + h]  # the one-hot of finished == 0
-                others += th.nn.functional.one_hot(cell(at), n_cells).float() * racing[:, None]
+                ox, oy = xy(at)
+                racing = obs[:, at + w + h] > 0.5  # the one-hot of finished == 0
+                there = (ox[:, None] == x[:, None] + self.near[:, 0]) & (oy[:, None] == y[:, None] + self.near[:, 1])
+                bits = th.maximum(bits, (there & racing[:, None]).float())
                 at += w + h + 2
-            return th.cat([own, others], dim=1)
+            return th.cat([own, bits], dim=1)
 
-    return RaceCellFeatures
+    return RaceNearFeatures
