@@ -9,6 +9,8 @@ import pytest
 pytest.importorskip("torch", reason="the train extra is not installed")  # CI installs it (test extra)
 
 from babyrobot_marl import cli  # noqa: E402
+from babyrobot_marl.training.policy import load_policy  # noqa: E402
+from babyrobot_marl.training.ppo import near_offsets  # noqa: E402
 
 SMALL = ["--n-envs", "16", "--n-steps", "16", "--batch-size", "128", "--eval-every", "512"]
 
@@ -58,6 +60,17 @@ def test_a_race_reports_win_and_tie_rates_and_its_policy_races(tmp_path, capsys)
     argv = ["race", "--level", "race-2", "--robots", "2", "--policies", f"{policy},shortest", "--seed", "0", "--no-delay"]
     assert run(argv) == 0
     assert str(policy) in capsys.readouterr().out
+    # a race policy reads the robots near it: it races with more robots than it trained with, and
+    # training goes on from it with the radius it was saved with
+    argv = ["race", "--level", "race-2", "--robots", "3", "--policies", f"{policy},{policy},random", "--no-delay"]
+    assert run(argv) == 0
+    capsys.readouterr()
+    wide = tmp_path / "wide.pt"
+    assert run(["train", "--level", "race-2", "--robots", "2", "--steps", "512", "--near-radius", "2", "--save", str(wide),
+                "--episodes", "5", "--no-progress", *SMALL]) == 0
+    assert run(["train", "--level", "race-2", "--robots", "3", "--steps", "512", "--load", str(wide), "--episodes", "5",
+                "--no-progress", *SMALL]) == 0
+    assert load_policy(wide).inputs.near == near_offsets(2)
 
 
 @pytest.mark.parametrize(("argv", "message"), [
@@ -66,6 +79,8 @@ def test_a_race_reports_win_and_tie_rates_and_its_policy_races(tmp_path, capsys)
     (["train", "--steps", "10", "--backend", "sb3", "--load", "x"], "--load: starting from a saved policy needs --backend fast"),
     (["train", "--steps", "10", "--net-arch", "64,x"], "--net-arch: must be layer sizes"),
     (["train", "--steps", "10", "--gamma", "2"], r"gamma: must be a number in [0, 1]"),
+    (["train", "--steps", "10", "--backend", "sb3", "--near-radius", "2"], "--near-radius: only the fast backend"),
+    (["train", "--steps", "10", "--near-radius", "-1"], "--near-radius: "),
     (["play", "--policy", "missing.pt"], "invalid choice: 'missing.pt'"),
 ])
 def test_bad_train_input_is_one_line_and_status_2(argv, message, capsys):

@@ -88,6 +88,8 @@ def add_train_parser(sub: argparse._SubParsersAction) -> None:
         knobs.add_argument("--" + flag.replace("_", "-"), type=kind, default=None, metavar="X", help=f"SB3's {name}")
     knobs.add_argument("--net-arch", type=_net_arch, default=None, metavar="H1,H2", help="hidden layers (default: 64,64)")
     knobs.add_argument("--eval-every", type=base._positive_int, default=None, metavar="N", help="timesteps between evaluations")
+    knobs.add_argument("--near-radius", type=base._non_negative_int, default=None, metavar="N",
+                       help="fast backend, race: a robot sees the robots within N steps of it (default: 1)")
     p.set_defaults(func=cmd_train)
 
 
@@ -106,6 +108,8 @@ def cmd_train(args: argparse.Namespace, out: TextIO) -> int:
         raise ValueError("--gif: a GIF is written for one robot only; drop --gif for a race")
     if args.load and args.backend != "fast":
         raise ValueError("--load: starting from a saved policy needs --backend fast")
+    if args.near_radius is not None and args.backend != "fast":
+        raise ValueError("--near-radius: only the fast backend's race input has it; drop it or use --backend fast")
     tty = not args.no_progress and base._isatty(out) and base._isatty(sys.stderr)
     run = _fast if args.backend == "fast" else _sb3
     figures = run(args, level, tty, out)
@@ -135,8 +139,9 @@ def _fast(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> dic
     from .progress import TrainProgress
 
     knobs = _knobs(args)
-    if args.eval_every is not None:
-        knobs["eval_every"] = args.eval_every
+    for name in ("eval_every", "near_radius"):
+        if getattr(args, name) is not None:
+            knobs[name] = getattr(args, name)
     config = PPOConfig(threads=args.threads or None, **knobs)
     init = None
     if args.load:
@@ -145,8 +150,9 @@ def _fast(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> dic
             raise ValueError(f"--load: {args.load!r} was trained on a {data['width']}x{data['height']} level with "
                              f"{data['n_robots']} robot(s); this run is {level.width}x{level.height} with {args.robots}")
         init = load_net(data)
-        if "net_arch" not in knobs:
-            config = config.replace(net_arch=tuple(data["net_arch"]))
+        for name in ("net_arch", "near_radius"):  # what the saved net was built for, unless given
+            if name not in knobs and name in data["config"]:
+                config = config.replace(**{name: tuple(data["config"][name]) if name == "net_arch" else data["config"][name]})
     single = args.robots == 1
     evaluate, target, score_name, finish = _single_eval(level, args) if single else _race_eval(level, args)
     progress = TrainProgress(args.steps, tty, out, score_name, enabled=not args.no_progress)

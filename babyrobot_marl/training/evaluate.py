@@ -29,7 +29,8 @@ def race_rates(
     policy: Any, level: Level, n_robots: int, opponent: str = "random", races: int = 100, seed: int = 0, start: str = "fill",
     threads: int | None = 1,
 ) -> RaceRates:
-    """Robot 0 with ``policy`` (a ``TrainedPolicy`` of a race) against ``n_robots - 1`` ``opponent`` robots.
+    """Robot 0 with ``policy`` (a ``TrainedPolicy`` of a race, or ``"shortest"`` / ``"random"`` for
+    the scripted robot in that seat: the reference) against ``n_robots - 1`` ``opponent`` robots.
 
     ``threads``: torch threads meanwhile (as in training: more than one stalls on a busy machine)."""
     if opponent not in POLICY_NAMES:
@@ -41,14 +42,18 @@ def race_rates(
 def _race_rates(policy: Any, level: Level, n_robots: int, opponent: str, races: int, seed: int, start: str) -> RaceRates:
     torch = _torch()
     batch = make_batch(level, n_robots, races, start, seed)
-    inputs = policy.inputs
     rng = np.random.default_rng(seed)
-    table = shortest_path_actions(batch.table) if opponent == "shortest" else None
+    shortest = shortest_path_actions(batch.table) if "shortest" in (opponent, policy) else None
     while not batch.over.all():
-        rows = inputs.rows(inputs.keys(batch.cells, batch.racing)[:, 0])
-        with torch.no_grad():
-            mine = policy.net.actor(torch.from_numpy(rows)).argmax(1).numpy()
-        others = rng.integers(0, 5, size=(races, n_robots - 1)) if table is None else table[batch.cells[:, 1:]]
+        if policy == "shortest":
+            mine = shortest[batch.cells[:, 0]]
+        elif policy == "random":
+            mine = rng.integers(0, 5, size=races)
+        else:
+            rows = policy.inputs.rows(policy.inputs.keys(batch.cells, batch.racing)[:, 0])
+            with torch.no_grad():
+                mine = policy.net.actor(torch.from_numpy(rows)).argmax(1).numpy()
+        others = rng.integers(0, 5, size=(races, n_robots - 1)) if opponent == "random" else shortest[batch.cells[:, 1:]]
         batch.step(np.concatenate([mine[:, None], others], axis=1))
     win = batch.rank[:, 0] == 1
     tie = win & (batch.rank[:, 1:] == 1).any(axis=1)
