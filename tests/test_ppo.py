@@ -14,6 +14,7 @@ from babyrobot_marl.training.policy import TrainedPolicy, load_policy, make_poli
 from babyrobot_marl.training.ppo import (  # noqa: E402
     Inputs,
     PPOConfig,
+    Samples,
     make_batch,
     make_inputs,
     make_net,
@@ -73,7 +74,7 @@ def test_the_hand_written_gradient_is_autograds_gradient_of_ppos_loss(k, n_in):
     expected = [p.grad.clone() for p in net.parameters()]
     ratio = torch.exp(torch.log_softmax(net.actor(rows), 1) - old_rows)[inv, act]
     assert ((ratio < 0.8) & (adv > 0)).any() and ((ratio > 1.2) & (adv < 0)).any() and ((ratio > 1.2) & (adv > 0)).any()
-    ppo_gradients(net, rows, inv, act, old_rows, adv, ret, cfg)
+    ppo_gradients(net, rows, old_rows, Samples.of(inv, act, adv, ret), cfg)
     for (name, p), want in zip(net.named_parameters(), expected):
         if name.endswith("first"):  # the padding row (a finished robot) is no input: it stays zero
             assert not p.grad[n_in].any()

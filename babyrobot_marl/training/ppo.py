@@ -45,7 +45,7 @@ import time
 from collections import deque
 from collections.abc import Callable, Iterator
 from dataclasses import asdict, dataclass, field, fields
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -405,20 +405,41 @@ def clip_grad_norm(grads: list[Any], max_norm: float) -> None:
     torch._foreach_mul_(grads, torch.clamp(max_norm / (total + 1e-6), max=1.0))
 
 
-def ppo_gradients(
-    net: Any, rows: Any, inv: Any, actions: Any, old_logp: Any, adv: Any, returns: Any, cfg: PPOConfig
-) -> None:
+class Samples(NamedTuple):
+    """Samples of an update as ``ppo_gradients`` reads them (torch tensors, one entry per sample)."""
+
+    inv: Any  # the sample's row (its input among the distinct ones)
+    pair: Any  # (row * 5 + action) * 2: where its advantage is summed
+    adv: Any  # its advantage
+    ret_one: Any  # (B, 2): its return, and 1 (summed per row: the row's returns and its count)
+
+    @classmethod
+    def of(cls, inv: Any, actions: Any, adv: Any, returns: Any) -> Samples:
+        torch = _torch()
+        return cls(inv, (inv * N_ACTIONS + actions) * 2, adv, torch.stack([returns, torch.ones_like(returns)], 1))
+
+    def actions(self) -> Any:
+        return self.pair // 2 - self.inv * N_ACTIONS
+
+    def part(self, index: Any) -> Samples:
+        """The samples at ``index`` (a slice, or a tensor of positions)."""
+        if isinstance(index, slice):
+            return Samples(*(x[index] for x in self))
+        return Samples(*(x.index_select(0, index) for x in self))
+
+
+def ppo_gradients(net: Any, rows: Any, old_logp: Any, samples: Samples, cfg: PPOConfig) -> None:
     """Set ``.grad`` of every parameter to the gradient of SB3's PPO loss on one minibatch.
 
     ``loss = -mean(min(A r, A clip(r, 1 - c, 1 + c))) - ent_coef * mean(entropy) + vf_coef * mean((v - R)^2)``
     with ``r = exp(logp - old_logp)`` and ``A`` the advantages, normalised over the minibatch.
-    The net runs once per distinct observation: ``rows`` (U, K), sample ``i`` being row ``inv[i]``
-    taking ``actions[i]``. ``old_logp`` (U, 5): the rollout policy's log-probabilities per row. A
-    sample's ratio depends only on its row and action, and which term the min picks only on the
-    sign of its advantage, so the samples' gradients are summed per (row, action, sign) first.
+    The net runs once per distinct observation: ``rows`` (U, K); ``old_logp`` (U, 5): the rollout
+    policy's log-probabilities per row. A sample's ratio depends only on its row and action, and
+    which term the min picks only on the sign of its advantage, so the samples' gradients are
+    summed per (row, action, sign) first.
     """
     torch = _torch()
-    B, U = actions.shape[0], rows.shape[0]
+    B, U = samples.adv.shape[0], rows.shape[0]
     c = cfg.clip_range
     with torch.no_grad():
         dense = dense_input(rows, net.n_in)
@@ -427,22 +448,22 @@ def ppo_gradients(
         logp_rows = log_softmax(z)
         p = torch.exp(logp_rows)
         entropy = -(p * logp_rows).sum(1, keepdim=True)
-        a = adv
+        a = samples.adv
         if cfg.normalize_advantage and B > 1:
-            a = (a - a.mean()) / (a.std() + 1e-8)
+            std, mean = torch.std_mean(a)
+            a = (a - mean) / (std + 1e-8)
         # sums of the advantages per (row, action): [.., 0] the samples with A <= 0, [.., 1] with A > 0
-        at = (inv * N_ACTIONS + actions) * 2 + (a > 0)
-        sums = torch.zeros(U * N_ACTIONS * 2, dtype=a.dtype).index_add_(0, at, a).view(U, N_ACTIONS, 2)
+        sums = torch.zeros(U * N_ACTIONS * 2, dtype=a.dtype).index_add_(0, samples.pair + (a > 0), a).view(U, N_ACTIONS, 2)
         ratio = torch.exp(logp_rows - old_logp)
         # the min picks the unclipped term (the one with a gradient) for A > 0 while r <= 1 + c, for A < 0 while r >= 1 - c
         g = sums[..., 1] * (ratio <= 1.0 + c) + sums[..., 0] * (ratio >= 1.0 - c)
         g *= ratio * (-1.0 / B)  # d loss / d logp, summed per (row, action)
+        # per row: the sum of its returns and its count
+        row_returns, count = torch.zeros(U, 2, dtype=a.dtype).index_add_(0, samples.inv, samples.ret_one).split(1, dim=1)
         # d logp_i / d z = onehot(a_i) - p;  d entropy / d z = -p (log p + entropy)
-        count = torch.bincount(inv, minlength=U).to(z.dtype)[:, None]
         dz = g - g.sum(1, keepdim=True) * p
         dz += (cfg.ent_coef / B) * count * p * (logp_rows + entropy)
         # d value loss / d v = 2 vf_coef / B * (v - R), summed per row: count * v - the row's returns
-        row_returns = torch.zeros(U, 1, dtype=a.dtype).index_add_(0, inv, returns[:, None])
         dv = (count * v_rows).sub_(row_returns).mul_(2.0 * cfg.vf_coef / B)
         net.actor.backward(rows, actor_acts, dz, dense)
         net.critic.backward(rows, critic_acts, dv, dense)
@@ -571,7 +592,7 @@ def train_ppo(
     batch = make_batch(level, n, cfg.n_envs, cfg.start, seed, **(env_kwargs or {}))
     inputs = make_inputs(level, n, cfg.near_radius)
     E, T = cfg.n_envs, cfg.n_steps
-    rng = np.random.default_rng(seed)  # actions and minibatch order
+    rng = np.random.default_rng(seed)  # actions
 
     with torch_threads(cfg.threads), _deterministic(seed):
         net = make_net(inputs.n_in, cfg.net_arch)
@@ -586,6 +607,7 @@ def train_ppo(
         params = list(net.parameters())
         optim = torch.optim.Adam(params, lr=cfg.learning_rate, eps=1e-5, fused=True)  # one kernel for all
         result = TrainResult(net, level, n, cfg, seed)
+        order_gen = torch.Generator().manual_seed(seed)  # minibatch order
 
         # rollout storage: (T, E, R) per robot-step; an observation is its key (Inputs)
         key_buf = np.zeros((T, E, n), dtype=np.int64)
@@ -667,21 +689,19 @@ def train_ppo(
             b_ret = torch.from_numpy(returns[keep].reshape(-1).astype(np.float32))
             with torch.no_grad():  # the rollout's policy, per row (the weights have not changed yet)
                 old_logp = log_softmax(net.actor(rows))
-            samples = (b_inv, b_act, b_adv, b_ret)
+            samples = Samples.of(b_inv, b_act, b_adv, b_ret)
             size = b_act.shape[0]
             for _ in range(cfg.n_epochs):
-                if size > cfg.batch_size:  # shuffled once per epoch, minibatches are then slices
-                    order = torch.from_numpy(rng.permutation(size))
-                    shuffled = [x.index_select(0, order) for x in samples]
-                else:  # one minibatch holds the rollout: its order changes nothing
-                    shuffled = list(samples)
+                # shuffled once per epoch, minibatches are then slices; one minibatch: order changes nothing
+                shuffled = samples.part(torch.randperm(size, generator=order_gen)) if size > cfg.batch_size else samples
                 for start in range(0, size, cfg.batch_size):
-                    mb_inv, mb_act, mb_adv, mb_ret = (x[start : start + cfg.batch_size] for x in shuffled)
+                    mb = shuffled.part(slice(start, start + cfg.batch_size))
                     mb_rows, mb_old = rows, old_logp
-                    if rows.shape[0] > mb_inv.shape[0]:  # more inputs than samples: only the minibatch's
-                        present, mb_inv = torch.unique(mb_inv, return_inverse=True)
+                    if rows.shape[0] > mb.inv.shape[0]:  # more inputs than samples: only the minibatch's
+                        present, inv = torch.unique(mb.inv, return_inverse=True)
                         mb_rows, mb_old = rows[present], old_logp[present]
-                    ppo_gradients(net, mb_rows, mb_inv, mb_act, mb_old, mb_adv, mb_ret, cfg)
+                        mb = Samples.of(inv, mb.actions(), mb.adv, mb.ret_one[:, 0])
+                    ppo_gradients(net, mb_rows, mb_old, mb, cfg)
                     clip_grad_norm(grads_of(params), cfg.max_grad_norm)
                     optim.step()
 
