@@ -218,8 +218,11 @@ def test_training_runs_on_the_threads_it_is_given_and_restores_torchs_setting():
 @pytest.mark.parametrize(("change", "message"), [
     ({"n_envs": 0}, "n_envs: must be an integer >= 1"),
     ({"batch_size": 2.5}, "batch_size: must be an integer >= 1"),
-    ({"gamma": 1.5}, r"gamma: must be a number in \[0, 1\]"),
-    ({"learning_rate": -1.0}, "learning_rate: must be a number > 0"),
+    ({"gamma": 1.5}, r"gamma: must be a finite number in \[0, 1\]"),
+    ({"learning_rate": -1.0}, r"learning_rate: must be a finite number in \[0, inf\]"),
+    ({"learning_rate": 0}, "learning_rate: must be a finite number > 0"),
+    ({"learning_rate": 10**400}, "learning_rate: must be a finite number"),
+    ({"n_envs": np.int64(0)}, "n_envs: must be an integer >= 1"),
     ({"net_arch": (64, 0)}, "net_arch: must be an integer >= 1"),
     ({"start": "corner"}, "start: must be one of 'random', 'level'"),
     ({"threads": True}, "threads: must be an integer >= 1"),

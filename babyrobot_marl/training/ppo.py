@@ -49,6 +49,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from ..checks import check_int, check_real
 from ..core.actions import N_ACTIONS
 from ..core.batch import BatchRace
 from ..core.level import Level
@@ -93,26 +94,21 @@ class PPOConfig:
 
     def __post_init__(self) -> None:
         for name in ("n_envs", "n_steps", "batch_size", "n_epochs", "eval_episodes"):
-            _check_int(getattr(self, name), name, 1)
-        _check_int(self.eval_every, "eval_every", 0)
-        _check_int(self.near_radius, "near_radius", 0)
+            check_int(getattr(self, name), name, 1)
+        check_int(self.eval_every, "eval_every", 0)
+        check_int(self.near_radius, "near_radius", 0)
         if self.threads is not None:
-            _check_int(self.threads, "threads", 1)
-        for name, low, high in (("gamma", 0.0, 1.0), ("gae_lambda", 0.0, 1.0)):
-            v = getattr(self, name)
-            if not isinstance(v, (int, float)) or isinstance(v, bool) or not low <= v <= high:
-                raise ValueError(f"{name}: must be a number in [{low:g}, {high:g}], got {v!r}")
+            check_int(self.threads, "threads", 1)
+        for name in ("gamma", "gae_lambda"):
+            check_real(getattr(self, name), name, 0, 1)
         for name in ("learning_rate", "clip_range", "max_grad_norm"):
-            v = getattr(self, name)
-            if not isinstance(v, (int, float)) or isinstance(v, bool) or not 0.0 < v < math.inf:
-                raise ValueError(f"{name}: must be a number > 0, got {v!r}")
+            if check_real(getattr(self, name), name, 0) == 0:
+                raise ValueError(f"{name}: must be a finite number > 0, got 0")
         for name in ("ent_coef", "vf_coef"):
-            v = getattr(self, name)
-            if not isinstance(v, (int, float)) or isinstance(v, bool) or not 0.0 <= v < math.inf:
-                raise ValueError(f"{name}: must be a number >= 0, got {v!r}")
+            check_real(getattr(self, name), name, 0)
         arch = tuple(self.net_arch)
         for h in arch:
-            _check_int(h, "net_arch", 1)
+            check_int(h, "net_arch", 1)
         object.__setattr__(self, "net_arch", arch)
         if self.start not in START_CHOICES:
             raise ValueError(f"start: must be one of {', '.join(map(repr, START_CHOICES))}, got {self.start!r}")
@@ -129,12 +125,6 @@ def _known_settings(changes: dict[str, Any], caller: str) -> dict[str, Any]:
         names = ", ".join(sorted(known))
         raise TypeError(f"{caller}() got an unexpected keyword argument {unknown[0]!r}; PPO settings are: {names}")
     return changes
-
-
-def _check_int(value: object, name: str, minimum: int) -> int:
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)) or value < minimum:
-        raise ValueError(f"{name}: must be an integer >= {minimum}, got {value!r}")
-    return int(value)
 
 
 # ---------------------------------------------------------------------------- observations
@@ -586,9 +576,9 @@ def train_ppo(
     if overrides:
         cfg = cfg.replace(**_known_settings(overrides, "train_ppo"))
     level = resolve_level(level)
-    n = _check_int(n_robots, "n_robots", 1)
-    total = _check_int(timesteps, "timesteps", 1)
-    _check_int(seed, "seed", 0)
+    n = check_int(n_robots, "n_robots", 1)
+    total = check_int(timesteps, "timesteps", 1)
+    check_int(seed, "seed", 0)
     batch = make_batch(level, n, cfg.n_envs, cfg.start, seed, **(env_kwargs or {}))
     inputs = make_inputs(level, n, cfg.near_radius)
     E, T = cfg.n_envs, cfg.n_steps

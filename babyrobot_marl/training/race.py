@@ -31,6 +31,7 @@ from typing import Any
 import numpy as np
 
 from .. import policies
+from ..checks import check_int
 from ..core.level import Level
 from ..envs.race import RaceEnv
 from .deps import require_train
@@ -127,8 +128,7 @@ def train_race(
     while training (default 1: more stall for minutes on a busy machine; None: torch's setting)."""
     from .ppo import torch_threads
 
-    if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 1:
-        raise ValueError(f"steps: must be an integer >= 1, got {steps!r}")
+    check_int(steps, "steps", 1)
     venv = make_race_vec_env(level, n_robots, n_envs, seed, backend, **{"start": "random", **(race_kwargs or {})})
     with torch_threads(threads):
         agent = make_algo("ppo", venv, seed, **{**RACE_PPO_KWARGS, **ppo_kwargs})

@@ -11,6 +11,7 @@ from typing import Any
 
 import numpy as np
 
+from ..checks import check_int
 from ..core.level import Level
 from ..envs.single import BabyRobotEnv
 from ..planning import model, value_iteration
@@ -112,8 +113,7 @@ def train_single(
     from ..envs.vector import sb3_vec_env
     from .ppo import torch_threads
 
-    if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 1:
-        raise ValueError(f"steps: must be an integer >= 1, got {steps!r}")
+    check_int(steps, "steps", 1)
     if features not in FEATURES:
         raise ValueError(f"features: must be one of {', '.join(map(repr, FEATURES))}, got {features!r}")
     venv = sb3_vec_env(level, n_envs=1 if algo == "dqn" else n_envs, **(env_kwargs or {}))

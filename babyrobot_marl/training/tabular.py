@@ -16,6 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..checks import check_int
 from ..core.actions import N_ACTIONS
 from ..envs.single import BabyRobotEnv
 
@@ -52,8 +53,7 @@ def _td_control(
     env = getattr(env, "unwrapped", env)
     if not isinstance(env, BabyRobotEnv):
         raise TypeError(f"env: expected a BabyRobotEnv (or a wrapper of one), got {type(env).__name__}")
-    if isinstance(episodes, bool) or not isinstance(episodes, (int, np.integer)) or episodes < 1:
-        raise ValueError(f"episodes: must be an integer >= 1, got {episodes!r}")
+    check_int(episodes, "episodes", 1)
     if not 0.0 < gamma <= 1.0:
         raise ValueError(f"gamma: must be a number in (0, 1], got {gamma!r}")
     if not 0.0 <= epsilon <= 1.0:
