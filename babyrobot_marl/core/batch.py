@@ -166,7 +166,9 @@ class BatchRace:
         self._robot_counts = np.arange(n, dtype=np.uint64) * np.uint64(SLOTS)
         w = table.width
         self.observer = observer  # None: the "global" rows below
-        self._recycler = Recycler()  # "global" observations of many robots: 96 MB a step at 4 x 1,000
+        self._obs_shape = (e, n, 3 * n - 1)
+        recycler = Recycler()  # "global" observations of many robots: 96 MB a step at 4 x 1,000
+        self._recycler = recycler if observer is None and n > 1 and recycler.recycles(self._obs_shape) else None
         ids = np.arange(table.n_cells)
         self._xyf = np.stack([ids % w, ids // w, np.zeros_like(ids)], axis=1).astype(np.int64)
         self._xy = np.ascontiguousarray(self._xyf[:, :2])
@@ -281,7 +283,6 @@ class BatchRace:
             return self.observer(self.cells, self.racing)
         if self.n_robots == 1:  # [x, y] alone
             return self._xy.take(self.cells, axis=0)
-        e, n = self.cells.shape
         xyf = self._xyf.take(self.cells, axis=0)  # (E, R, 3): [x, y, 0]
         xyf[:, :, 2] = ~self.racing
-        return global_observations(xyf, self._recycler.empty((e, n, 3 * n - 1)))
+        return global_observations(xyf, None if self._recycler is None else self._recycler.empty(self._obs_shape))
