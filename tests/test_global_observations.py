@@ -4,6 +4,8 @@ gather they replace, and an array a caller keeps is never written again."""
 
 from __future__ import annotations
 
+import pickle
+
 import numpy as np
 import pytest
 
@@ -203,3 +205,18 @@ def test_at_the_real_threshold_the_batch_recycles_and_kept_arrays_survive():
         addresses.add(batch.observations().ctypes.data)  # dropped at once
     assert np.array_equal(kept, copy) and kept.ctypes.data not in addresses
     assert len(addresses) == 1
+
+
+def test_a_pickled_batch_carries_no_spare_arrays_and_still_recycles(recycle_all):
+    batch = race_v0.parallel_env(level="maze-16x16", n_robots=30, start="random").batch(2)
+    batch.seed([0, 1])
+    batch.reset_envs([0, 1])
+    batch.observations()
+    assert len(batch._recycler._held) == 1
+    copy = pickle.loads(pickle.dumps(batch))
+    assert copy._recycler._held == []
+    first = copy.observations()
+    address = first.ctypes.data
+    np.testing.assert_array_equal(first, batch.observations())
+    del first
+    assert copy.observations().ctypes.data == address

@@ -112,6 +112,12 @@ class Recycler:
         probe = [np.empty(1)]
         self._alone = sys.getrefcount(probe[0]) if self._on else -1  # the count of an array held by _held alone
 
+    def __getstate__(self) -> dict[str, int]:
+        return {"keep": self.keep}  # a pickled env carries no spare arrays (96 MB each at 4 x 1,000)
+
+    def __setstate__(self, state: dict[str, int]) -> None:
+        self.__init__(state["keep"])  # reference counts are the unpickling interpreter's
+
     def recycles(self, shape: tuple[int, ...], dtype: type = np.int64) -> bool:
         """Whether arrays of ``shape`` are recycled (else ``empty`` is ``np.empty``)."""
         return self._on and math.prod(shape) * np.dtype(dtype).itemsize >= self.RECYCLE_FROM
