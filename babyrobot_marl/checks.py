@@ -14,6 +14,8 @@ The limits below are checked before anything large is allocated; README "Limits"
 ``check_level_size``     ``width * height <= MAX_LEVEL_CELLS``
 ``check_dense_states``   the dense model ``P[s, a, s']`` within ``MAX_DENSE_STATES``
 ``check_frame_pixels``   an image within ``MAX_FRAME_PIXELS``; ``max_cell_size`` the largest cell that fits
+``check_batch``          a batch engine (vector env) within ``MAX_BATCH_ENVS``, ``MAX_BATCH_ROBOTS``, ``MAX_BATCH_OBS``
+``MAX_RACES``            races of one ``babyrobot-marl race --races N`` run
 ``shown``                a short ``repr`` for error messages (never a huge input in full)
 =======================  ==================================================================
 """
@@ -30,6 +32,10 @@ MAX_LEVEL_CELLS = 65_536  # width * height: a 256x256 maze, or a one-row corrido
 MAX_LEVEL_TEXT_CHARS = 2 * 1024 * 1024  # a level text (or file, in bytes): the largest level takes under 700 kB, CRLF included
 MAX_DENSE_STATES = 2_500  # planning's dense P[s, a, s']: 5 * S * S floats, 250 MB at 2,500 states (50x50)
 MAX_FRAME_PIXELS = 4096 * 4096  # an rgb_array frame (48 MB of RGB): a 256x256 maze at 16-pixel cells, as render.rgb
+MAX_BATCH_ENVS = 65_536  # envs of one batch engine / vector env: each has its own generator (~1 kB, ~60 us to make)
+MAX_BATCH_ROBOTS = 1 << 20  # n_envs * n_robots: about 100 bytes of arrays per robot and step
+MAX_BATCH_OBS = 1 << 28  # numbers in one step's observations of a batch: 2 GiB of int64
+MAX_RACES = 100_000  # races of one `race --races N`: run one after another, each kept for the table
 
 
 def check_int(value: object, name: str, lo: int | None = None, hi: int | None = None) -> int:
@@ -108,6 +114,28 @@ def check_frame_pixels(width: int, height: int, what: str = "cell_size", hint: s
         raise ValueError(
             f"{what}: the frame would be {width}x{height} = {width * height:,} pixels, more than the limit of "
             f"{MAX_FRAME_PIXELS:,} ({3 * MAX_FRAME_PIXELS // 10**6} MB of RGB); {hint}"
+        )
+
+
+def check_batch(n_envs: int, n_robots: int, obs_size: int, what: str = "n_envs") -> None:
+    """A batch of ``n_envs`` races of ``n_robots``, observations of ``obs_size`` numbers a robot, is
+    within the limits (checked before anything per env exists); ``what`` names the env count argument."""
+    if n_envs > MAX_BATCH_ENVS:
+        raise ValueError(
+            f"{what}: a batch holds at most {MAX_BATCH_ENVS:,} envs (each keeps its own random generator), "
+            f"got {n_envs:,}; step several batches instead"
+        )
+    if n_envs * n_robots > MAX_BATCH_ROBOTS:
+        raise ValueError(
+            f"{what}, n_robots: a batch holds at most {MAX_BATCH_ROBOTS:,} robots in all (n_envs * n_robots), "
+            f"got {n_envs:,} x {n_robots:,} = {n_envs * n_robots:,}; use fewer envs or robots"
+        )
+    numbers = n_envs * n_robots * obs_size
+    if numbers > MAX_BATCH_OBS:
+        raise ValueError(
+            f"{what}, n_robots: one step's observations would be {n_envs:,} x {n_robots:,} x {obs_size:,} = {numbers:,} "
+            f"numbers ({8 * numbers / 2**30:,.1f} GiB), more than the limit of {MAX_BATCH_OBS:,} (2 GiB of int64); "
+            "use fewer envs or robots, or observe='local' or 'nearest' (rows that do not grow with the robots)"
         )
 
 

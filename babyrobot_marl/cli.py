@@ -43,6 +43,7 @@ from .cli_args import (
     positive_float,
     positive_int,
     probability,
+    race_count,
     seconds,
 )
 from .core.actions import Action
@@ -273,7 +274,7 @@ def _add_race_parser(sub: argparse._SubParsersAction) -> None:
     _add_seed_arg(p)
     p.add_argument("--max-cycles", type=_positive_int, default=None, metavar="N", help="truncate the race after N steps")
     p.add_argument("--human", type=_non_negative_int, default=None, metavar="N", help="drive robot N yourself (arrow keys)")
-    p.add_argument("--races", type=_positive_int, default=None, metavar="N", help="run N seeded races; print metrics, no frames")
+    p.add_argument("--races", type=race_count, default=None, metavar="N", help="run N seeded races; print metrics, no frames")
     _add_display_args(p)
     p.set_defaults(func=_cmd_race)
 

@@ -10,7 +10,7 @@ import math
 from collections.abc import Callable
 
 from . import policies
-from .checks import shown
+from .checks import MAX_RACES, shown
 from .training.policy import is_policy_spec
 
 
@@ -31,6 +31,25 @@ def int_at_least(minimum: int) -> Callable[[str], int]:
 
 non_negative_int = int_at_least(0)
 positive_int = int_at_least(1)
+
+
+def int_in(minimum: int, maximum: int, why: str = "") -> Callable[[str], int]:
+    """An argparse type: an integer in ``minimum..maximum``; ``why`` says where the maximum comes from."""
+
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:  # not an integer, or more than Python's 4,300 digits
+            value = minimum - 1
+        if not minimum <= value <= maximum:
+            raise argparse.ArgumentTypeError(f"must be an integer in {minimum}..{maximum:,}{why}, got {shown(text)}")
+        return value
+
+    return parse
+
+
+# `race --races N`: every race is kept for the metrics table, one after another
+race_count = int_in(1, MAX_RACES, " (races run one after another: split a larger experiment into seeded runs)")
 
 
 def _number(text: str) -> float:

@@ -160,3 +160,18 @@ def test_a_policy_name_too_long_for_a_path_is_an_unknown_policy_not_a_traceback(
     assert run(argv) == 2
     err = capsys.readouterr().err
     assert "Traceback" not in err and "policy" in err and len(err.strip().splitlines()) == 1
+
+
+@pytest.mark.parametrize("races", ["100001", "99999999999999999999", "0", "1e3"])
+def test_races_past_the_limit_or_not_a_count_are_one_error_line_naming_the_limit(races, capsys):
+    assert run(["race", "--races", races, "--no-delay"]) == 2
+    err = capsys.readouterr().err
+    assert "Traceback" not in err and err.count("\n") == 1
+    assert err.startswith("babyrobot-marl race: error: argument --races: must be an integer in 1..100,000"), err
+
+
+def test_races_at_the_limit_are_accepted_by_the_argument_parser():
+    from babyrobot_marl.checks import MAX_RACES
+    from babyrobot_marl.cli_args import race_count
+
+    assert race_count(str(MAX_RACES)) == MAX_RACES == 100_000

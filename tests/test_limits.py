@@ -7,7 +7,7 @@ import tracemalloc
 
 import pytest
 
-from babyrobot_marl import Level, levels
+from babyrobot_marl import Level, levels, race_v0
 from babyrobot_marl.checks import MAX_DENSE_STATES, MAX_LEVEL_CELLS, MAX_LEVEL_TEXT_CHARS, check_frame_pixels, max_cell_size
 from babyrobot_marl.core.rules import Rules
 from babyrobot_marl.envs.common import resolve_level
@@ -164,3 +164,44 @@ def test_a_custom_reward_too_large_for_a_float_is_a_value_error_naming_rewards()
     with pytest.raises(ValueError, match="^rewards: a reward must be a finite number"):
         level.with_rewards({(0, 0): -(10**400)})
     assert level.with_rewards({(0, 0): 10**300}).reward_map() == {(0, 0): 1e300}  # a big int that fits a float
+
+
+# ------------------------------------------------------------------------ batch engine and vector envs
+def test_a_vector_env_of_a_billion_envs_is_refused_by_name_before_anything_per_env_exists():
+    from babyrobot_marl.checks import MAX_BATCH_ENVS
+    from babyrobot_marl.envs.vector import BabyRobotVectorEnv, RaceVectorEnv
+
+    for make, name in ((RaceVectorEnv, "n_envs"), (BabyRobotVectorEnv, "num_envs")):
+        with pytest.raises(ValueError, match=rf"^{name}: a batch holds at most {MAX_BATCH_ENVS:,} envs") as err:
+            make(10**9)
+        assert "got 1,000,000,000" in str(err.value)
+        assert peak_bytes(lambda make=make: pytest.raises(ValueError, make, 10**9)) < 2**20  # refused before the env is built
+
+
+def test_the_batch_engine_itself_refuses_too_many_envs_and_non_integers():
+    env = race_v0.parallel_env(level="race-4", n_robots=2)
+    with pytest.raises(ValueError, match="n_envs: a batch holds at most"):
+        env.batch(10**9)
+    for bad in (0, 2.0, True, "4"):
+        with pytest.raises(ValueError, match="n_envs: must be an integer >= 1"):
+            env.batch(bad)
+
+
+def test_too_many_robots_in_all_are_refused_naming_both_counts():
+    from babyrobot_marl.envs.vector import RaceVectorEnv
+
+    with pytest.raises(ValueError, match=r"n_envs, n_robots: a batch holds at most 1,048,576 robots .* 4,096 x 1,000"):
+        RaceVectorEnv(4096, level="maze-64x64", n_robots=1000, start="random", observe="local")
+
+
+def test_global_observations_past_the_step_limit_are_refused_before_the_race_is_built():
+    """64 envs x 3,000 robots of "global" rows: 575 million numbers (4.3 GiB) a step; local views fit."""
+    from babyrobot_marl.envs.vector import RaceVectorEnv
+
+    too_many = dict(level="maze-64x64", n_robots=3000, start="random")
+    with pytest.raises(ValueError, match=r"one step's observations would be 64 x 3,000 x 8,999 .* observe='local' or 'nearest'"):
+        RaceVectorEnv(64, **too_many)
+    # refused before the race env builds its 3,000 x 8,999 gather index (216 MB)
+    assert peak_bytes(lambda: pytest.raises(ValueError, RaceVectorEnv, 64, **too_many)) < 2**20
+    vec = RaceVectorEnv(64, level="maze-64x64", n_robots=3000, start="random", observe="local", view_radius=1)
+    assert vec.num_envs == 64 * 3000

@@ -186,7 +186,22 @@ def test_win_rate_tells_good_from_bad_drivers():
     assert win_rate(shortest, config, "random", races=20, seed=4) == win_rate(shortest, config, "random", races=20, seed=4)
 
 
-@pytest.mark.parametrize(("kwargs", "words"), [({"opponent": "smart"}, "opponent"), ({"races": 0}, "races")])
+@pytest.mark.parametrize(
+    ("kwargs", "words"),
+    [
+        ({"opponent": "smart"}, "opponent"),
+        ({"races": 0}, "races"),
+        ({"races": 2.0}, "races: must be an integer >= 1"),
+        ({"seed": -1}, "seed: must be an integer >= 0"),
+        ({"seed": "0"}, "seed: must be an integer >= 0"),
+        ({"seed": 1.5}, "seed: must be an integer >= 0"),
+    ],
+)
 def test_win_rate_bad_arguments(kwargs, words):
     with pytest.raises(ValueError, match=words):
         win_rate(lambda obs: 0, **kwargs)
+
+
+def test_win_rate_takes_numpy_integer_counts():
+    config = {"level": "race-4", "n_robots": 4, "max_cycles": 30}
+    assert win_rate(lambda obs: 0, config, "random", races=np.int64(2), seed=np.int64(1)) == 0.0

@@ -139,9 +139,20 @@ def test_seeded_env_runners_repeat_and_differ(ray_local):
         ({"shared": "yes"}, TypeError, "shared"),
         ({"num_env_runners": -1}, ValueError, "num_env_runners"),
         ({"seed": -3}, ValueError, "seed"),
+        ({"seed": 2.0}, ValueError, "seed: must be an integer >= 0"),
+        ({"num_env_runners": 1.0}, ValueError, "num_env_runners: must be an integer >= 0"),
+        ({"hiddens": (64, 0)}, ValueError, "hiddens: must be an integer >= 1"),
+        ({"hiddens": (64, 1.5)}, ValueError, "hiddens: must be an integer >= 1"),
+        ({"hiddens": "64"}, ValueError, "hiddens: expected a tuple of layer widths"),
         ({"env_config": {"level": "nope"}}, ValueError, "level"),
     ],
 )
 def test_bad_config_arguments_are_clear_errors(kwargs, error, words):
     with pytest.raises(error, match=words):
         race_config(**kwargs)
+
+
+def test_numpy_integer_counts_are_accepted_as_everywhere_else():
+    """One rule for integer arguments (checks.check_int): numpy integers count as integers."""
+    config = race_config(RACE, num_env_runners=np.int64(0), seed=np.int32(3), hiddens=(np.int64(16),))
+    assert config.num_env_runners == 0 and config.seed == 3

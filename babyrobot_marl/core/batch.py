@@ -18,9 +18,10 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from ..checks import check_batch, check_int
 from .actions import N_ACTIONS
 from .engine import move_array, move_drawn
-from .observe import Observer, global_gather
+from .observe import Observer, Recycler, global_observations
 from .rng import SLOT_PRIORITY, SLOTS, uniform_array
 from .table import Table
 
@@ -143,6 +144,9 @@ class BatchRace:
     ):
         if start not in START_MODES:
             raise ValueError(f"start: must be one of {START_MODES}, got {start!r}")
+        n_envs, n_robots = check_int(n_envs, "n_envs", lo=1), check_int(n_robots, "n_robots", lo=1)
+        obs_size = observer.nvec.size if observer is not None else 3 * n_robots - 1 if n_robots > 1 else 2
+        check_batch(n_envs, n_robots, obs_size)  # before anything per env or robot exists
         self.table = table
         self.n_envs, self.n_robots, self.max_steps = n_envs, n_robots, max_steps
         self.fixed = np.asarray(fixed_starts, dtype=np.int64)
@@ -162,8 +166,9 @@ class BatchRace:
         self._robot_counts = np.arange(n, dtype=np.uint64) * np.uint64(SLOTS)
         w = table.width
         self.observer = observer  # None: the "global" rows below
-        # observation of robot i: its [x, y], then [x, y, finished] of robots i+1, ..., i-1
-        self.gather = global_gather(n if observer is None and n < 64 else 0)  # many robots: windows instead
+        self._obs_shape = (e, n, 3 * n - 1)
+        recycler = Recycler()  # "global" observations of many robots: 96 MB a step at 4 x 1,000
+        self._recycler = recycler if observer is None and n > 1 and recycler.recycles(self._obs_shape) else None
         ids = np.arange(table.n_cells)
         self._xyf = np.stack([ids % w, ids // w, np.zeros_like(ids)], axis=1).astype(np.int64)
         self._xy = np.ascontiguousarray(self._xyf[:, :2])
@@ -272,20 +277,12 @@ class BatchRace:
 
     def observations(self) -> np.ndarray:
         """``(n_envs, n_robots, 2 + 3 * (n_robots - 1))`` int64, as ``race_v0`` (``[x, y]`` for one robot);
-        with an ``observer``, its rows."""
+        with an ``observer``, its rows. A new array each step, or one of the last two steps' arrays
+        that the caller no longer holds (``observe.Recycler``, past 32 MB): never one the caller keeps."""
         if self.observer is not None:
             return self.observer(self.cells, self.racing)
         if self.n_robots == 1:  # [x, y] alone
             return self._xy.take(self.cells, axis=0)
-        e, n = self.cells.shape
-        flat = self._xyf.take(self.cells, axis=0)  # (E, R, 3): [x, y, 0]
-        flat[:, :, 2] = ~self.racing
-        if n < 64:
-            return flat.reshape(e, -1).take(self.gather, axis=1)
-        # many robots: robot i's others are the flat state twice over, from robot i+1 on, for
-        # n-1 robots: windows of one array, copied once (no n x 3n index array to read)
-        twice = np.concatenate([flat, flat], axis=1).reshape(e, -1)
-        out = np.empty((e, n, 3 * n - 1), dtype=np.int64)
-        out[:, :, :2] = flat[:, :, :2]
-        out[:, :, 2:] = np.lib.stride_tricks.sliding_window_view(twice, 3 * (n - 1), axis=1)[:, 3 : 3 * n + 1 : 3]
-        return out
+        xyf = self._xyf.take(self.cells, axis=0)  # (E, R, 3): [x, y, 0]
+        xyf[:, :, 2] = ~self.racing
+        return global_observations(xyf, None if self._recycler is None else self._recycler.empty(self._obs_shape))

@@ -46,7 +46,7 @@ from .common import (
 from .race import RaceEnv
 from .single import BabyRobotEnv
 from .starts import check_cells
-from .vector_args import RACE_ARGS, SINGLE_ARGS, check_actions, mask_envs, restart, seed_envs, seed_list
+from .vector_args import RACE_ARGS, SINGLE_ARGS, check_actions, check_envs, mask_envs, restart, seed_envs, seed_list
 
 if TYPE_CHECKING:
     from stable_baselines3.common.vec_env import VecEnv
@@ -274,7 +274,7 @@ class BabyRobotVectorEnv(_BatchVectorEnv):
         **rule_overrides: Any,
     ):
         known_args("BabyRobotVectorEnv", rule_overrides, SINGLE_ARGS)
-        n = check_positive_int(num_envs, "num_envs")
+        n = check_envs(num_envs, "num_envs")
         ref = BabyRobotEnv(
             level=level,
             rules=rules,
@@ -379,7 +379,7 @@ class RaceVectorEnv(_BatchVectorEnv):
         if rule_overrides.pop("finished", "freeze") != "freeze":
             raise ValueError("finished: a vector race keeps finished robots parked until the race ends ('freeze')")
         known_args("RaceVectorEnv", rule_overrides, RACE_ARGS)
-        n = check_positive_int(n_envs, "n_envs")
+        n = check_envs(n_envs, "n_envs", n_robots, rule_overrides.get("observe", "global"))
         ref = RaceEnv(
             level=level,
             n_robots=n_robots,

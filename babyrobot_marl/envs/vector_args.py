@@ -8,9 +8,23 @@ from typing import Any
 
 import numpy as np
 
+from ..checks import check_batch, check_int
 from ..core.actions import N_ACTIONS
 from ..core.batch import BatchRace
 from .common import ACTION_HELP, check_seed
+
+
+def check_envs(n_envs: object, what: str, n_robots: object = 1, observe: object = "global") -> int:
+    """A vector env's env count, checked against the batch limits (``checks.check_batch``) before
+    any env exists: the "global" rows' size follows from ``n_robots`` alone (the batch engine
+    checks the other modes' once their observer is built)."""
+    n = check_int(n_envs, what, lo=1)
+    try:
+        robots = check_int(n_robots, "n_robots", lo=1)
+    except ValueError:
+        robots = 1  # the race env names a bad n_robots itself
+    check_batch(n, robots, 3 * robots - 1 if observe == "global" and robots > 1 else 2, what)
+    return n
 
 
 def check_actions(actions: Any, n_envs: int, n_robots: int) -> np.ndarray:

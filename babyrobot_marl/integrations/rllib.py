@@ -39,6 +39,7 @@ except ImportError as e:  # pragma: no cover - depends on the install
         "babyrobot_marl.integrations.rllib needs Ray RLlib: pip install torch==2.13.0 && pip install -e '.[rllib]'"
     ) from e
 
+from ..checks import check_int, shown
 from ..envs.race import RaceEnv
 
 ENV_NAME = "babyrobot_marl_race"
@@ -97,8 +98,7 @@ class RaceMultiAgentEnv(MultiAgentEnv):
 
     def reset(self, *, seed: int | None = None, options: dict | None = None):
         if seed is not None:
-            if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
-                raise ValueError(f"seed: must be None or an integer >= 0, got {seed!r}")
+            seed = check_int(seed, "seed", lo=0)
             # one stream per (seed, env runner): RLlib's seed + runner + sub-env sums overlap
             seed = int(np.random.SeedSequence([int(seed), self.worker_index]).generate_state(1, np.uint64)[0])
         obs, infos = self.race.reset(seed=seed, options=options)
@@ -168,16 +168,18 @@ def race_config(
     (one CPU each). ``seed`` seeds the envs (per runner, see the module docstring) and torch.
     Change anything else on the returned config (``.training(...)``, ``.env_runners(...)``).
     """
+    if not isinstance(shared, bool):
+        raise TypeError(f"shared: expected True (one shared policy) or False (one per robot), got {shared!r}")
+    num_env_runners = check_int(num_env_runners, "num_env_runners", lo=0)
+    seed = None if seed is None else check_int(seed, "seed", lo=0)
+    if isinstance(hiddens, (str, bytes)) or not isinstance(hiddens, (tuple, list)):
+        raise ValueError(f"hiddens: expected a tuple of layer widths such as (64, 64), got {shown(hiddens)}")
+    hiddens = tuple(check_int(h, "hiddens", lo=1) for h in hiddens)  # layer widths: counts of units
+
     from ray.rllib.core.rl_module.default_model_config import DefaultModelConfig
     from ray.rllib.core.rl_module.multi_rl_module import MultiRLModuleSpec
     from ray.rllib.core.rl_module.rl_module import RLModuleSpec
 
-    if not isinstance(shared, bool):
-        raise TypeError(f"shared: expected True (one shared policy) or False (one per robot), got {shared!r}")
-    if isinstance(num_env_runners, bool) or not isinstance(num_env_runners, int) or num_env_runners < 0:
-        raise ValueError(f"num_env_runners: must be an integer >= 0, got {num_env_runners!r}")
-    if seed is not None and (isinstance(seed, bool) or not isinstance(seed, int) or seed < 0):
-        raise ValueError(f"seed: must be None or an integer >= 0, got {seed!r}")
     env_config = dict(env_config or {})
     probe = RaceMultiAgentEnv(env_config)  # bad race arguments fail here, in the driver
     agents = probe.possible_agents
@@ -252,8 +254,7 @@ def win_rate(
 
     if opponent not in POLICY_NAMES:
         raise ValueError(f"opponent: must be one of {', '.join(map(repr, POLICY_NAMES))}, got {opponent!r}")
-    if isinstance(races, bool) or not isinstance(races, int) or races < 1:
-        raise ValueError(f"races: must be an integer >= 1, got {races!r}")
+    races, seed = check_int(races, "races", lo=1), check_int(seed, "seed", lo=0)
     race = RaceEnv(**{**dict(env_config or {}), "finished": "remove"})
     rng = np.random.default_rng(seed)
     others = {a: make(opponent, race.table, seed=rng) for a in race.possible_agents[1:]}
