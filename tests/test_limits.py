@@ -4,6 +4,7 @@ edges of issue 15: whitespace lines, CR line ends, rewards too large for a float
 from __future__ import annotations
 
 import tracemalloc
+from functools import partial
 
 import pytest
 
@@ -205,3 +206,13 @@ def test_global_observations_past_the_step_limit_are_refused_before_the_race_is_
     assert peak_bytes(lambda: pytest.raises(ValueError, RaceVectorEnv, 64, **too_many)) < 2**20
     vec = RaceVectorEnv(64, level="maze-64x64", n_robots=3000, start="random", observe="local", view_radius=1)
     assert vec.num_envs == 64 * 3000
+
+
+def test_a_single_race_with_a_global_view_past_the_step_limit_is_refused_before_its_index_is_built():
+    """10,000 robots of "global" rows: 300 million numbers (2.2 GiB) a step, and an index as large."""
+    level = "maze-128x128"
+    make = partial(race_v0.parallel_env, level=level, n_robots=10_000, start="random")
+    with pytest.raises(ValueError, match=r"^n_robots: with observe='global' each of 10,000 robots .* 299,990,000 .*observe='local'"):
+        make()
+    assert peak_bytes(lambda: pytest.raises(ValueError, make)) < 64 * 2**20
+    assert make(observe="local").max_num_agents == 10_000
