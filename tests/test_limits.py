@@ -212,7 +212,8 @@ def test_a_single_race_with_a_global_view_past_the_step_limit_is_refused_before_
     """10,000 robots of "global" rows: 300 million numbers (2.2 GiB) a step, and an index as large."""
     level = "maze-128x128"
     make = partial(race_v0.parallel_env, level=level, n_robots=10_000, start="random")
-    with pytest.raises(ValueError, match=r"^n_robots: with observe='global' each of 10,000 robots .* 299,990,000 .*observe='local'"):
+    message = r"^n_robots: with observe='global' each of 10,000 robots .* 299,990,000 .*observe='local'"
+    with pytest.raises(ValueError, match=message):
         make()
     assert peak_bytes(lambda: pytest.raises(ValueError, make)) < 64 * 2**20
     assert make(observe="local").max_num_agents == 10_000
