@@ -48,6 +48,9 @@ class PtyProgram:
         def become_terminal_session():  # in the child: a new session whose controlling terminal is the pty
             os.setsid()
             fcntl.ioctl(slave, termios.TIOCSCTTY, 0)
+            # a shell starts a foreground job with Ctrl-C live; a test run in the background (nohup ... &)
+            # would pass on SIGINT ignored, and Python keeps an ignored SIGINT ignored
+            signal.signal(signal.SIGINT, signal.SIG_DFL)
 
         self.proc = subprocess.Popen(
             [sys.executable, "-m", "babyrobot_marl", *args], stdin=slave, stdout=slave, stderr=slave,
