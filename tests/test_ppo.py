@@ -226,7 +226,8 @@ def test_training_runs_on_the_threads_it_is_given_and_restores_torchs_setting():
     ({"net_arch": (64, 0)}, "net_arch: must be an integer >= 1"),
     ({"start": "corner"}, "start: must be one of 'random', 'level'"),
     ({"threads": True}, "threads: must be an integer >= 1"),
-    ({"near_radius": -1}, "near_radius: must be an integer >= 0"),
+    ({"near_radius": -1}, r"near_radius: must be an integer in 0\.\.4"),
+    ({"near_radius": 5}, r"near_radius: must be an integer in 0\.\.4"),
 ])
 def test_bad_settings_are_clear_errors(change, message):
     with pytest.raises(ValueError, match=message):

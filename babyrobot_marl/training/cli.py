@@ -89,7 +89,7 @@ def add_train_parser(sub: argparse._SubParsersAction) -> None:
     knobs.add_argument("--net-arch", type=_net_arch, default=None, metavar="H1,H2", help="hidden layers (default: 64,64)")
     knobs.add_argument("--eval-every", type=base._positive_int, default=None, metavar="N", help="timesteps between evaluations")
     knobs.add_argument("--near-radius", type=base._non_negative_int, default=None, metavar="N",
-                       help="fast backend, race: a robot sees the robots within N steps of it (default: 1)")
+                       help="fast backend, race: a robot sees the robots within N steps of it, 0..4 (default: 1)")
     p.set_defaults(func=cmd_train)
 
 
