@@ -11,12 +11,5 @@ if [ ${#missing[@]} -eq 0 ]; then
     echo "browser: $(/usr/bin/chromium --version 2>/dev/null || echo chromium) already installed"
     exit 0
 fi
-if [ "$(id -u)" != 0 ]; then
-    echo "browser: ${missing[*]} missing and not root: run as root: apt-get install -y chromium fonts-liberation" >&2
-    exit 1
-fi
-echo "browser: apt-get install ${missing[*]}"
-export DEBIAN_FRONTEND=noninteractive
-apt-get update -q >/dev/null
-apt-get install -y -q chromium fonts-liberation >/dev/null
+bash "$(dirname "$0")/apt-install.sh" browser "${missing[@]}"
 echo "browser: $(/usr/bin/chromium --version)"

@@ -7,12 +7,5 @@ if command -v tmux >/dev/null 2>&1; then
     echo "play: $(tmux -V) already installed"
     exit 0
 fi
-if [ "$(id -u)" != 0 ]; then
-    echo "play: tmux missing and not root: run as root: apt-get install -y tmux" >&2
-    exit 1
-fi
-echo "play: apt-get install tmux"
-export DEBIAN_FRONTEND=noninteractive
-apt-get update -q >/dev/null
-apt-get install -y -q tmux >/dev/null
+bash "$(dirname "$0")/apt-install.sh" play tmux
 echo "play: $(tmux -V)"

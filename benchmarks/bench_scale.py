@@ -33,6 +33,7 @@ import time
 import tracemalloc
 
 import numpy as np
+from bench_race import agent_step_time  # the same timing loop as the race benchmark
 
 from babyrobot_marl import race_v0
 from babyrobot_marl.envs.vector import RaceVectorEnv
@@ -47,18 +48,7 @@ QUEUE = 3000
 def parallel_time(env, n: int, agent_steps: int, rng: np.random.Generator) -> float:
     """Seconds per agent-step of ``parallel_env`` under random actions (a reset when the race ends)."""
     steps = max(30, agent_steps // n)
-    actions = rng.integers(0, 5, (steps, n)).tolist()
-    env.reset(seed=0)
-    count = 0
-    t0 = time.perf_counter()
-    for row in actions:
-        agents = env.agents
-        if not agents:
-            env.reset()
-            agents = env.agents
-        env.step(dict(zip(agents, row)))
-        count += len(agents)
-    return (time.perf_counter() - t0) / count
+    return agent_step_time(env, rng.integers(0, 5, (steps, n)).tolist())
 
 
 def part_modes(rounds: int, agent_steps: int, judge: bool = True) -> bool:

@@ -11,6 +11,7 @@ from pathlib import Path
 import pytest
 
 from babyrobot_marl import animation, cli, levels
+from tests.streams import TextSink
 
 REPO = Path(__file__).resolve().parents[1]
 SUMMARY = re.compile(r"seed (\d+): (\d+) steps, return (\S+), (.*)$", re.M)
@@ -139,13 +140,13 @@ def test_play_on_a_terminal_has_no_colour_with_no_color(capsys, monkeypatch, how
 
 def test_animate_pauses_between_frames_but_not_before_the_first():
     pauses: list[float] = []
-    shown = cli._animate(["a", "b", "c"], cli.Display(colour=False, clear=False, delay=0.25), _Sink(), pauses.append)
+    shown = cli._animate(["a", "b", "c"], cli.Display(colour=False, clear=False, delay=0.25), TextSink(), pauses.append)
     assert shown == 3
     assert pauses == [0.25, 0.25]
 
 
 def test_animate_off_a_terminal_separates_frames_with_a_blank_line():
-    out = _Sink()
+    out = TextSink()
     cli._animate(["a\nb", "c"], cli.Display(colour=False, clear=False, delay=0.0), out)
     assert out.text == "a\nb\n\nc\n"
 
@@ -153,7 +154,7 @@ def test_animate_off_a_terminal_separates_frames_with_a_blank_line():
 @pytest.mark.parametrize(("tty", "delay", "expected"), [(True, None, cli.DEFAULT_DELAY), (False, None, 0.0), (False, 0.5, 0.5)])
 def test_default_delay_applies_on_a_terminal_only_and_an_explicit_delay_always(tty, delay, expected):
     args = cli.build_parser().parse_args(["play"] + ([] if delay is None else ["--delay", str(delay)]))
-    assert cli._display(args, _Sink(tty=tty)).delay == expected
+    assert cli._display(args, TextSink(tty=tty)).delay == expected
 
 
 # ------------------------------------------------------------------------ the command itself
@@ -282,21 +283,3 @@ def test_python_m_with_bad_input_prints_one_line_and_no_traceback():
     proc = run_module("play", "--level", "nope", "--seed", "0")
     assert proc.returncode == 2
     assert_one_error_line(proc.stderr, "unknown level 'nope'")
-
-
-class _Sink:
-    """A text stream that records what is written and says whether it is a terminal."""
-
-    def __init__(self, tty: bool = False):
-        self.text = ""
-        self.tty = tty
-
-    def write(self, s: str) -> int:
-        self.text += s
-        return len(s)
-
-    def flush(self) -> None:
-        pass
-
-    def isatty(self) -> bool:
-        return self.tty

@@ -10,26 +10,10 @@ import pytest
 from babyrobot_marl import cli, policies
 from babyrobot_marl.envs.race import RaceEnv
 from babyrobot_marl.play.watch import LEAD, OPENING, legend, play_ahead, podium_steps, schedule, settled_step
+from tests.streams import TextSink
 
 README_JOB = ["race", "--level", "race-4", "--robots", "4", "--policies", "shortest,shortest,random,random"]
 OLD_DELAY = 0.15  # the CLI's pause between frames on a terminal
-
-
-class Tty:
-    """A stdout that says it is a terminal and records what is written."""
-
-    def __init__(self):
-        self.text = ""
-
-    def write(self, s: str) -> int:
-        self.text += s
-        return len(s)
-
-    def flush(self) -> None:
-        pass
-
-    def isatty(self) -> bool:
-        return True
 
 
 def test_every_place_is_known_when_at_most_one_robot_is_still_racing():
@@ -96,7 +80,7 @@ def test_the_legend_names_every_robot_and_explains_the_footer():
     ],
 )
 def test_the_readme_race_on_a_terminal_stops_its_frames_once_every_place_is_known(seed, last, monkeypatch):
-    tty = Tty()
+    tty = TextSink(tty=True)
     monkeypatch.setattr(sys, "stdout", tty)
     assert cli.main([*README_JOB, "--seed", str(seed), "--delay", "0"]) == 0
     monkeypatch.undo()
@@ -110,8 +94,7 @@ def test_the_readme_race_on_a_terminal_stops_its_frames_once_every_place_is_know
     assert f"step {end}/" in shown[-1] and "robots: A robot_0 shortest" in shown[-1]
     assert "step 1/" in shown[1] and "step 0/" in shown[0]
     # the results table is the whole race's: the same as into a pipe, which shows every frame
-    pipe = Tty()
-    pipe.isatty = lambda: False
+    pipe = TextSink(tty=False)
     monkeypatch.setattr(sys, "stdout", pipe)
     assert cli.main([*README_JOB, "--seed", str(seed), "--no-delay"]) == 0
     monkeypatch.undo()
