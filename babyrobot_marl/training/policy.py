@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from ..core.table import Table
-from .ppo import TABLE_LIMIT, Inputs, _torch, make_net, near_offsets
+from .ppo import Inputs, PerKey, _torch, make_net, near_offsets
 
 FORMAT = "babyrobot_marl.ppo"
 VERSION = 2  # 2: a race policy sees the robots near it (version 1 read every robot's cell)
@@ -37,24 +37,18 @@ class TrainedPolicy:
         self.width, self.height = inputs.width, inputs.height
         self.deterministic = deterministic
         self.rng = np.random.default_rng(seed)
-        self.probs: np.ndarray | None = None
-        if inputs.n_keys <= TABLE_LIMIT:  # few inputs: one forward pass gives the probabilities for every one
-            self.probs = self._probabilities(np.arange(inputs.n_keys))
-            self._greedy = np.argmax(self.probs, axis=1).tolist()
-
-    def _probabilities(self, keys: np.ndarray) -> np.ndarray:
         torch = _torch()
-        with torch.no_grad():
-            rows = torch.from_numpy(self.inputs.rows(keys))
-            return torch.softmax(self.net.actor(rows), 1).numpy().astype(np.float64)
+        # the probabilities per input: a table over every input when there are few (one forward pass)
+        self.probs = PerKey(inputs, lambda rows: torch.softmax(net.actor(rows), 1).double())
+        if self.probs.table is not None:
+            self._greedy = np.argmax(self.probs.table, axis=1).tolist()
 
     def action_probabilities(self, obs: Any) -> np.ndarray:
         """The policy's probabilities of the five actions given ``obs``."""
-        key = self.inputs.key_of_observation(obs)
-        return self.probs[key] if self.probs is not None else self._probabilities(np.array([key]))[0]
+        return self.probs(np.array([self.inputs.key_of_observation(obs)]))[0]
 
     def __call__(self, obs: Any = None) -> int:
-        if self.deterministic and self.probs is not None:
+        if self.deterministic and self.probs.table is not None:
             return self._greedy[self.inputs.key_of_observation(obs)]
         p = self.action_probabilities(obs)
         if self.deterministic:

@@ -338,8 +338,8 @@ TABLE_LIMIT = 4096  # inputs up to which the net runs on every possible key inst
 
 
 class PerKey:
-    """``fn`` (the critic's values on rows of input indices) per key, the net run once per distinct
-    key: while the weights stay fixed, inputs that repeat cost nothing."""
+    """``fn`` (the critic's values, or a policy's probabilities, on rows of input indices) per key, the
+    net run once per distinct key: while the weights stay fixed, inputs that repeat cost nothing."""
 
     def __init__(self, inputs: Inputs, fn: Callable[[Any], Any]):
         self.inputs, self.fn = inputs, fn
@@ -348,7 +348,9 @@ class PerKey:
             self.table = self.run(np.arange(inputs.n_keys))
 
     def run(self, keys: np.ndarray) -> np.ndarray:
-        return self.fn(_torch().from_numpy(self.inputs.rows(keys))).numpy()
+        torch = _torch()
+        with torch.no_grad():
+            return self.fn(torch.from_numpy(self.inputs.rows(keys))).numpy()
 
     def __call__(self, keys: np.ndarray) -> np.ndarray:
         if self.table is not None:
