@@ -15,6 +15,7 @@ The limits below are checked before anything large is allocated; README "Limits"
 ``check_dense_states``   the dense model ``P[s, a, s']`` within ``MAX_DENSE_STATES``
 ``check_frame_pixels``   an image within ``MAX_FRAME_PIXELS``; ``max_cell_size`` the largest cell that fits
 ``check_batch``          a batch engine (vector env) within ``MAX_BATCH_ENVS``, ``MAX_BATCH_ROBOTS``, ``MAX_BATCH_OBS``
+``check_global_view``    one race's "global" observations within ``MAX_BATCH_OBS``
 ``MAX_RACES``            races of one ``babyrobot-marl race --races N`` run
 ``shown``                a short ``repr`` for error messages (never a huge input in full)
 =======================  ==================================================================
@@ -136,6 +137,17 @@ def check_batch(n_envs: int, n_robots: int, obs_size: int, what: str = "n_envs")
             f"{what}, n_robots: one step's observations would be {n_envs:,} x {n_robots:,} x {obs_size:,} = {numbers:,} "
             f"numbers ({8 * numbers / 2**30:,.1f} GiB), more than the limit of {MAX_BATCH_OBS:,} (2 GiB of int64); "
             "use fewer envs or robots, or observe='local' or 'nearest' (rows that do not grow with the robots)"
+        )
+
+
+def check_global_view(n_robots: int) -> None:
+    """One race's "global" observations (every robot sees every other: ``n * (3n - 1)`` numbers a
+    step, and an index as large) are within ``MAX_BATCH_OBS`` (checked before either exists)."""
+    numbers = n_robots * (3 * n_robots - 1)
+    if numbers > MAX_BATCH_OBS:
+        raise ValueError(
+            f"n_robots: with observe='global' each of {n_robots:,} robots sees every other, {numbers:,} numbers a step, "
+            f"past the limit of {MAX_BATCH_OBS:,}; use observe='local' or 'nearest'"
         )
 
 

@@ -11,7 +11,7 @@ import numpy as np
 from gymnasium import spaces
 from pettingzoo import ParallelEnv
 
-from ..checks import MAX_BATCH_OBS
+from ..checks import check_global_view
 from ..core.actions import N_ACTIONS
 from ..core.batch import BatchRace
 from ..core.level import Cell, Level
@@ -121,9 +121,8 @@ class RaceEnv(RaceDrawing, DrawnLevels, LazyGenerator, ParallelEnv):
             if self._encode_state.identity
             else self._encode_state.space
         )
-        if self._observer is None and n * (3 * n - 1) > MAX_BATCH_OBS:  # "global": n rows of 3n - 1, an index as large
-            raise ValueError(f"n_robots: with observe='global' each of {n:,} robots sees every other, {n * (3 * n - 1):,} "
-                             f"numbers a step, past the limit of {MAX_BATCH_OBS:,}; use observe='local' or 'nearest'")
+        if self._observer is None:
+            check_global_view(n)
         self._gather = global_gather(n if self._observer is None else 0)  # robot i sees i, i+1, ..., i-1: "global" only
         self._lists = self.table.lists
         self._xy = [self.table.cell_xy(c) for c in range(self.table.n_cells)]

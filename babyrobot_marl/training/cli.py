@@ -150,9 +150,11 @@ def _fast(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> dic
             raise ValueError(f"--load: {args.load!r} was trained on a {data['width']}x{data['height']} level with "
                              f"{data['n_robots']} robot(s); this run is {level.width}x{level.height} with {args.robots}")
         init = load_net(data)
-        for name in ("net_arch", "near_radius"):  # what the saved net was built for, unless given
-            if name not in knobs and name in data["config"]:
-                config = config.replace(**{name: tuple(data["config"][name]) if name == "net_arch" else data["config"][name]})
+        # what the saved net was built for, unless given (a one-robot file of version 1 has no near_radius)
+        if "net_arch" not in knobs:
+            config = config.replace(net_arch=tuple(data["net_arch"]))
+        if "near_radius" not in knobs and "near_radius" in data["config"]:
+            config = config.replace(near_radius=data["config"]["near_radius"])
     single = args.robots == 1
     evaluate, target, score_name, finish = _single_eval(level, args) if single else _race_eval(level, args)
     progress = TrainProgress(args.steps, tty, out, score_name, enabled=not args.no_progress)
