@@ -11,6 +11,9 @@
 - ``poses.png``: Baby Robot's poses (rows) and headings (columns).
 
 Needs the ``video`` extra (imageio) for the GIF; the rest is numpy and imageio's PNG writer.
+``--out DIR`` writes the pictures elsewhere. The output is the same on every run and machine
+(``tests/test_readme_pictures.py`` checks it against the committed files): the pictures hold no
+randomness but the seeded policies', and the GIF's colours are chosen here, not by the encoder.
 """
 
 from __future__ import annotations
@@ -39,7 +42,21 @@ def race_gif(out: Path) -> Path:
     policies["robot_3"] = lambda obs: rnd(obs) if rnd.rng.random() < 0.3 else shortest(obs)
     frames = episode_frames(env, policies, seed=3, animation_frames=4)
     frames += [frames[-1]] * 12  # hold the final ranks
-    return save_gif(frames, out / "race.gif", fps=12)
+    return save_gif(gif_colours(frames), out / "race.gif", fps=12)
+
+
+def gif_colours(frames: list[np.ndarray], n: int = 256) -> list[np.ndarray]:
+    """``frames`` in at most ``n`` colours: the ``n`` most common ones, every other colour replaced
+    by its nearest. A GIF holds 256 colours per frame; left to the encoder, Pillow's quantizer picks
+    them, and its choice may change between Pillow versions; given 256 it keeps them exactly."""
+    stack = np.stack(frames).astype(np.uint32)
+    codes = (stack[..., 0] << 16) | (stack[..., 1] << 8) | stack[..., 2]
+    colours, inverse, counts = np.unique(codes, return_inverse=True, return_counts=True)
+    rgb = np.stack([colours >> 16, (colours >> 8) & 255, colours & 255], axis=1).astype(np.int64)
+    keep = rgb[np.argsort(-counts, kind="stable")[:n]]  # ties in the order of the codes
+    nearest = ((rgb[:, None, :] - keep[None, :, :]) ** 2).sum(axis=2).argmin(axis=1)
+    out = keep[nearest][inverse.reshape(codes.shape)].astype(np.uint8)
+    return list(out)
 
 
 def planning_png(out: Path) -> list[Path]:
