@@ -12,6 +12,9 @@ ROOT = Path(__file__).resolve().parents[1]
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
+# the real-browser tests' fixtures: one JupyterLab and one Chromium for the session
+from tests.browser.fixtures import browser_log, browser_ready, lab, page, screenshots  # noqa: E402, F401
+
 try:
     from hypothesis import settings
 except ImportError:  # the test extra is not installed: the property tests skip or fail on their own

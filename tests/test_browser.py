@@ -2,94 +2,53 @@
 
 Needs the system Chromium (``apt-get install chromium fonts-liberation``, done by ``.ci/browser.sh``)
 and the ``test`` extra (jupyterlab, playwright, ipycanvas). Locally the tests skip when Chromium is
-absent; with ``CI=true`` a missing browser fails them. Screenshots go to ``$BABYROBOT_SCREENSHOTS``
-(default: ``<tmp>/babyrobot_marl_screenshots``) and their paths are printed.
+absent; with ``CI=true`` a missing browser fails them. The fixtures (``tests/browser/fixtures.py``)
+print each step on the terminal as it happens. Screenshots go to ``$BABYROBOT_SCREENSHOTS``
+(default: a folder in pytest's temporary directory) and their paths are printed.
+
+Every wait is for an event (the kernel idle, a marker printed, the canvas drawn, the robot in it),
+with a limit (``chrome.WAIT``) that only a dead kernel or browser reaches.
 """
 
 from __future__ import annotations
 
-import os
-import tempfile
-import time
 from pathlib import Path
 
 import numpy as np
-import pytest
 
-from tests.browser.chrome import chromium_path
-from tests.browser.lab import LabServer, processes_mentioning
-from tests.browser.notebook_files import write_notebook
+from tests.browser.chrome import WAIT
 
 ROOT = Path(__file__).resolve().parents[1]
-IN_CI = os.environ.get("CI", "").lower() in ("1", "true", "yes")
 MARKER = "BROWSER-TEST-DONE"
-SCREENSHOTS = Path(os.environ.get("BABYROBOT_SCREENSHOTS", Path(tempfile.gettempdir()) / "babyrobot_marl_screenshots"))
 
 
-def _unavailable() -> str | None:
-    if chromium_path() is None:
-        return "Chromium not installed (apt-get install chromium fonts-liberation; .ci/browser.sh does it in CI)"
-    for module in ("playwright", "jupyterlab", "ipycanvas"):
-        try:
-            __import__(module)
-        except ImportError:
-            return f"{module} not installed (pip install -e '.[test]')"
-    return None
+def shot(page, screenshots: Path, name: str) -> Path:
+    """Screenshot the page into ``screenshots`` and say where."""
+    path = page.screenshot(screenshots / f"{name}.png")
+    page.log(f"screenshot: {path}")
+    return path
 
 
-@pytest.fixture(scope="module")
-def browser_ready():
-    reason = _unavailable()
-    if reason is not None:
-        if IN_CI:
-            pytest.fail(f"CI=true and the browser test cannot run: {reason}")
-        pytest.skip(reason)
-
-
-@pytest.fixture(scope="module")
-def lab(browser_ready, tmp_path_factory):
-
-    root, work = tmp_path_factory.mktemp("lab_root"), tmp_path_factory.mktemp("lab_work")
-    with LabServer(root, work, pythonpath=ROOT) as server:
-        yield server
-    left = processes_mentioning(str(root)) + processes_mentioning(str(work))  # the server and its kernels
-    assert not left, f"processes left behind by JupyterLab: {left}"
-
-
-@pytest.fixture(scope="module")
-def page(lab, tmp_path_factory):
-    from tests.browser.chrome import NotebookPage
-
-    profile = tmp_path_factory.mktemp("chromium_profile")
-    with NotebookPage(lab, profile, chromium_path(), device_scale_factor=2) as nb:  # a HiDPI screen
-        yield nb
-    left = processes_mentioning(str(profile))
-    assert not left, f"Chromium processes left behind: {left}"
-
-
-def run_in_browser(lab, page, name: str, cells: list[str], capsys, ready=None) -> np.ndarray:
+def run_in_browser(page, screenshots: Path, name: str, cells: list[str], ready=None) -> np.ndarray:
     """Write ``name``.ipynb into the server root, run it in the browser, screenshot it, return canvas 0
-    (RGB, at its backing store's resolution); with ``ready(rgb)``, read again until it holds (20 s at most):
+    (RGB, at its backing store's resolution) once drawn and, with ``ready(rgb)``, once that holds:
     the canvas's layers arrive one after another."""
-    write_notebook(lab.root_dir / f"{name}.ipynb", [*cells, f"print({MARKER!r})"])
+    from tests.browser.notebook_files import write_notebook
+
+    write_notebook(page.lab.root_dir / f"{name}.ipynb", [*cells, f"print({MARKER!r})"])
     try:
         page.run_all(f"{name}.ipynb", MARKER)
-        pixels = page.canvas_pixels(0)
-        deadline = time.monotonic() + 20
-        while ready is not None and not ready(pixels[..., :3]) and time.monotonic() < deadline:
-            time.sleep(0.5)
-            pixels = page.canvas_pixels(0)
+        pixels = page.canvas_pixels(0, ready=None if ready is None else lambda rgba: ready(rgba[..., :3]))
+        page.log(f"{name}.ipynb: canvas drawn")
     finally:
-        shot = page.screenshot(SCREENSHOTS / f"{name}.png")
-        with capsys.disabled():
-            print(f"\nscreenshot: {shot}")
+        shot(page, screenshots, name)
     assert (pixels[..., 3] == 255).all(), "the canvas has transparent pixels: something was not drawn"
     return pixels[..., :3]
 
 
-def test_plain_ipycanvas_pixels(lab, page, capsys):
+def test_plain_ipycanvas_pixels(page, screenshots):
     """The harness itself: a canvas drawn with plain ipycanvas reads back with the colours drawn."""
-    img = run_in_browser(lab, page, "plain_ipycanvas", [
+    img = run_in_browser(page, screenshots, "plain_ipycanvas", [
         """
         from ipycanvas import Canvas, hold_canvas
         canvas = Canvas(width=120, height=60)
@@ -100,7 +59,7 @@ def test_plain_ipycanvas_pixels(lab, page, capsys):
             canvas.fill_rect(60, 0, 60, 60)
         canvas
         """,
-    ], capsys)  # fmt: skip
+    ])  # fmt: skip
     assert img.shape == (60, 120, 3)
     assert tuple(img[30, 30]) == (0xDC, 0x3C, 0x32)
     assert tuple(img[30, 90]) == (0x32, 0x5A, 0xD2)
@@ -149,7 +108,7 @@ for a in {SINGLE_ACTIONS}:
 """
 
 
-def test_single_robot_live_canvas(lab, page, capsys):
+def test_single_robot_live_canvas(page, screenshots):
     from babyrobot_marl import BabyRobotEnv, planning
     from babyrobot_marl.render.palette import THEMES
     from babyrobot_marl.render.rgb import RgbRenderer
@@ -161,7 +120,7 @@ def test_single_robot_live_canvas(lab, page, capsys):
     for a in SINGLE_ACTIONS:
         env.step(a)
     lv, theme = env.level, THEMES["light"]
-    img = run_in_browser(lab, page, "single_robot_canvas", [
+    img = run_in_browser(page, screenshots, "single_robot_canvas", [
         f"""
         from babyrobot_marl import BabyRobotEnv, planning
         env = BabyRobotEnv(level="mixed-8x8", render_mode="human", cell_size={CELL})
@@ -172,7 +131,7 @@ def test_single_robot_live_canvas(lab, page, capsys):
             env.step(a)
         print("robot at", env.robot_cell)
         """,
-    ], capsys, ready=lambda rgb: has(cell_box(rgb, env.robot_cell), theme.eye))  # fmt: skip
+    ], ready=lambda rgb: has(cell_box(rgb, env.robot_cell), theme.eye))  # fmt: skip
     assert f"robot at {env.robot_cell}" in page.outputs_text()
     assert env.robot_cell not in (lv.starts[0], *lv.exits)
     assert_backing_store_is_twice_the_css_size(page)
@@ -214,7 +173,7 @@ def first_finish(seed: int = 0) -> int:
     raise AssertionError("nobody finished")
 
 
-def test_race_live_canvas_legend_and_the_finisher_in_the_exit(lab, page, capsys):
+def test_race_live_canvas_legend_and_the_finisher_in_the_exit(page, screenshots):
     from babyrobot_marl import race_v0
     from babyrobot_marl.policies import ShortestPathPolicy
     from babyrobot_marl.render.palette import THEMES
@@ -228,7 +187,7 @@ def test_race_live_canvas_legend_and_the_finisher_in_the_exit(lab, page, capsys)
     u, theme = env.unwrapped, THEMES["light"]
     cells, ranks = u.robot_cells, u.ranks
     (exit_cell,) = u.level.exits
-    img = run_in_browser(lab, page, "race_canvas", [
+    img = run_in_browser(page, screenshots, "race_canvas", [
         f"""
         from babyrobot_marl import race_v0
         from babyrobot_marl.policies import ShortestPathPolicy
@@ -240,7 +199,7 @@ def test_race_live_canvas_legend_and_the_finisher_in_the_exit(lab, page, capsys)
             obs, *_ = env.step({{a: policy(obs[a]) for a in env.agents}})
         print("robots at", env.unwrapped.robot_cells, "ranks", env.unwrapped.ranks)
         """,
-    ], capsys, ready=lambda rgb: has(cell_box(rgb, exit_cell), (240, 190, 40)))  # fmt: skip
+    ], ready=lambda rgb: has(cell_box(rgb, exit_cell), (240, 190, 40)))  # fmt: skip
     assert f"robots at {cells} ranks {ranks}" in page.outputs_text()
     assert_backing_store_is_twice_the_css_size(page)
     winner = ranks.index(1)
@@ -258,58 +217,51 @@ def test_race_live_canvas_legend_and_the_finisher_in_the_exit(lab, page, capsys)
         assert count(legend, theme.robots[i]) > 20, f"no legend swatch for robot {i}"
 
 
-def test_canvas_redrawn_when_a_browser_reconnects(lab, page, capsys):
+def test_canvas_redrawn_when_a_browser_reconnects(page, screenshots):
     """Reload the page: the kernel still holds the env, and the canvas (empty in a new page) must be
     drawn again (``on_client_ready``), robot included."""
     from babyrobot_marl import BabyRobotEnv
     from babyrobot_marl.render.palette import THEMES
 
     name = "reconnect_canvas"
-    run_in_browser(lab, page, name, [WALK_CELL], capsys)
+    run_in_browser(page, screenshots, name, [WALK_CELL])
     page.save_and_reopen(f"{name}.ipynb", MARKER)
     env = BabyRobotEnv(level="mixed-8x8")
     env.reset(seed=0)
     for a in SINGLE_ACTIONS:
         env.step(a)
     theme = THEMES["light"]
-    deadline = time.monotonic() + 20  # the layers arrive one after the other: wait for the robot's
-    while True:
-        img = page.canvas_pixels(0)
-        if has(cell_box(img[..., :3], env.robot_cell), theme.eye) or time.monotonic() > deadline:
-            break
-        time.sleep(0.5)
-    shot = page.screenshot(SCREENSHOTS / f"{name}_reopened.png")
-    with capsys.disabled():
-        print(f"\nscreenshot: {shot}")
+    # the layers arrive one after the other: wait for the robot's (a drawn canvas without it fails below)
+    img = page.canvas_pixels(0, ready=lambda rgba: has(cell_box(rgba[..., :3], env.robot_cell), theme.eye))
+    shot(page, screenshots, f"{name}_reopened")
     assert (img[..., 3] == 255).all(), "the canvas was not drawn again after the page was reloaded"
     assert_robot_at(img[..., :3], env.robot_cell, theme.robots[0], theme)
 
 
-def test_a_saved_notebook_opened_elsewhere_shows_the_picture_of_the_last_frame(lab, page, capsys):
+def test_a_saved_notebook_opened_elsewhere_shows_the_picture_of_the_last_frame(lab, page, screenshots):
     """Save, shut the kernel down, and open the file as someone else would (a copy, not signed
     by this server: JupyterLab renders only safe outputs then, as for a notebook from GitHub):
     the output shows the PNG of the canvas's last frame, not the widget's text."""
     import nbformat
 
     name = "saved_canvas"
-    run_in_browser(lab, page, name, [WALK_CELL], capsys)
+    run_in_browser(page, screenshots, name, [WALK_CELL])
     p = page.page
     page.save()
     lab.shutdown_kernels()
     nb = nbformat.read(lab.root_dir / f"{name}.ipynb", as_version=4)
     nb.metadata["copied_from"] = "elsewhere"  # changed outside the server: no longer signed
     nbformat.write(nb, lab.root_dir / f"{name}_copy.ipynb")
-    p.goto(lab.url(f"lab/tree/{name}_copy.ipynb"), timeout=90_000)
+    page.log(f"{name}_copy.ipynb: opening the copy, kernel shut down")
+    p.goto(lab.url(f"lab/tree/{name}_copy.ipynb"), timeout=WAIT * 1000)
     try:
         p.wait_for_function(
             "() => Array.from(document.querySelectorAll('.jp-OutputArea-output img')).some(i => i.naturalWidth > 0)",
-            timeout=60_000,
+            timeout=WAIT * 1000,
             polling=300,
         )
     finally:
-        shot = page.screenshot(SCREENSHOTS / f"{name}_elsewhere.png")
-        with capsys.disabled():
-            print(f"\nscreenshot: {shot}")
+        shot(page, screenshots, f"{name}_elsewhere")
     images = p.evaluate(
         "() => Array.from(document.querySelectorAll('.jp-OutputArea-output img')).map(i => [i.naturalWidth, i.naturalHeight])"
     )

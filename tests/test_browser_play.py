@@ -1,9 +1,10 @@
 """Real-browser tests of the notebook player and level editor: JupyterLab + headless Chromium (Playwright).
 
-Reuses the harness of ``tests/test_browser.py`` (its fixtures start JupyterLab and Chromium; it skips
-without Chromium locally and fails with ``CI=true``). The tests click the widgets' buttons, focus the
-canvas and press keys as a learner would, then check the robots where the same game, replayed here,
-puts them: in the panel the notebook shows and in the canvas pixels (drawn by the same renderer).
+Reuses the harness of ``tests/test_browser.py`` (the session's JupyterLab and Chromium, from
+``tests/browser/fixtures.py``; they skip without Chromium locally and fail with ``CI=true``).
+The tests click the widgets' buttons, focus the canvas and press keys as a learner would, then check
+the robots where the same game, replayed here, puts them: in the panel the notebook shows and in the
+canvas pixels (drawn by the same renderer).
 """
 
 from __future__ import annotations
@@ -16,33 +17,24 @@ from babyrobot_marl.core.actions import Action
 from babyrobot_marl.play.notebook import make_game
 from babyrobot_marl.render.palette import THEMES
 from babyrobot_marl.render.rgb import RgbRenderer
-from tests.browser.notebook_files import write_notebook
-from tests.test_browser import (  # noqa: F401  (browser_ready, lab, page: fixtures)
-    CELL,
-    MARKER,
-    PX,
-    SCREENSHOTS,
-    assert_robot_at,
-    browser_ready,
-    cell_box,
-    has,
-    lab,
-    page,
-)  # fmt: skip
+from tests.browser.chrome import WAIT
+from tests.test_browser import CELL, MARKER, PX, assert_robot_at, cell_box, has, shot
 
-WAIT_MS = 30_000  # a guard against a dead kernel, not a speed target
+WAIT_MS = WAIT * 1000  # a guard against a dead kernel, not a speed target
 
 
-def open_notebook(lab, page, name: str, cells: list[str]) -> None:  # noqa: F811
-    write_notebook(lab.root_dir / f"{name}.ipynb", [*cells, f"print({MARKER!r})"])
+def open_notebook(page, name: str, cells: list[str]) -> None:
+    from tests.browser.notebook_files import write_notebook
+
+    write_notebook(page.lab.root_dir / f"{name}.ipynb", [*cells, f"print({MARKER!r})"])
     page.run_all(f"{name}.ipynb", MARKER)
 
 
-def panel_text(page) -> str:  # noqa: F811
+def panel_text(page) -> str:
     return page.page.locator(".babyrobot-panel").first.inner_text()
 
 
-def wait_panel(page, text: str) -> str:  # noqa: F811
+def wait_panel(page, text: str) -> str:
     """Wait until the panel (the kernel's answer to the last click or key) shows ``text``."""
     try:
         page.page.wait_for_function(
@@ -52,12 +44,6 @@ def wait_panel(page, text: str) -> str:  # noqa: F811
     except Exception as e:
         raise AssertionError(f"the panel never showed {text!r}; it shows:\n{panel_text(page)}") from e
     return panel_text(page)
-
-
-def shot(page, name: str, capsys) -> None:  # noqa: F811
-    path = page.screenshot(SCREENSHOTS / f"{name}.png")
-    with capsys.disabled():
-        print(f"\nscreenshot: {path}")
 
 
 def robots_in_panel(text: str) -> str:
@@ -81,8 +67,8 @@ def assert_robot_pixels(img: np.ndarray, level, robots) -> None:
     assert (cell_box(img, empty) == cell_box(RgbRenderer(level, PX).background, empty)).all(), f"cell {empty} differs"
 
 
-def test_player_buttons_and_keys_move_the_robot_where_the_game_predicts(lab, page, capsys):  # noqa: F811
-    open_notebook(lab, page, "play_single", [
+def test_player_buttons_and_keys_move_the_robot_where_the_game_predicts(page, screenshots):
+    open_notebook(page, "play_single", [
         f"""
         from babyrobot_marl import notebook
         player = notebook.play("walls", seed=0, cell_size={CELL})
@@ -106,15 +92,15 @@ def test_player_buttons_and_keys_move_the_robot_where_the_game_predicts(lab, pag
     text = wait_panel(page, f"robots at {game.robots}")
     assert f"step 5/{game.env.max_steps}  return {game.ret:g}  last: STAY -> stayed" in text
     img = page.canvas_pixels(0)[..., :3]
-    shot(page, "play_single", capsys)
+    shot(page, screenshots, "play_single")
     assert_robot_pixels(img, game.env.level, game.robots)
     p.keyboard.press("r")  # restart: back at the start
     wait_panel(page, "robots at [(0, 0)]")
     assert "step 0/" in panel_text(page)
 
 
-def test_race_tab_hands_the_keys_to_the_next_robot(lab, page, capsys):  # noqa: F811
-    open_notebook(lab, page, "play_race", [
+def test_race_tab_hands_the_keys_to_the_next_robot(page, screenshots):
+    open_notebook(page, "play_race", [
         f"""
         from babyrobot_marl import notebook
         race = notebook.play("race-4", policies="shortest", seed=0, cell_size={CELL})
@@ -132,13 +118,13 @@ def test_race_tab_hands_the_keys_to_the_next_robot(lab, page, capsys):  # noqa: 
     text = wait_panel(page, "you drive #1 (robot_1)")
     assert f"step {game.steps}/" in text
     img = page.canvas_pixels(0)[..., :3]
-    shot(page, "play_race", capsys)
+    shot(page, screenshots, "play_race")
     assert_robot_pixels(img, game.env.level, game.robots)
 
 
-def test_editor_builds_a_level_by_clicks_and_plays_it(lab, page, capsys):  # noqa: F811
+def test_editor_builds_a_level_by_clicks_and_plays_it(page, screenshots):
     cs = 40
-    open_notebook(lab, page, "edit_level", [
+    open_notebook(page, "edit_level", [
         f"""
         from babyrobot_marl import notebook
         editor = notebook.edit((3, 2), cell_size={cs})
@@ -174,4 +160,4 @@ def test_editor_builds_a_level_by_clicks_and_plays_it(lab, page, capsys):  # noq
     assert text == "+-+-+-+\n|S   p|\n+ + +*+\n|  p|E|\n+-+-+-+"
     p.locator(".babyrobot-play-it").first.click()
     wait_panel(page, "robots at [(0, 0)]")
-    shot(page, "edit_level", capsys)
+    shot(page, screenshots, "edit_level")

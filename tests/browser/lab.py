@@ -50,10 +50,10 @@ class LabServer:
     ``pythonpath`` is put first on the kernels' ``PYTHONPATH`` (so they import this checkout).
     """
 
-    def __init__(self, root_dir: Path, work_dir: Path, pythonpath: Path | None = None, start_timeout: float = 90.0):
+    def __init__(self, root_dir: Path, work_dir: Path, pythonpath: Path | None = None, start_timeout: float = 300.0):
         self.root_dir, self.work_dir = Path(root_dir), Path(work_dir)
         self.pythonpath = pythonpath
-        self.start_timeout = start_timeout
+        self.start_timeout = start_timeout  # a guard against a server that never answers: seconds idle, minutes loaded
         self.port = free_port()
         self.token = secrets.token_hex(16)
         self.base = f"http://127.0.0.1:{self.port}"
@@ -111,7 +111,7 @@ class LabServer:
             if self.proc.poll() is not None:
                 raise RuntimeError(f"JupyterLab exited with code {self.proc.returncode}:\n{self.log_tail()}")
             try:
-                with urllib.request.urlopen(f"{self.base}/api/status?token={self.token}", timeout=2) as r:
+                with urllib.request.urlopen(f"{self.base}/api/status?token={self.token}", timeout=30) as r:
                     if r.status == 200:
                         return
             except (urllib.error.URLError, ConnectionError, TimeoutError):
@@ -127,7 +127,7 @@ class LabServer:
 
     def _api(self, method: str, path: str) -> object:
         req = urllib.request.Request(f"{self.base}/api/{path}?token={self.token}", method=method)
-        with urllib.request.urlopen(req, timeout=30) as r:
+        with urllib.request.urlopen(req, timeout=120) as r:  # a busy server answers late, not never
             body = r.read()
         return json.loads(body) if body else None
 
