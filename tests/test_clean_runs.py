@@ -61,3 +61,17 @@ def test_tests_and_picture_script_leave_no_file_in_a_fresh_checkout(tmp_path):
     assert sorted(set(after) - set(before)) == [], "new files in the checkout"
     assert sorted(p for p in before if after.get(p) != before[p]) == [], "tracked files changed"
     assert sorted(p.name for p in tmp.iterdir() if not p.name.startswith("pytest-of-")) == [], "left in the temp folder"
+
+
+def test_no_test_writes_to_a_fixed_folder_of_the_system_temp_directory():
+    """Tests write under pytest's temporary folder (``tmp_path``, ``tmp_path_factory``): a fixed
+    folder in the system temp directory outlives the run and is shared by concurrent runs."""
+    fixed = ("gettempdir(", '"/tmp', "'/tmp", "tempfile.mkdtemp(")
+    found = [
+        f"{path.relative_to(ROOT)}:{n}: {line.strip()}"
+        for path in sorted((ROOT / "tests").rglob("*.py"))
+        if path != Path(__file__).resolve()
+        for n, line in enumerate(path.read_text().splitlines(), 1)
+        if any(f in line for f in fixed)
+    ]
+    assert found == []
