@@ -18,6 +18,7 @@ from contextlib import contextmanager
 from typing import Any
 
 import gymnasium
+import pettingzoo
 import pytest
 from gymnasium.utils.env_checker import check_env
 
@@ -165,6 +166,14 @@ def test_render_test(name, capsys):
 def test_state_test(name):
     with suite_warnings():
         state_test(aec(name), parallel(name))
+
+
+@pytest.mark.skipif(not hasattr(pettingzoo, "make"), reason="PettingZoo < 1.26 has no registry (babyrobot_marl registers none)")
+def test_api_tests_on_the_envs_pettingzoo_make_builds():
+    kwargs = RACES["eight-nearest-box-bounce-freeze"]
+    with suite_warnings():
+        parallel_api_test(pettingzoo.make("parallel", "babyrobot_marl/Race-v0", **kwargs), num_cycles=300)
+        api_test(pettingzoo.make("aec", "babyrobot_marl/Race-v0", **kwargs), num_cycles=200)
 
 
 # performance_benchmark steps for 5 s of wall time whatever the load: two configurations only
