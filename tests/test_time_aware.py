@@ -16,7 +16,7 @@ IDS = sorted(i for i in gymnasium.registry if i.startswith("babyrobot_marl/"))
 LIMIT_ARG = {"babyrobot_marl/BabyRobot-v0": "max_steps", "babyrobot_marl/BabyRobotRace-v0": "max_cycles"}
 LEVELS = {
     "babyrobot_marl/BabyRobot-v0": ["default", "puddles", "maze-8x8", "maze-16x16"],
-    "babyrobot_marl/BabyRobotRace-v0": ["race-2", "race-4", "maze-16x16"],
+    "babyrobot_marl/BabyRobotRace-v0": ["race-2", "race-4", "maze-16x16", "maze-8x8-*"],  # *: a new maze each reset
 }
 CASES = [(i, level) for i in IDS for level in LEVELS.get(i, [None])]
 STAY = 0
@@ -29,7 +29,7 @@ def test_every_registered_id_has_its_cases():
 def make(env_id: str, level: str | None, **kwargs):
     if env_id == "babyrobot_marl/BabyRobotRace-v0":
         kwargs.setdefault("opponents", ["random"])  # an opponent that may finish: robot 0 goes on alone
-        if level == "maze-16x16":
+        if level and level.startswith("maze"):
             kwargs["start"] = "fill"  # one start on a maze: the opponent's drawn
     return gymnasium.make(env_id, **({"level": level} if level else {}), **kwargs)
 
