@@ -143,7 +143,7 @@ class OwnStepLimitSpec:
     """``env.spec.max_episode_steps`` is the step at which the env truncates itself.
 
     ``gymnasium.make`` sets ``env.unwrapped.spec`` after building the env, always with
-    ``max_episode_steps=None`` (gymnasium 1.0 to 1.4: its own ``TimeLimit``, if any, wraps outside);
+    ``max_episode_steps=None`` (gymnasium 1.2.2 and 1.4.0: its own ``TimeLimit``, if any, wraps outside);
     this fills in the env's own limit, so ``TimeAwareObservation`` and
     ``TimeLimit(env, env.spec.max_episode_steps)`` read it. The registry keeps None: the limit
     depends on ``level=``, and a ``TimeLimit`` from the registry would cut larger levels short.
