@@ -114,7 +114,6 @@ def cmd_train(args: argparse.Namespace, out: TextIO) -> int:
     _check_args(args, level)
     tty = not args.no_progress and base._isatty(out) and base._isatty(sys.stderr)
     run = _fast if args.backend == "fast" else _sb3
-    _say_rounded_steps(args, out)
     figures = run(args, level, tty, out)
     out.write(json.dumps(figures) + "\n")  # the last line: machine-readable figures
     return 0
@@ -197,6 +196,7 @@ def _fast(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> dic
             config = config.replace(net_arch=tuple(data["net_arch"]))
         if "near_radius" not in knobs and "near_radius" in data["config"]:
             config = config.replace(near_radius=data["config"]["near_radius"])
+    _say_rounded_steps(args, out)  # every argument checked, the saved policy too
     single = args.robots == 1
     evaluate, target, score_name, finish = _single_eval(level, args) if single else _race_eval(level, args)
     progress = TrainProgress(args.steps, tty, out, score_name, enabled=not args.no_progress)
@@ -315,6 +315,7 @@ def _sb3(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> dict
         ppo_kwargs["policy_kwargs"] = {"net_arch": list(knobs["net_arch"])}
     n_envs = knobs.get("n_envs")
     every = args.eval_every or 5000
+    _say_rounded_steps(args, out)
     single = args.robots == 1
     with torch_threads(args.threads or None):
         if single:
