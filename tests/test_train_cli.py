@@ -78,7 +78,7 @@ def test_a_race_reports_win_and_tie_rates_and_its_policy_races(tmp_path, capsys)
     (["train", "--steps", "10", "--load", "nowhere.pt"], "policy: no such policy file 'nowhere.pt'"),
     (["train", "--steps", "10", "--backend", "sb3", "--load", "x"], "--load: starting from a saved policy needs --backend fast"),
     (["train", "--steps", "10", "--net-arch", "64,x"], "--net-arch: must be layer sizes"),
-    (["train", "--steps", "10", "--gamma", "2"], r"gamma: must be a finite number in [0, 1]"),
+    (["train", "--steps", "10", "--gamma", "2"], "--gamma: must be a number in [0, 1]"),
     (["train", "--steps", "10", "--backend", "sb3", "--near-radius", "2"], "--near-radius: only the fast backend"),
     (["train", "--steps", "10", "--near-radius", "-1"], "--near-radius: "),
     (["play", "--policy", "missing.pt"], "invalid choice: 'missing.pt'"),
