@@ -11,7 +11,7 @@ import numpy as np
 from gymnasium import spaces
 from pettingzoo import ParallelEnv
 
-from ..checks import check_global_view
+from ..checks import check_global_view, check_view_numbers
 from ..core.actions import N_ACTIONS
 from ..core.batch import BatchRace
 from ..core.level import Cell, Level
@@ -123,6 +123,8 @@ class RaceEnv(RaceDrawing, DrawnLevels, LazyGenerator, ParallelEnv):
         )
         if self._observer is None:
             check_global_view(n)
+        else:  # "local" or "nearest": rows of a bounded size, but n of them
+            check_view_numbers(n, len(self._observer.nvec), "view_radius" if observe == "local" else "k")
         self._gather = global_gather(n if self._observer is None else 0)  # robot i sees i, i+1, ..., i-1: "global" only
         self._lists = self.table.lists
         self._xy = [self.table.cell_xy(c) for c in range(self.table.n_cells)]
