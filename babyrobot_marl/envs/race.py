@@ -25,7 +25,7 @@ from ..level_sources import DrawnLevels
 from ..render.ansi import frame, robot_glyph
 from ..render.canvas import check_animation_frames, check_fps
 from ..render.overlay import Overlay
-from ..render.rgb import RgbRenderer, Theme, check_cell_size, resolve_theme
+from ..render.rgb import RgbRenderer, Theme, check_cell_size, check_frame_size, resolve_theme
 from .common import (
     FINISHED,
     START,
@@ -101,6 +101,8 @@ class RaceEnv(RaceDrawing, DrawnLevels, LazyGenerator, ParallelEnv):
         self._fixed_starts, self._free = self._placement(n)
         self.render_mode = check_render_mode(render_mode, self.metadata["render_modes"])
         self.cell_size, self.theme = check_cell_size(cell_size, self.level), resolve_theme(theme)
+        if self.render_mode in ("rgb_array", "human"):  # its frames show the legend: all of it within the limit
+            check_frame_size(self.level, self.cell_size, robots=n)
         self.animation_frames = check_animation_frames(animation_frames)
         if render_fps is not None:  # this env's own metadata: the class's stays as it is
             self.metadata = {**type(self).metadata, "render_fps": check_fps(render_fps)}
