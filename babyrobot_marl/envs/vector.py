@@ -432,12 +432,16 @@ def sb3_vec_env(level: str | Level | None = None, n_envs: int = 1, n_robots: int
     next ``reset()``. ``autoreset_mode`` may only be ``"same-step"``, the one SB3 has (its
     ``VecEnv`` always resets an env in the step it ends); any other is refused.
 
-    Needs ``stable-baselines3`` (``pip install "babyrobot_marl[train]"``).
+    Needs ``stable-baselines3``: ``pip install torch==2.13.0 --index-url https://download.pytorch.org/whl/cpu``,
+    then ``pip install "babyrobot_marl[train]"`` (torch first: its CPU build, not the ~3 GB CUDA one).
     """
     try:
         import stable_baselines3  # noqa: F401
     except ImportError as err:
-        raise ImportError('sb3_vec_env needs stable-baselines3: pip install "babyrobot_marl[train]" (the train extra)') from err
+        raise ImportError(
+            "sb3_vec_env needs stable-baselines3 (the train extra): pip install torch==2.13.0 --index-url "
+            "https://download.pytorch.org/whl/cpu, then pip install 'babyrobot_marl[train]' (torch first: its CPU build, "
+            "not the ~3 GB CUDA one)") from err
     from .sb3 import BabyRobotSB3VecEnv
     if "autoreset_mode" in kwargs:
         check_sb3_autoreset(kwargs["autoreset_mode"])
