@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-torch = pytest.importorskip("torch", reason="the train extra is not installed")  # CI installs it (test extra)
+torch = pytest.importorskip("torch", reason="needs the train extra")  # CI installs it (test extra)
 
 from babyrobot_marl import BabyRobotEnv, levels, race_v0  # noqa: E402
 from babyrobot_marl.training.evaluate import race_rates  # noqa: E402

@@ -6,7 +6,7 @@ import json
 
 import pytest
 
-pytest.importorskip("torch", reason="the train extra is not installed")  # CI installs it (test extra)
+pytest.importorskip("torch", reason="needs the train extra")  # CI installs it (test extra)
 
 from babyrobot_marl import cli  # noqa: E402
 from babyrobot_marl.training.policy import load_policy  # noqa: E402
