@@ -95,3 +95,14 @@ def test_a_policy_for_another_level_size_is_refused_by_play(tmp_path, capsys):
     capsys.readouterr()
     assert run(["play", "--level", "walls", "--policy", str(policy), "--no-delay"]) == 2
     assert "was trained on default (3x3); this level is 5x5" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("algo", ["ppo", "dqn"])
+def test_the_sb3_backend_names_its_algorithm_and_reports_its_training_return(algo, capsys):
+    pytest.importorskip("stable_baselines3", reason="needs the train extra")
+    argv = ["train", "--backend", "sb3", "--algo", algo, "--level", "default", "--steps", "2048", "--eval-every", "1024"]
+    assert run(argv) == 0
+    lines = capsys.readouterr().out.splitlines()
+    progress = [line for line in lines if "training return" in line]
+    assert progress and "nan" not in progress[-1]  # SB3's own episode returns, as the fast backend shows its own
+    assert any(line.startswith(f"sb3 {algo.upper()} on ") for line in lines)

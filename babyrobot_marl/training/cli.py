@@ -229,6 +229,11 @@ def _speed(args: argparse.Namespace, level: Level, timesteps: int, seconds: floa
             "cpu_seconds": _round(cpu), "env_steps_per_cpu_second": _round(cpu_rate, 1)}
 
 
+def _method(args: argparse.Namespace) -> str:
+    """What trained, as the summary and the curve's title say it: e.g. "fast PPO", "sb3 DQN"."""
+    return f"{args.backend} {args.algo.upper()}"
+
+
 def _single_eval(level: Level, args: argparse.Namespace) -> tuple[Any, float, str, Any]:
     from .single import evaluate_single, optimal_return
 
@@ -243,7 +248,7 @@ def _single_eval(level: Level, args: argparse.Namespace) -> tuple[Any, float, st
 
     def finish(agent: Any, out: TextIO, args: argparse.Namespace, reached: tuple[int, float] | None) -> dict[str, Any]:
         ev = evaluate_single(agent, env, episodes=episodes, seed=seed)
-        out.write(f"{args.backend} PPO on {_name(level, args)}: greedy return {ev.mean:g} (+- {ev.std:g}, {ev.reached_exit}/"
+        out.write(f"{_method(args)} on {_name(level, args)}: greedy return {ev.mean:g} (+- {ev.std:g}, {ev.reached_exit}/"
                   f"{ev.episodes} reached the exit), optimal {optimum:g}; 95% of it "
                   + (f"first reached at {reached[0]} timesteps, {reached[1]:.2f} s\n" if reached else "not reached\n"))
         return {"optimal_return": _round(optimum), "final_return": _round(ev.mean),
@@ -296,7 +301,7 @@ def _outputs(args: argparse.Namespace, level: Level, agent: Any, out: TextIO, po
         from .curve import save_curve
 
         if points:
-            title = f"{args.backend} PPO on {_name(level, args)}" + (f", {args.robots} robots" if args.robots > 1 else "")
+            title = f"{_method(args)} on {_name(level, args)}" + (f", {args.robots} robots" if args.robots > 1 else "")
             out.write(f"learning curve saved to {save_curve(points, args.curve, score_name, target, title)}\n")
         else:
             out.write("no learning curve: no evaluation ran\n")
@@ -325,7 +330,7 @@ def _sb3(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> dict
             progress = TrainProgress(args.steps, False, out, score_name, enabled=not args.no_progress and not tty)
             env = BabyRobotEnv(level=level)
             cb = target_callback(lambda m: evaluate_single(m, env, episodes=5, seed=args.seed + 1_000_000).mean, target,
-                                 every=every, stop=False, on_eval=lambda t, s, m: progress.evaluation(t, s, float("nan"), m))
+                                 every=every, stop=False, on_eval=lambda t, s, m: progress.evaluation(t, s, cb.train_return, m))
             if "policy_kwargs" in ppo_kwargs:  # keep the one-hot cell features beside the chosen layers
                 from .single import cell_features_class
 
