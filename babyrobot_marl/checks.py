@@ -16,6 +16,9 @@ The limits below are checked before anything large is allocated; README "Limits"
 ``check_frame_pixels``   an image within ``MAX_FRAME_PIXELS``; ``max_cell_size`` the largest cell that fits
 ``check_batch``          a batch engine (vector env) within ``MAX_BATCH_ENVS``, ``MAX_BATCH_ROBOTS``, ``MAX_BATCH_OBS``
 ``check_global_view``    one race's "global" observations within ``MAX_BATCH_OBS``
+``check_view_radius``    "local"'s ``view_radius``: at most the radius that sees the whole level
+``check_nearest_k``      "nearest"'s ``k``: at most ``MAX_NEAREST_K``
+``check_view_numbers``   one race's "local" or "nearest" observations within ``MAX_BATCH_OBS``
 ``MAX_RACES``            races of one ``babyrobot-marl race --races N`` run
 ``shown``                a short ``repr`` for error messages (never a huge input in full)
 =======================  ==================================================================
@@ -36,6 +39,7 @@ MAX_FRAME_PIXELS = 4096 * 4096  # an rgb_array frame (48 MB of RGB): a 256x256 m
 MAX_BATCH_ENVS = 65_536  # envs of one batch engine / vector env: each has its own generator (~1 kB, ~60 us to make)
 MAX_BATCH_ROBOTS = 1 << 20  # n_envs * n_robots: about 100 bytes of arrays per robot and step
 MAX_BATCH_OBS = 1 << 28  # numbers in one step's observations of a batch: 2 GiB of int64
+MAX_NEAREST_K = 1024  # "nearest": other robots in a row (2 numbers each); fewer racing: the rest marked missing
 MAX_RACES = 100_000  # races of one `race --races N`: run one after another, each kept for the table
 
 
@@ -148,6 +152,37 @@ def check_global_view(n_robots: int) -> None:
         raise ValueError(
             f"n_robots: with observe='global' each of {n_robots:,} robots sees every other, {numbers:,} numbers a step, "
             f"past the limit of {MAX_BATCH_OBS:,}; use observe='local' or 'nearest'"
+        )
+
+
+def check_view_radius(value: object, width: int, height: int, least: int = 2) -> int:
+    """"local"'s ``view_radius`` as an int in ``0..max(width - 1, height - 1, least)``: a radius of
+    ``max(width, height) - 1`` sees the whole level from any cell, a larger one only more outside
+    (``least``: the default radius, allowed on the smallest levels too)."""
+    top = max(width - 1, height - 1, least)
+    try:
+        return check_int(value, "view_radius", 0, top)
+    except ValueError as err:
+        raise ValueError(f"{err}; a radius of {top} sees the whole {width}x{height} level from any cell") from None
+
+
+def check_nearest_k(value: object) -> int:
+    """"nearest"'s ``k`` as an int in ``1..MAX_NEAREST_K`` (more than the other robots is allowed: the
+    missing ones are marked so)."""
+    try:
+        return check_int(value, "k", 1, MAX_NEAREST_K)
+    except ValueError as err:
+        raise ValueError(f"{err} (the nearest other robots a robot sees)") from None
+
+
+def check_view_numbers(n_robots: int, obs_size: int, what: str) -> None:
+    """One race's "local" or "nearest" observations, ``n_robots`` rows of ``obs_size`` numbers a step,
+    are within ``MAX_BATCH_OBS`` (checked before they exist); ``what`` names the size argument."""
+    numbers = n_robots * obs_size
+    if numbers > MAX_BATCH_OBS:
+        raise ValueError(
+            f"{what}, n_robots: {n_robots:,} robots seeing {obs_size:,} numbers each make {numbers:,} numbers a step, "
+            f"past the limit of {MAX_BATCH_OBS:,}; use a smaller {what} or fewer robots"
         )
 
 

@@ -54,6 +54,7 @@ from .envs.race import START_MODES, RaceEnv
 from .envs.single import BabyRobotEnv
 from .level_files import load_level
 from .render.ansi import frame, robot_glyph
+from .training.deps import MissingTrainExtraError
 from .training.policy import make_policy
 
 PROG = "babyrobot-marl"
@@ -224,7 +225,7 @@ def _cmd_play(args: argparse.Namespace, out: TextIO) -> int:
         from .play.terminal import play_keys
 
         return play_keys(env, seed, level.name or args.level, _display(args, out).colour, out)
-    policy = make_policy(args.policy, env.table, seed)
+    policy = make_policy(args.policy, env.table, seed, env=env)  # a saved policy reads this env's observations
     display = _display(args, out)
     summary = EpisodeSummary(seed=seed)
     _animate(_episode_frames(env, policy, summary, display.colour), display, out)
@@ -323,9 +324,9 @@ def _cmd_race(args: argparse.Namespace, out: TextIO) -> int:
         from .experiments import run_races
 
         kw = {"collisions": args.collisions, "start": args.start, "max_cycles": args.max_cycles}
-        out.write(f"{run_races(level, names, args.races, seed, **kw).table()}\nseed {seed}\n")
+        out.write(f"{run_races(level, _race_policies(names, env), args.races, seed, **kw).table()}\nseed {seed}\n")
         return 0
-    robot_policies = [make_policy(name, env.table, seed=seed + 7919 * (i + 1)) for i, name in enumerate(names)]
+    robot_policies = [make_policy(name, env.table, seed=seed + 7919 * (i + 1), env=env) for i, name in enumerate(names)]
     if args.human is not None and args.human < args.robots:
         names[args.human] = "keys"
     results = [RobotResult(robot_glyph(i, args.robots) + f" {agent}", names[i]) for i, agent in enumerate(env.possible_agents)]
@@ -346,6 +347,15 @@ def _cmd_race(args: argparse.Namespace, out: TextIO) -> int:
         f"{env.elapsed_steps} steps\n\n{_results_table(results)}\n"
     )
     return 0
+
+
+def _race_policies(names: list[str], env: RaceEnv) -> list:
+    """``run_races``'s policies: scripted names as they are (seeded per race there), each saved policy
+    loaded once (greedy: no seed) and reading ``env``'s observations."""
+    from .policies import POLICY_NAMES
+
+    loaded = {n: make_policy(n, env.table, env=env) for n in dict.fromkeys(names) if n not in POLICY_NAMES}
+    return [loaded.get(n, n) for n in names]
 
 
 # ------------------------------------------------------------------------ solve
@@ -409,6 +419,9 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     try:
         return args.func(args, out)
+    except MissingTrainExtraError as err:  # e.g. a saved policy without torch: how to install it, on one line
+        print(f"{PROG}: error: {_one_line(err)}", file=sys.stderr)
+        return EXIT_USAGE
     except (ValueError, TypeError) as err:
         print(f"{PROG}: error: {_one_line(err)}", file=sys.stderr)
         return EXIT_USAGE

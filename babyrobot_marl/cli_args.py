@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import os
 from collections.abc import Callable
 
 from . import policies
@@ -78,6 +79,38 @@ def positive_float(text: str) -> float:
     if not 0.0 < value < math.inf:
         raise argparse.ArgumentTypeError(f"must be a number > 0, got {shown(text)}")
     return value
+
+
+def non_negative_float(text: str) -> float:
+    value = _number(text)
+    if not 0.0 <= value < math.inf:
+        raise argparse.ArgumentTypeError(f"must be a number >= 0, got {shown(text)}")
+    return value
+
+
+def unit_real(text: str) -> float:
+    """A number in [0, 1] (a discount, GAE's lambda)."""
+    value = _number(text)
+    if not 0.0 <= value <= 1.0:
+        raise argparse.ArgumentTypeError(f"must be a number in [0, 1], got {shown(text)}")
+    return value
+
+
+def output_path(text: str) -> str:
+    """A file to write after a long run (``train --save``, ``--gif``, ``--curve``): its folder must exist
+    and be writable now, and the path must not be a folder, so that nothing is lost at the end."""
+    folder = os.path.dirname(text) or "."
+    try:
+        is_dir, folder_ok, writable = os.path.isdir(text), os.path.isdir(folder), os.access(folder, os.W_OK)
+    except (OSError, ValueError):  # a NUL byte, a name too long
+        is_dir, folder_ok, writable = False, False, False
+    if not text or is_dir:
+        raise argparse.ArgumentTypeError(f"must be a file's path, got {shown(text)}" + (" (a folder)" if is_dir else ""))
+    if not folder_ok:
+        raise argparse.ArgumentTypeError(f"no such folder {shown(folder)} for {shown(text)}; create it first")
+    if not writable:
+        raise argparse.ArgumentTypeError(f"the folder {shown(folder)} is not writable")
+    return text
 
 
 def policy_spec(text: str) -> str:

@@ -13,7 +13,9 @@ sum of costs (each robot's steps until it finished, or the race's length), colli
 which some robot was stopped by another), and the rate of races every robot finished.
 
 Intervals are 95%: Wilson score intervals for rates, mean +- 1.96 standard errors for means
-(normal approximation: read them as rough below some 30 races). Race ``i`` resets the env with
+(normal approximation: read them as rough below some 30 races), truncated at the range the
+figure can take (counts of steps and collisions >= 0, steps to finish >= 1, ranks 1..robots):
+a mean near a bound gets a one-sided interval, never one that reaches past it. Race ``i`` resets the env with
 seed ``seed + i``; a ``"random"`` robot ``k`` of race ``i`` draws from ``default_rng([seed, i, k])``,
 so every figure is reproducible.
 """
@@ -47,8 +49,11 @@ def wilson(successes: int, n: int, z: float = Z95) -> tuple[float, float]:
     return (0.0 if successes == 0 else max(0.0, low), 1.0 if successes == n else min(1.0, high))  # exact at the ends
 
 
-def mean_interval(values: Sequence[float], z: float = Z95) -> tuple[float, float, float]:
-    """``(mean, low, high)``: the mean +- ``z`` standard errors (``nan`` where undefined)."""
+def mean_interval(
+    values: Sequence[float], z: float = Z95, lo: float = -math.inf, hi: float = math.inf
+) -> tuple[float, float, float]:
+    """``(mean, low, high)``: the mean +- ``z`` standard errors (``nan`` where undefined), truncated
+    at ``lo`` and ``hi``, the range the values (and so their mean) can take."""
     x = np.asarray(values, dtype=np.float64)
     if x.size == 0:
         return (math.nan, math.nan, math.nan)
@@ -56,7 +61,7 @@ def mean_interval(values: Sequence[float], z: float = Z95) -> tuple[float, float
     if x.size == 1:
         return (m, math.nan, math.nan)
     half = z * float(x.std(ddof=1)) / math.sqrt(x.size)
-    return (m, m - half, m + half)
+    return (m, max(lo, m - half), min(hi, m + half))
 
 
 @dataclass(frozen=True)
@@ -80,8 +85,8 @@ def _rate(successes: int, n: int) -> Metric:
     return Metric(successes / n if n else math.nan, low, high)
 
 
-def _mean(values: Sequence[float]) -> Metric:
-    return Metric(*mean_interval(values))
+def _mean(values: Sequence[float], lo: float = -math.inf, hi: float = math.inf) -> Metric:
+    return Metric(*mean_interval(values, lo=lo, hi=hi))
 
 
 @dataclass
@@ -127,10 +132,10 @@ class RaceStats:
             "win rate": _rate(len(firsts) - tied, n),
             "tie rate": _rate(tied, n),
             "finish rate": _rate(len(finished), n),
-            "mean rank": _mean(ranks),
-            "steps to finish": _mean([r.finish_steps[k] for r in finished]),
-            "return": _mean([r.returns[k] for r in recs]),
-            "blocked steps": _mean([r.blocked[k] for r in recs]),
+            "mean rank": _mean(ranks, 1, len(self.policies)),
+            "steps to finish": _mean([r.finish_steps[k] for r in finished], 1),
+            "return": _mean([r.returns[k] for r in recs]),  # any sign: the rules set the rewards
+            "blocked steps": _mean([r.blocked[k] for r in recs], 0),
         }
 
     def _race(self) -> dict[str, Metric]:
@@ -138,9 +143,9 @@ class RaceStats:
         costs = [sum(f or r.steps for f in r.finish_steps) for r in recs]
         makespans = [max(r.finish_steps) if all(r.finish_steps) else r.steps for r in recs]
         return {
-            "makespan": _mean(makespans),
-            "sum of costs": _mean(costs),
-            "collisions": _mean([r.collisions for r in recs]),
+            "makespan": _mean(makespans, 0),
+            "sum of costs": _mean(costs, 0),
+            "collisions": _mean([r.collisions for r in recs], 0),
             "all finished": _rate(sum(1 for r in recs if all(r.finish_steps)), len(recs)),
         }
 

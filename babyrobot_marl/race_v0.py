@@ -121,7 +121,8 @@ Outcome codes: 0 moved, 1 stayed, 2 bumped, 3 skidded, 4 glass, 5 start (after r
 floats are a `ValueError`). The generator is made at the first reset, so unseeded copies of an
 env (SuperSuit's `concat_vec_envs_v1` clones it) play different races. `options={"starts":
 [(x, y), ...]}` places the robots: one distinct open cell per robot (not blocked, not an exit);
-any other option key is a `ValueError` naming the known ones.
+a bad value is a `ValueError`. Any other option key is ignored with a `UserWarning` naming the
+known ones (PettingZoo's `api_test` resets with `options={"options": 1}`).
 
 ## Arguments
 

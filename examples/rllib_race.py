@@ -6,7 +6,8 @@
     python examples/rllib_race.py --address auto --num-env-runners 16     # joins it
 
 Without ``--address`` the script starts a local Ray and stops it at the end. Needs the
-``rllib`` extra (``pip install torch==2.13.0 && pip install -e ".[rllib]"``).
+``rllib`` extra, torch's CPU build first
+(``pip install torch==2.13.0 --index-url https://download.pytorch.org/whl/cpu && pip install -e ".[rllib]"``).
 """
 
 from __future__ import annotations

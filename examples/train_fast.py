@@ -7,7 +7,12 @@
 PPO with Stable-Baselines3's knobs, stepped on the batch engine: one robot is judged against value
 iteration's optimum, a race robot against three random and three shortest-path robots. Prints a
 line per evaluation, saves the policy (a torch file) and plays one episode with it, as
-`babyrobot-marl play --policy PATH` does. Needs the train extra: pip install 'babyrobot_marl[train]'.
+`babyrobot-marl play --policy PATH` does.
+
+Needs the train extra, torch's CPU build first (else pip fetches a ~3 GB CUDA build):
+
+    pip install torch==2.13.0 --index-url https://download.pytorch.org/whl/cpu
+    pip install 'babyrobot_marl[train]'
 """
 
 from __future__ import annotations

@@ -9,7 +9,10 @@ training episodes start on random free cells, which spreads the experience over 
 Evaluates the deterministic policy from the level's start, prints the learnt against value
 iteration's optimal return, saves the model and a GIF of the learnt policy. For the fast trainer
 (many times faster), see examples/train_fast.py.
-Needs the train extra: pip install 'babyrobot_marl[train]'.
+Needs the train extra, torch's CPU build first (else pip fetches a ~3 GB CUDA build):
+
+    pip install torch==2.13.0 --index-url https://download.pytorch.org/whl/cpu
+    pip install 'babyrobot_marl[train]'
 """
 
 from __future__ import annotations

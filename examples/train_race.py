@@ -9,7 +9,10 @@ The vector env is SuperSuit's pettingzoo_env_to_vec_env_v1 + concat_vec_envs_v1(
 "stable_baselines3") over race_v0 with finished="freeze"; babyrobot_marl.training.race explains
 how its pitfalls (same episodes in every copy, PPO(seed=...) failing, no truncation flag) are
 handled. Prints the win rate and mean finishing steps against 'random' and 'shortest' robots.
-Needs the train extra: pip install 'babyrobot_marl[train]'.
+Needs the train extra, torch's CPU build first (else pip fetches a ~3 GB CUDA build):
+
+    pip install torch==2.13.0 --index-url https://download.pytorch.org/whl/cpu
+    pip install 'babyrobot_marl[train]'
 """
 
 from __future__ import annotations

@@ -427,3 +427,23 @@ def test_jupyter_is_an_ipython_shell_with_a_kernel(monkeypatch):
     assert not live.notebook_available()  # terminal IPython: no kernel
     Shell.kernel = object()
     assert live.notebook_available()  # a Jupyter kernel, ipycanvas installed
+
+
+def test_the_canvas_legend_stops_growing_past_eight_robots_and_an_oversized_panel_is_refused_before_drawing():
+    from babyrobot_marl.render.panel import LegendRow
+
+    c = make(cs=32)
+
+    def legend(n: int) -> Scene:
+        return Scene(tuple(RobotView(i, (i % 8, i // 8 % 8)) for i in range(n)),
+                     legend=tuple(LegendRow(i, "", -1.0, 0, True) for i in range(n)))  # fmt: skip
+
+    c.draw(legend(8), animate=False)
+    eight = c.widget.height
+    c.draw(legend(300), animate=False)
+    assert c.widget.height == eight and c.frame().shape[0] == c.renderer.frame(legend(8)).shape[0]
+    sent_before, overlay = c.frames_sent, c.overlay
+    huge = update_overlay(Overlay(), levels.get("maze-8x8"), panel=["l"] * 20_000)
+    with pytest.raises(ValueError, match=r"^panel: 20,000 lines"):
+        c.draw(legend(3), huge)
+    assert c.frames_sent == sent_before and c.overlay is overlay  # nothing drawn, nothing changed

@@ -10,6 +10,18 @@ not installed; a snippet for another library (``# requires: torchrl``, ...) only
 Each ```` ```console ```` block is a terminal session: every ``$ command`` line runs (with
 ``babyrobot-marl`` as ``python -m babyrobot_marl``) and its output must be the lines shown
 under it, exactly.
+
+Each ```` ```bash ```` block runs top to bottom in a temporary folder (holding links to
+``examples/`` and ``benchmarks/``), every command in order, each exiting 0, except the
+commands ``NOT_RUN`` names: set-up lines (``pip install``, ``python3 -m venv``, ...), which
+``.ci/run`` runs word for word, CI's own commands, benchmarks (CI runs their quick modes; their
+figures measure a stated machine) and a command whose comment starts ``# interactive`` (it
+waits for a person: a window, the keyboard, a server). ``# requires: EXTRA`` on a block's first
+line works as for Python blocks.
+
+What a block claims is checked: an HTML comment right after the block,
+``<!-- expect: PATTERN -->`` (or one pattern per line between ``<!-- expect:`` and ``-->``),
+gives regular expressions that must each match a line of what the block printed.
 """
 
 from __future__ import annotations
@@ -47,6 +59,7 @@ class Block:
     line: int  # 1-based line of the opening fence
     lang: str
     text: str
+    expect: tuple[str, ...] = ()  # the patterns of an <!-- expect: --> comment right after the block
 
     @property
     def id(self) -> str:
@@ -56,11 +69,12 @@ class Block:
 def blocks(path: Path) -> list[Block]:
     """The fenced code blocks of a Markdown file (fences at the start of a line)."""
     out, lang, start, body = [], None, 0, []
-    for n, line in enumerate(path.read_text(encoding="utf-8").splitlines(), start=1):
+    lines = path.read_text(encoding="utf-8").splitlines()
+    for n, line in enumerate(lines, start=1):
         if lang is None and line.startswith("```"):
             lang, start, body = line[3:].strip(), n, []
         elif lang is not None and line.rstrip() == "```":
-            out.append(Block(path, start, lang, "\n".join(body) + "\n"))
+            out.append(Block(path, start, lang, "\n".join(body) + "\n", expectations(lines[n:])))
             lang = None
         elif lang is not None:
             body.append(line)
@@ -68,9 +82,32 @@ def blocks(path: Path) -> list[Block]:
     return out
 
 
+def expectations(after: list[str]) -> tuple[str, ...]:
+    """The patterns of an ``<!-- expect: ... -->`` comment at the top of ``after`` (blank lines skipped)."""
+    text = "\n".join(after).lstrip()
+    m = re.match(r"<!--\s*expect:(.*?)-->", text, re.S)
+    if not m:
+        return ()
+    patterns = tuple(p.strip() for p in m.group(1).splitlines() if p.strip())
+    for p in patterns:
+        re.compile(p)  # a typo in a pattern fails the collection, not silently
+    return patterns
+
+
 ALL = [b for p in DOC_FILES if p.exists() for b in blocks(p)]
 PYTHON = [b for b in ALL if b.lang == "python"]
 CONSOLE = [b for b in ALL if b.lang == "console"]
+SHELL = [b for b in ALL if b.lang in ("bash", "sh", "shell")]
+
+# The commands of shell blocks that this test does not run, and why: narrow, by how a command starts.
+NOT_RUN = (
+    (r"^(python3 -m venv |\. \.venv/bin/activate$|pip install |apt-get install )", "set-up: .ci/run runs it word for word"),
+    (r"^pytest\b", "the suite itself: .ci/run runs it"),
+    (r"^(bash \.ci/|mkdocs build )", "CI itself: .ci/run and .ci/docs.sh run it"),
+    (r"^python benchmarks/", "a benchmark: .ci/run runs it in quick mode; its figures measure a stated machine"),
+    (r"^(ray start |python examples/rllib_race\.py )", "RLlib: .ci/rllib.sh runs examples/rllib_race.py (one iteration, quick)"),
+    (r"#\s*interactive\b", "waits for a person (marked # interactive)"),
+)
 
 
 def required_extras(block: Block) -> list[str]:
@@ -90,6 +127,8 @@ def missing_extra(block: Block) -> str | None:
             known = ", ".join([*EXTRAS, *LIBRARIES])
             raise AssertionError(f"{block.id}: '# requires: {extra}' names no known extra or library; known: {known}")
         gone = [m for m in EXTRAS.get(extra, (extra,)) if importlib.util.find_spec(m) is None]
+        if gone and extra in LIBRARIES:  # no extra of this package: name the library, and where CI runs it
+            return f"{block.id} needs {extra}, which is no extra of babyrobot_marl (tests_integrations/ runs it in its own venv)"
         if gone:
             return f"{block.id} needs the {extra} extra ({', '.join(gone)} not installed)"
     return None
@@ -99,6 +138,33 @@ def test_the_docs_have_python_and_console_blocks():
     # the collection itself can fail: a parser that found nothing would make every test below vacuous
     assert len(PYTHON) >= 30, [b.id for b in PYTHON]
     assert len(CONSOLE) >= 2, [b.id for b in CONSOLE]
+    assert len(SHELL) >= 20, [b.id for b in SHELL]
+    assert len(SHELL_RUN) >= 8, [b.id for b in SHELL_RUN]
+
+
+def test_block_parser_reads_expectations(tmp_path):
+    page = tmp_path / "page.md"
+    page.write_text(
+        "```bash\nbabyrobot-marl levels\n```\n\n<!-- expect:\n^race-4 \nwalls\n-->\n```bash\nx\n```\n<!-- expect: exit$ -->\n"
+    )
+    first, second = blocks(page)
+    assert first.expect == ("^race-4", "walls") and second.expect == ("exit$",)
+    assert blocks(page)[1].text == "x\n"
+
+
+def test_shell_commands_run_all_but_set_up_ci_benchmarks_and_interactive_ones(tmp_path):
+    page = tmp_path / "page.md"
+    page.write_text(
+        "```bash\n"
+        "python3 -m venv .venv && . .venv/bin/activate && pip install -e . && babyrobot-marl levels  # set up, then run\n"
+        "babyrobot-marl play --level puddles --policy keys   # interactive: you play\n"
+        "python benchmarks/bench_single.py --quick\n"
+        "python examples/train_fast.py --steps 10\n"
+        "pytest -q\n"
+        "```\n"
+    )
+    ran = [cmd for cmd, why in shell_commands(blocks(page)[0]) if why is None]
+    assert ran == ["babyrobot-marl levels", "python examples/train_fast.py --steps 10"]
 
 
 def test_block_parser_reads_fences_and_requires(tmp_path):
@@ -119,6 +185,7 @@ def test_python_block_runs_alone(block, tmp_path, monkeypatch, capsys):
     code = compile(block.text, block.id, "exec")
     if "train" not in required_extras(block):
         exec(code, {"__name__": "__main__"})
+        check_claims(block, capsys.readouterr().out)
         return
     # torch on one thread, as the package's trainers run it: on a busy 2-core machine torch's own
     # thread pool makes these short runs 5-10x slower (its threads wait on each other)
@@ -130,6 +197,13 @@ def test_python_block_runs_alone(block, tmp_path, monkeypatch, capsys):
         exec(code, {"__name__": "__main__"})
     finally:
         torch.set_num_threads(threads)
+    check_claims(block, capsys.readouterr().out)
+
+
+def check_claims(block: Block, printed: str) -> None:
+    """Each pattern of the block's ``<!-- expect: -->`` comment matches a line of what it printed."""
+    for pattern in block.expect:
+        assert re.search(pattern, printed, re.M), f"{block.id}: nothing printed matches {pattern!r}; printed:\n{printed[-3000:]}"
 
 
 def console_sessions(block: Block) -> list[tuple[str, str]]:
@@ -152,6 +226,62 @@ def test_console_block_shows_what_the_command_prints(block):
         got = subprocess.run(run, shell=True, capture_output=True, text=True, cwd=ROOT, env=env, timeout=120)
         assert got.returncode == 0, f"{block.id}: '{cmd}' exited {got.returncode}: {got.stderr}"
         assert got.stdout.rstrip("\n") == expected, f"{block.id}: '{cmd}' printed\n{got.stdout}"
+
+
+def not_run(command: str) -> str | None:
+    """Why a shell command is not run here (``NOT_RUN``), or None: it runs."""
+    return next((why for pattern, why in NOT_RUN if re.search(pattern, command)), None)
+
+
+def shell_commands(block: Block) -> list[tuple[str, str | None]]:
+    """``[(command, why it is not run or None)]`` of a shell block: one per line, ``a && b`` split."""
+    out = []
+    for line in block.text.splitlines():
+        line = line.strip()
+        if not line or line.startswith("#"):
+            continue
+        if re.search(r"#\s*interactive\b", line):
+            out.append((line, not_run(line)))
+            continue
+        line = re.sub(r"\s+#.*$", "", line)  # a trailing comment (no '#' inside this project's commands)
+        out += [(cmd.strip(), not_run(cmd.strip())) for cmd in line.split("&&")]
+    return out
+
+
+# babyrobot-marl and python as a reader's activated venv has them: this interpreter, this checkout
+SHELL_PRELUDE = """set -eo pipefail
+babyrobot-marl() { "$DOCS_PYTHON" -m babyrobot_marl "$@"; }
+python() { "$DOCS_PYTHON" "$@"; }
+"""
+
+
+# blocks with a command to run here (a block of set-up lines only, for one, is run by .ci/run)
+SHELL_RUN = [b for b in SHELL if any(why is None for _, why in shell_commands(b))]
+
+
+@pytest.mark.parametrize("block", SHELL_RUN, ids=lambda b: b.id)
+def test_shell_block_runs_and_prints_what_the_page_claims(block, tmp_path):
+    why = missing_extra(block)
+    if why:
+        pytest.skip(why)
+    commands = [cmd for cmd, why in shell_commands(block) if why is None]
+    for folder in ("examples", "benchmarks"):  # a reader runs them from the checkout's root
+        (tmp_path / folder).symlink_to(ROOT / folder)
+    env = {
+        **os.environ,
+        "PYTHONPATH": os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")]),
+        "DOCS_PYTHON": sys.executable,
+        "NO_COLOR": "1",
+        "OMP_NUM_THREADS": "1",  # torch on one thread, as the package's trainers run it on a busy machine
+    }
+    printed = ""
+    for cmd in commands:
+        # a guard against a hung command, not a speed target
+        script = ["bash", "-c", SHELL_PRELUDE + cmd]
+        got = subprocess.run(script, capture_output=True, text=True, cwd=tmp_path, env=env, timeout=1800)
+        assert got.returncode == 0, f"{block.id}: '{cmd}' exited {got.returncode}:\n{got.stdout[-2000:]}\n{got.stderr[-3000:]}"
+        printed += got.stdout
+    check_claims(block, printed)
 
 
 def test_readme_picture_is_what_its_command_draws():

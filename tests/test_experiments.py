@@ -129,3 +129,24 @@ def test_named_policies_act_on_the_level_drawn_for_each_race():
     assert stats.level == "maze-6x6-*"
     assert all(r.ranks == [1] for r in stats.records)  # alone, the shortest path always gets out
     assert all(r.finish_steps[0] <= 2 * 36 for r in stats.records)
+
+
+def test_intervals_stay_inside_the_range_a_figure_can_take():
+    """A rare count (1 blocked step in 40 races) has mean - 1.96 SE < 0: its interval starts at 0."""
+    from babyrobot_marl.experiments import RaceRecord, RaceStats
+
+    recs = [
+        RaceRecord(seed=i, steps=9, ranks=[1, 2], finish_steps=[5, 9], returns=[-4.0, -8.0],
+                   blocked=[int(i == 0), 0], collisions=int(i == 0))
+        for i in range(40)
+    ]  # fmt: skip
+    recs[1].ranks = [2, 1]  # robot 1 wins one race: its mean rank just under 2, the most a rank can be here
+    stats = RaceStats("race-2", ["a", "b"], recs)
+    blocked, collisions = stats.robots[0]["blocked steps"], stats.race["collisions"]
+    assert blocked.value == pytest.approx(0.025) and blocked.low == 0.0 < blocked.high
+    assert collisions.low == 0.0 < collisions.value < collisions.high
+    first, last = stats.robots[0]["mean rank"], stats.robots[1]["mean rank"]
+    assert first.low == 1.0 < first.value < first.high and last.low < last.value < last.high == 2.0
+    assert "blocked steps" in stats.table() and "[-" not in stats.table()
+    m, low, high = mean_interval([0, 0, 0, 1], lo=0.0)
+    assert low == 0.0 and high == pytest.approx(0.25 + 1.959964 * 0.25)

@@ -217,3 +217,45 @@ def test_a_single_race_with_a_global_view_past_the_step_limit_is_refused_before_
         make()
     assert peak_bytes(lambda: pytest.raises(ValueError, make)) < 64 * 2**20
     assert make(observe="local").max_num_agents == 10_000
+
+
+# ------------------------------------------------------------------------ view_radius and k
+@pytest.mark.parametrize(
+    ("kw", "message"),
+    [
+        ({"observe": "local", "view_radius": 7},
+         r"^view_radius: must be an integer in 0\.\.6, got 7; a radius of 6 sees the whole 7x7 level"),
+        ({"observe": "local", "view_radius": 100_000}, r"^view_radius: must be an integer in 0\.\.6, got 100000"),
+        ({"observe": "nearest", "k": 1025}, r"^k: must be an integer in 1\.\.1024, got 1025"),
+        ({"observe": "nearest", "k": 10**30}, r"^k: must be an integer in 1\.\.1024, got 1000000000000000000000000000000"),
+    ],
+)
+def test_view_radius_and_k_past_their_bounds_are_refused_by_name_before_anything_is_allocated(kw, message):
+    from babyrobot_marl.envs.vector import RaceVectorEnv
+
+    make = partial(race_v0.parallel_env, level="maze-7x7", n_robots=3, start="random", **kw)
+    with pytest.raises(ValueError, match=message):
+        make()
+    assert peak_bytes(lambda: pytest.raises(ValueError, make)) < 2**20
+    with pytest.raises(ValueError, match=message):  # the batch engine's vector env takes the same arguments
+        RaceVectorEnv(2, level="maze-7x7", n_robots=3, start="random", **kw)
+
+
+def test_the_largest_view_radius_and_k_work():
+    from babyrobot_marl.checks import MAX_NEAREST_K
+
+    env = race_v0.parallel_env(level="maze-7x7", n_robots=3, start="random", observe="local", view_radius=6)
+    obs, _ = env.reset(seed=0)
+    assert obs["robot_0"].shape == (2 + 6 * 13 * 13,)
+    small = race_v0.parallel_env(level="race-2", n_robots=2, observe="local", view_radius=2)  # the default fits any level
+    assert small.reset(seed=0)[0]["robot_0"].shape == (2 + 6 * 5 * 5,)
+    env = race_v0.parallel_env(level="maze-7x7", n_robots=3, start="random", observe="nearest", k=MAX_NEAREST_K)
+    obs, _ = env.reset(seed=0)
+    assert obs["robot_0"].shape == (2 + 2 * MAX_NEAREST_K,)
+    assert (obs["robot_0"][6:] == [13, 13] * (MAX_NEAREST_K - 2)).all()  # missing: [2W - 1, 2H - 1]
+
+
+def test_local_rows_of_many_robots_past_the_step_limit_are_refused_naming_view_radius():
+    make = partial(race_v0.parallel_env, level="maze-256x256", n_robots=200, start="random", observe="local", view_radius=255)
+    with pytest.raises(ValueError, match=r"^view_radius, n_robots: 200 robots seeing 1,566,728 numbers each .* 268,435,456"):
+        make()

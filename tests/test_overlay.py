@@ -250,3 +250,20 @@ def test_value_boxes_leave_the_walls_clear():
                 x, _y = int(op.points[:, 0].mean() // cs), int(op.points[:, 1].mean() // cs)
                 m = wall_width(cs) / 2
                 assert op.points[:, 0].min() >= x * cs + m - 0.5 and op.points[:, 0].max() <= (x + 1) * cs - m + 0.5
+
+
+def test_values_near_the_float_maximum_draw_without_a_warning_and_keep_their_order():
+    import warnings
+
+    top = np.finfo(np.float64).max
+    env = BabyRobotEnv(level="default", render_mode="rgb_array")
+    env.reset(seed=0)
+    values = np.array([[-top, 0.0, top], [top / 2, -top / 2, 1.0], [np.nan, top, -top]])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # numpy's "overflow encountered in subtract" fails the test
+        env.set_overlay(values=values, q_values=np.stack([values] * 5, axis=2), panel="huge")
+        env.render()
+        colours = colour_map(values, THEMES["light"].colour_map)
+    assert (colours[0, 0] == colour_map(np.array([0.0, 1.0]), THEMES["light"].colour_map)[0]).all()  # lowest
+    assert (colours[0, 2] == colour_map(np.array([0.0, 1.0]), THEMES["light"].colour_map)[1]).all()  # highest
+    assert (colours[0, 1] == colour_map(np.array([0.0, 0.5, 1.0]), THEMES["light"].colour_map)[1]).all()  # the middle

@@ -62,3 +62,21 @@ def test_the_notebook_module_imports_no_widget_library_until_it_is_used():
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=True).stdout
     assert out.strip() == "[]"
+
+
+@pytest.mark.parametrize("finished", ["remove", "freeze"])
+def test_the_keys_leave_a_finished_robot_and_tab_skips_the_finished_ones_in_both_finished_modes(finished):
+    env = RaceEnv(level="race-2", n_robots=3, start="fill", finished=finished)
+    stay = lambda obs: 0  # noqa: E731
+    g = RaceGame(env, [stay, stay, stay], driven=0)
+    env.set_cells([(1, 2), (4, 4), (0, 4)])  # robot 0 one step west of the exit at (2, 2)
+    assert g.act(Action.EAST) and env.ranks == [1, 0, 0]
+    assert g.driven == 1 and g.racing == [1, 2]  # the keys moved on by themselves
+    seen = []
+    for _ in range(4):
+        assert g.switch()
+        seen.append(g.driven)
+    assert seen == [2, 1, 2, 1]  # TAB never hands the keys to the finished robot 0
+    before = env.robot_cells
+    assert g.act(Action.NORTH)
+    assert env.robot_cells[1] == (4, 3) and env.robot_cells[0] == before[0]  # the press moved robot 1

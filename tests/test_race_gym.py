@@ -53,6 +53,24 @@ def test_make_builds_the_race_env_with_robot_0_as_learner():
     assert info["ranks"].tolist() == [0, 0] and info["rank"] == 0
 
 
+def test_an_unknown_reset_option_warns_once_naming_starts_and_is_ignored():
+    env, plain = (BabyRobotRaceEnv(level="race-4", opponents=["random"] * 3) for _ in range(2))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        obs, _ = env.reset(seed=2, options={"options": 1})
+    # once: the race inside is given only the known options
+    assert [str(w.message) for w in caught] == ["options: unknown option 'options' ignored; known options are 'starts'"]
+    assert obs.tolist() == plain.reset(seed=2)[0].tolist()
+    for _ in range(20):
+        assert env.step(1)[0].tolist() == plain.step(1)[0].tolist()
+
+
+def test_bad_starts_beside_an_unknown_option_are_still_a_value_error():
+    env = BabyRobotRaceEnv(level="race-4", opponents=["random"] * 3)
+    with pytest.warns(UserWarning, match="'options' ignored"), pytest.raises(ValueError, match=r'options\["starts"\]'):
+        env.reset(options={"starts": [(0, 1)] * 4, "options": 1})
+
+
 def test_bad_opponents_are_a_value_error_naming_the_argument():
     for bad in ("random", ["random", "clever"], [3]):
         with pytest.raises(ValueError, match="opponents"):

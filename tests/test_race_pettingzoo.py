@@ -37,15 +37,18 @@ MULTIDISCRETE_HINT = "Observation space for each agent probably should be gymnas
 # api_test plays random actions (unseeded): a robot in cell (0, 0) with its rival there too ("pass")
 # or finished at (0, 0) observes all zeros, a valid state that api_test flags as suspicious
 ALL_ZEROS = "Observation numpy array is all zeros."
+# the api tests reset with options={"options": 1}: an unknown option, ignored with this warning
+PROBE = "options: unknown option 'options' ignored; known options are 'starts'"
 
 
 @contextmanager
 def strict_warnings():
-    """Every warning is an error, except api_test's hint about MultiDiscrete observations."""
+    """Every warning is an error, except api_test's hints above and the options probe's warning."""
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         warnings.filterwarnings("ignore", message=re.escape(MULTIDISCRETE_HINT))
         warnings.filterwarnings("ignore", message=re.escape(ALL_ZEROS))
+        warnings.filterwarnings("ignore", message=re.escape(PROBE))
         yield
 
 
@@ -63,36 +66,47 @@ CONFIGS = [pytest.param({"collisions": m, "finished": f}, id=f"{m}-{f}") for m i
 LEVELS = [pytest.param({"level": "race-2"}, id="race-2"), pytest.param({"level": "race-corridor", "n_robots": 4}, id="corridor")]
 
 
-def without_options_probe(env):
-    """PettingZoo's api tests call ``reset(seed=0, options={"options": 1})`` only to see that reset
-    takes ``options``; an unknown option is a ValueError here (DESIGN.md), so that one probe is dropped."""
-    reset = env.reset
+def test_the_api_tests_options_probe_is_ignored_with_a_warning_naming_starts():
+    """PettingZoo's api tests reset with ``options={"options": 1}``: accepted, with a UserWarning, and ignored."""
+    probed, plain = (
+        race_v0.parallel_env(level="race-4", n_robots=4, start="random"),
+        race_v0.parallel_env(level="race-4", n_robots=4, start="random"),
+    )
+    with pytest.warns(UserWarning, match="unknown option 'options' ignored; known options are 'starts'"):
+        obs, _ = probed.reset(seed=3, options={"options": 1})
+    assert {a: o.tolist() for a, o in obs.items()} == {a: o.tolist() for a, o in plain.reset(seed=3)[0].items()}
+    aec = race_v0.env()
+    with pytest.warns(UserWarning, match="unknown option 'options' ignored; known options are 'starts'"):
+        aec.reset(seed=0, options={"options": 1})
+    assert aec.agents == ["robot_0", "robot_1"]
 
-    def probed(seed=None, options=None):
-        return reset(seed=seed, options=None if options == {"options": 1} else options)
 
-    env.reset = probed
-    return env
+def test_an_unknown_option_beside_starts_is_ignored_and_starts_still_applies():
+    env = race_v0.parallel_env(level="race-4", n_robots=4)
+    starts = [(0, 1), (1, 1), (2, 1), (3, 1)]
+    with pytest.warns(UserWarning, match="unknown option 'begin', 'x' ignored; known options are 'starts'"):
+        obs, _ = env.reset(seed=0, options={"starts": starts, "begin": 1, "x": 2})
+    assert [tuple(o[:2].tolist()) for o in obs.values()] == starts
 
 
-def test_the_api_tests_options_probe_is_an_unknown_option_naming_starts():
-    for env in (race_v0.parallel_env(), race_v0.env()):
-        with pytest.raises(ValueError, match="unknown option 'options'; known options are 'starts'"):
-            env.reset(seed=0, options={"options": 1})
+def test_a_known_option_with_a_bad_value_stays_an_error():
+    env = race_v0.parallel_env(level="race-4", n_robots=4)
+    with pytest.warns(UserWarning, match="'options' ignored"), pytest.raises(ValueError, match=r'options\["starts"\]'):
+        env.reset(options={"starts": [(0, 1)] * 4, "options": 1})
 
 
 @pytest.mark.parametrize("level", LEVELS)
 @pytest.mark.parametrize("config", CONFIGS)
 def test_parallel_api_test_passes(config, level):
     with strict_warnings():
-        parallel_api_test(without_options_probe(race_v0.parallel_env(**config, **level)), num_cycles=300)
+        parallel_api_test(race_v0.parallel_env(**config, **level), num_cycles=300)
 
 
 @pytest.mark.parametrize("level", LEVELS)
 @pytest.mark.parametrize("config", CONFIGS)
 def test_aec_api_test_passes(config, level):
     with strict_warnings():
-        api_test(without_options_probe(race_v0.env(**config, **level)), num_cycles=300)
+        api_test(race_v0.env(**config, **level), num_cycles=300)
 
 
 @pytest.mark.parametrize("config", CONFIGS)

@@ -313,3 +313,18 @@ def test_the_race_gym_env_names_the_learner_and_its_opponents_and_forwards_the_a
     assert [row.name for row in race._scene().legend] == ["learner", "shortest", "random"]
     assert race.animation_frames == 0 and env.unwrapped.metadata["render_fps"] == 10
     assert env.render().shape[0] > race.level.height * race.cell_size  # the legend
+
+
+def test_a_race_legend_stops_growing_past_eight_robots_and_the_frame_limit_counts_it():
+    def height(n: int) -> int:
+        env = race_v0.parallel_env(level="maze-16x16", n_robots=n, start="random", render_mode="rgb_array")
+        env.reset(seed=0)
+        return env.render().shape[0]
+
+    assert height(2) < height(8) == height(9) == height(100)
+    with pytest.raises(ValueError, match=r"^cell_size: .*legend of 4 robots.* 4096x4262 frame"):
+        race_v0.parallel_env(level="maze-16x16", n_robots=4, start="random", cell_size=256, render_mode="rgb_array")
+    env = BabyRobotEnv(level="maze-8x8", render_mode="rgb_array")
+    env.reset(seed=0)
+    with pytest.raises(ValueError, match=r"^panel: 3,000 lines"):
+        env.unwrapped.set_overlay(panel=[f"line {i}" for i in range(3000)])

@@ -233,6 +233,26 @@ def test_bad_options_start_is_a_value_error_and_changes_nothing(start):
     assert env.robot_cell == (2, 0)
 
 
+def test_an_unknown_reset_option_warns_once_naming_start_and_is_ignored():
+    """Gymnasium's and PettingZoo's own tests reset with arbitrary options (DESIGN.md)."""
+    env, plain = BabyRobotEnv("glass", start="random"), BabyRobotEnv("glass", start="random")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        obs, _ = env.reset(seed=5, options={"options": 1})
+    assert [str(w.message) for w in caught] == ["options: unknown option 'options' ignored; known options are 'start'"]
+    assert caught[0].category is UserWarning and caught[0].filename == __file__  # points at the reset() call
+    assert obs.tolist() == plain.reset(seed=5)[0].tolist()
+    with pytest.warns(UserWarning, match="unknown option 'x' ignored"):
+        episode = run_episode(env, 7, start_options={"start": (1, 1), "x": 0})
+    assert episode == run_episode(plain, 7, start_options={"start": (1, 1)})
+
+
+def test_a_bad_start_beside_an_unknown_option_is_still_a_value_error():
+    env = BabyRobotEnv(OPEN_TEXT)
+    with pytest.warns(UserWarning, match="'options' ignored"), pytest.raises(ValueError, match=r"options\['start'\]"):
+        env.reset(options={"start": (9, 9), "options": 1})
+
+
 def test_options_start_on_a_blocked_cell_is_a_value_error():
     env = BabyRobotEnv("blocked")
     (x, y) = sorted(levels.get("blocked").blocked)[0]

@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-pytest.importorskip("stable_baselines3", reason="the train extra is not installed")  # CI installs it (test extra)
-ss = pytest.importorskip("supersuit", reason="the train extra is not installed")
+pytest.importorskip("stable_baselines3", reason="needs the train extra")  # CI installs it (test extra)
+ss = pytest.importorskip("supersuit", reason="needs the train extra")
 
 from babyrobot_marl.training.race import evaluate_race, make_race_vec_env, train_race  # noqa: E402
 

@@ -8,7 +8,7 @@ import builtins
 import numpy as np
 import pytest
 
-pytest.importorskip("stable_baselines3", reason="the train extra is not installed")  # CI installs it (test extra)
+pytest.importorskip("stable_baselines3", reason="needs the train extra")  # CI installs it (test extra)
 
 from babyrobot_marl import BabyRobotEnv, levels  # noqa: E402
 from babyrobot_marl.policies.shortest import distances  # noqa: E402
@@ -68,7 +68,7 @@ def test_missing_train_extra_is_a_clear_error(monkeypatch):
 
 def test_cell_features_give_each_cell_its_own_one_hot():
     """SB3's one-hots of x and y in, one one-hot per cell out: every cell distinct, at y * W + x."""
-    th = pytest.importorskip("torch", reason="the train extra is not installed")
+    th = pytest.importorskip("torch", reason="needs the train extra")
     from gymnasium import spaces
 
     from babyrobot_marl.training.single import cell_features_class
@@ -84,7 +84,7 @@ def test_cell_features_give_each_cell_its_own_one_hot():
 
 
 def test_ppo_with_cell_features_trains_saves_and_loads(tmp_path):
-    pytest.importorskip("stable_baselines3", reason="the train extra is not installed")
+    pytest.importorskip("stable_baselines3", reason="needs the train extra")
     from stable_baselines3 import PPO
 
     from babyrobot_marl.training.single import train_single

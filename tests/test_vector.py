@@ -548,3 +548,18 @@ def test_sb3_vec_env_without_stable_baselines3_names_the_train_extra(monkeypatch
     monkeypatch.setitem(sys.modules, "stable_baselines3", None)
     with pytest.raises(ImportError, match=r"babyrobot_marl\[train\]"):
         babyrobot_marl.sb3_vec_env(level="default", n_envs=2)
+
+
+@pytest.mark.parametrize("n_robots", [1, 3])
+@pytest.mark.parametrize("mode", ["disabled", "next-step", AutoresetMode.DISABLED, AutoresetMode.NEXT_STEP])
+def test_sb3_vec_env_refuses_an_autoreset_mode_sb3_cannot_honour(mode, n_robots):
+    pytest.importorskip("stable_baselines3")
+    level = "race-4" if n_robots > 1 else "default"
+    with pytest.raises(ValueError, match=r"^autoreset_mode: a Stable-Baselines3 VecEnv always resets.*'same-step'"):
+        babyrobot_marl.sb3_vec_env(level=level, n_envs=2, n_robots=n_robots, autoreset_mode=mode)
+    # the mode SB3 has is accepted, and is what the env does: an ended env is reset in that same step
+    env = babyrobot_marl.sb3_vec_env(level="default", n_envs=2, autoreset_mode="same-step", max_steps=1)
+    env.seed(0)
+    first = env.reset()
+    obs, _, dones, infos = env.step(np.zeros(2, dtype=np.int64))
+    assert dones.all() and (obs == first).all() and all("terminal_observation" in i for i in infos)

@@ -11,10 +11,13 @@ from __future__ import annotations
 import functools
 import http.server
 import os
+import posixpath
+import re
 import shutil
 import tempfile
 import threading
 from pathlib import Path
+from urllib.parse import unquote, urljoin, urlparse
 
 import numpy as np
 import pytest
@@ -150,3 +153,35 @@ def test_tutorial_page_holds_the_executed_notebook_outputs_and_the_canvas_pictur
     pictures = [i for i in images if (i["src"] or "").startswith("data:image/png")]
     assert len(pictures) >= 2 and all(i["w"] > 100 and i["h"] > 100 for i in pictures), images
     screenshot(page, "tutorial_quickstart")
+
+
+def site_url() -> str:
+    m = re.search(r"^site_url:\s*(\S+)", (ROOT / "mkdocs.yml").read_text(encoding="utf-8"), re.M)
+    assert m, "mkdocs.yml has no site_url: 404.html's links and sitemap.xml need it"
+    return m.group(1) if m.group(1).endswith("/") else m.group(1) + "/"
+
+
+def site_file(url: str) -> Path:
+    """The file of the built site that ``url`` (under site_url) is served from."""
+    base = site_url()
+    assert url.startswith(base), f"{url} is not under site_url {base}"
+    rel = posixpath.normpath("/" + unquote(urlparse(url).path)[len(urlparse(base).path) :]).lstrip("/")
+    path = SITE / rel
+    return path / "index.html" if path.is_dir() else path
+
+
+def test_404_page_links_work_at_any_depth():
+    # the server answers any missing URL with 404.html: its links must not depend on where that was
+    html = (SITE / "404.html").read_text(encoding="utf-8")
+    links = [u for u in re.findall(r'(?:href|src)="([^"]+)"', html) if not urlparse(u).scheme and not u.startswith("#")]
+    assert len(links) >= 30, links
+    for missing in ("no-such-page/", "guides/no/such/page.html"):
+        broken = [u for u in links if not site_file(urljoin(site_url() + missing, u)).is_file()]
+        assert not broken, f"404.html served at {missing}: broken links {broken}"
+
+
+def test_sitemap_lists_every_page_at_site_url():
+    locs = re.findall(r"<loc>([^<]+)</loc>", (SITE / "sitemap.xml").read_text(encoding="utf-8"))
+    pages = [p for p in SITE.rglob("index.html") if "assets" not in p.parts]
+    assert len(locs) == len(pages) >= 20, (len(locs), len(pages))
+    assert all(site_file(u).is_file() for u in locs)

@@ -30,6 +30,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from ..checks import check_nearest_k, check_view_radius, shown
 from .table import Table
 
 OBSERVE_MODES = ("global", "local", "nearest")
@@ -382,20 +383,24 @@ def make_observer(table: Table, observe: str = "global", view_radius: int | None
     """The observer of ``observe`` (``None`` for "global", which the envs build themselves).
 
     ``view_radius`` (default 2) belongs to "local" and ``k`` (default 4) to "nearest": either
-    given to another mode is a ``ValueError``, as is anything but an integer >= 0 (>= 1 for ``k``).
+    given to another mode is a ``ValueError``, as is anything but an integer in
+    ``0..max(width, height) - 1`` (``checks.check_view_radius``: that radius sees the whole level)
+    or ``1..MAX_NEAREST_K`` for ``k`` (``checks.check_nearest_k``); checked before anything is allocated.
     """
     if observe not in OBSERVE_MODES:
         raise ValueError(f"observe: must be one of {', '.join(map(repr, OBSERVE_MODES))}, got {observe!r}")
-    for name, value, mode, low in (("view_radius", view_radius, "local", 0), ("k", k, "nearest", 1)):
+    w, h = table.level.width, table.level.height
+    for name, value, mode in (("view_radius", view_radius, "local"), ("k", k, "nearest")):
         if value is None:
             continue
         if observe != mode:
-            raise ValueError(f"{name}: only for observe={mode!r}, got {name}={value!r} with observe={observe!r}")
-        if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
-            raise ValueError(f"{name}: must be an integer >= {low}, got {value!r}")
+            raise ValueError(f"{name}: only for observe={mode!r}, got {name}={shown(value)} with observe={observe!r}")
+    if view_radius is not None:
+        view_radius = check_view_radius(view_radius, w, h, DEFAULT_VIEW_RADIUS)
+    if k is not None:
+        k = check_nearest_k(k)
     if observe == "global":
         return None
-    w, h = table.level.width, table.level.height
     ids = np.arange(table.n_cells)
     xy = np.stack([ids % w, ids // w], axis=1)
     if observe == "local":

@@ -2,11 +2,14 @@
 
 from __future__ import annotations
 
+import dataclasses
 import operator
+import warnings
 from collections.abc import Collection, Mapping, Sequence
 from typing import Any
 
 import numpy as np
+from gymnasium.envs.registration import EnvSpec
 
 from .. import levels
 from ..checks import check_int
@@ -116,16 +119,51 @@ def check_positive_int(value: object, what: str) -> int:
 
 
 def check_options(options: object, known: Collection[str] = ()) -> Mapping[str, Any]:
-    """``reset(options=...)``: None or a dict whose keys are among ``known``."""
+    """``reset(options=...)``: None or a dict; only the ``known`` keys are returned.
+
+    An unknown key is a ``UserWarning`` naming the known ones, not an error: PettingZoo's and
+    Gymnasium's own tests reset with arbitrary options (``{"options": 1}``). A known key's value
+    is checked by the env.
+    """
     if options is None:
         return {}
     if not isinstance(options, Mapping):
         raise ValueError(f"options: expected a dict or None, got {type(options).__name__}")
     unknown = [k for k in options if k not in known]
-    if unknown:
-        allowed = ", ".join(map(repr, known)) if known else "none"
-        raise ValueError(f"options: unknown option {unknown[0]!r}; known options are {allowed}")
-    return options
+    if not unknown:
+        return options
+    allowed = ", ".join(map(repr, known)) if known else "none"
+    names = ", ".join(map(repr, unknown))
+    # stacklevel 3: the line that called reset()
+    warnings.warn(f"options: unknown option {names} ignored; known options are {allowed}", UserWarning, stacklevel=3)
+    return {k: v for k, v in options.items() if k in known}
+
+
+class OwnStepLimitSpec:
+    """``env.spec.max_episode_steps`` is the step at which the env truncates itself.
+
+    ``gymnasium.make`` sets ``env.unwrapped.spec`` after building the env, always with
+    ``max_episode_steps=None`` (gymnasium 1.2.2 and 1.4.0: its own ``TimeLimit``, if any, wraps outside);
+    this fills in the env's own limit, so ``TimeAwareObservation`` and
+    ``TimeLimit(env, env.spec.max_episode_steps)`` read it. The registry keeps None: the limit
+    depends on ``level=``, and a ``TimeLimit`` from the registry would cut larger levels short.
+    """
+
+    _spec: EnvSpec | None = None
+
+    @property
+    def own_step_limit(self) -> int:
+        raise NotImplementedError
+
+    @property
+    def spec(self) -> EnvSpec | None:
+        return self._spec
+
+    @spec.setter
+    def spec(self, spec: EnvSpec | None) -> None:
+        if spec is not None and spec.max_episode_steps is None:
+            spec = dataclasses.replace(spec, max_episode_steps=self.own_step_limit)
+        self._spec = spec
 
 
 # Info "outcome" codes: the engine's five, then the two the envs add. Ints so that tensor

@@ -16,6 +16,7 @@ from ..core.engine import BUMPED, MOVED, move
 from ..core.rng import SLOTS
 from ..render.overlay import KEEP, Overlay, update_overlay
 from ..render.panel import LegendRow
+from ..render.rgb import check_overlay_frame
 from ..render.scene import POSE_OF_OUTCOME, RobotView, Scene
 
 
@@ -43,7 +44,10 @@ class Drawing:
         Parts not given are kept; ``None`` clears a part. Checked before anything changes.
         """
         n = getattr(self, "n_robots", 1)
-        self._overlay = update_overlay(self._overlay, self.level, values, q_values, arrows, text, panel, names, n)  # type: ignore[attr-defined]
+        overlay = update_overlay(self._overlay, self.level, values, q_values, arrows, text, panel, names, n)  # type: ignore[attr-defined]
+        if getattr(self, "render_mode", None) in ("rgb_array", "human"):  # its frames within the limit, legend and all
+            check_overlay_frame(self.level, self.cell_size, overlay, n if isinstance(self, RaceDrawing) else 0)  # type: ignore[attr-defined]
+        self._overlay = overlay
         if self.canvas is not None:
             self.canvas.set_overlay(self._overlay, self._scene())
 

@@ -11,7 +11,7 @@ import numpy as np
 from gymnasium import spaces
 from pettingzoo import ParallelEnv
 
-from ..checks import check_global_view
+from ..checks import check_global_view, check_view_numbers
 from ..core.actions import N_ACTIONS
 from ..core.batch import BatchRace
 from ..core.level import Cell, Level
@@ -25,7 +25,7 @@ from ..level_sources import DrawnLevels
 from ..render.ansi import frame, robot_glyph
 from ..render.canvas import check_animation_frames, check_fps
 from ..render.overlay import Overlay
-from ..render.rgb import RgbRenderer, Theme, check_cell_size, resolve_theme
+from ..render.rgb import RgbRenderer, Theme, check_cell_size, check_frame_size, resolve_theme
 from .common import (
     FINISHED,
     START,
@@ -101,6 +101,8 @@ class RaceEnv(RaceDrawing, DrawnLevels, LazyGenerator, ParallelEnv):
         self._fixed_starts, self._free = self._placement(n)
         self.render_mode = check_render_mode(render_mode, self.metadata["render_modes"])
         self.cell_size, self.theme = check_cell_size(cell_size, self.level), resolve_theme(theme)
+        if self.render_mode in ("rgb_array", "human"):  # its frames show the legend: all of it within the limit
+            check_frame_size(self.level, self.cell_size, robots=n)
         self.animation_frames = check_animation_frames(animation_frames)
         if render_fps is not None:  # this env's own metadata: the class's stays as it is
             self.metadata = {**type(self).metadata, "render_fps": check_fps(render_fps)}
@@ -123,6 +125,8 @@ class RaceEnv(RaceDrawing, DrawnLevels, LazyGenerator, ParallelEnv):
         )
         if self._observer is None:
             check_global_view(n)
+        else:  # "local" or "nearest": rows of a bounded size, but n of them
+            check_view_numbers(n, len(self._observer.nvec), "view_radius" if observe == "local" else "k")
         self._gather = global_gather(n if self._observer is None else 0)  # robot i sees i, i+1, ..., i-1: "global" only
         self._lists = self.table.lists
         self._xy = [self.table.cell_xy(c) for c in range(self.table.n_cells)]

@@ -12,7 +12,7 @@ from ..core.level import Level
 from ..core.rules import Rules
 from ..policies import POLICY_NAMES, make
 from ..render.rgb import Theme
-from .common import check_action, check_options, check_seed, known_args
+from .common import OwnStepLimitSpec, check_action, check_options, check_seed, known_args
 from .race import RaceEnv
 from .starts import check_cells
 
@@ -22,7 +22,7 @@ _ARGS = (
 )
 
 
-class BabyRobotRaceEnv(gym.Env):
+class BabyRobotRaceEnv(OwnStepLimitSpec, gym.Env):
     """Robot 0 learns; robots 1.. are scripted (``"shortest"`` or ``"random"``) on the same level.
 
     Actions, observations, rewards and collision rules are robot 0's view of
@@ -38,10 +38,12 @@ class BabyRobotRaceEnv(gym.Env):
     every robot's rank (0: not finished).
 
     ``obs_encoding``: ``"multidiscrete"`` (default), ``"box"`` or ``"onehot"``
-    (``babyrobot_marl.encodings``). ``reset(options={"starts": [(x, y), ...]})`` places every robot.
+    (``babyrobot_marl.encodings``). ``reset(options={"starts": [(x, y), ...]})`` places every robot
+(other option keys are ignored with a ``UserWarning``).
 
     Registered as ``babyrobot_marl/BabyRobotRace-v0``: ``gymnasium.make(
-    "babyrobot_marl/BabyRobotRace-v0", level="race-4", opponents=["shortest", "random", "random"])``.
+    "babyrobot_marl/BabyRobotRace-v0", level="race-4", opponents=["shortest", "random", "random"])``;
+    its ``spec.max_episode_steps`` is its ``max_cycles``.
     """
 
     metadata = {"render_modes": ["ansi", "rgb_array", "human"], "render_fps": 4}
@@ -94,14 +96,20 @@ class BabyRobotRaceEnv(gym.Env):
     def level(self) -> Level:
         return self.race.level
 
+    @property
+    def own_step_limit(self) -> int:
+        """``max_cycles``: ``env.spec.max_episode_steps`` after ``gymnasium.make``."""
+        return self.race.max_cycles
+
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
         # every argument checked before anything changes
-        starts = check_options(options, ("starts",)).get("starts")
+        known = check_options(options, ("starts",))  # unknown keys: warned about once, here
+        starts = known.get("starts")
         if starts is not None:
             check_cells(self.race.table, starts, self.race.n_robots, 'options["starts"]')
         super().reset(seed=check_seed(seed))
         # the opponents' random moves and the race's own draws all come from self.np_random
-        self._obs, infos = self.race.reset(seed=int(self.np_random.integers(2**63)), options=options)
+        self._obs, infos = self.race.reset(seed=int(self.np_random.integers(2**63)), options=dict(known))
         # after the race's reset, which may draw a new level (making a policy draws no number)
         self._opponents = [make(name, self.race.table, seed=self.np_random) for name in self.opponent_names]
         return self._obs["robot_0"].copy(), self._with_ranks(infos["robot_0"])

@@ -25,6 +25,7 @@ from ..render.overlay import Overlay
 from ..render.rgb import RgbRenderer, Theme, check_cell_size, resolve_theme
 from .common import (
     START,
+    OwnStepLimitSpec,
     check_action,
     check_options,
     check_positive_int,
@@ -45,7 +46,7 @@ def default_max_steps(level: Level) -> int:
     return max(100, 4 * level.n_cells)
 
 
-class BabyRobotEnv(SingleDrawing, gym.Env):
+class BabyRobotEnv(OwnStepLimitSpec, SingleDrawing, gym.Env):
     """Baby Robot looks for the exit of a grid of walls, glass walls, puddles and blocked cells.
 
     ## Action space
@@ -101,7 +102,8 @@ class BabyRobotEnv(SingleDrawing, gym.Env):
     a level text or a ``Level``. ``rules``: a ``Rules`` or dict; any ``Rules`` field may also
     be given as a keyword (``glass_pass_prob=0.9``). ``max_steps``. ``start``: ``None`` (the
     level's start, or a random free cell if it has none) or ``"random"`` (a random free cell
-    each episode). ``reset(options={"start": (x, y)})`` starts one episode at a given cell.
+    each episode). ``reset(options={"start": (x, y)})`` starts one episode at a given cell (a bad
+cell is a ``ValueError``; any other option key is ignored with a ``UserWarning``).
     ``obs_encoding``: ``"multidiscrete"`` (default), ``"box"`` or ``"onehot"`` (above).
     ``render_mode``: ``"ansi"`` (text frame), ``"rgb_array"`` (``uint8[H * cell_size, W * cell_size, 3]``,
     pure numpy) or ``"human"`` (in Jupyter with the ``notebook`` extra: a live ipycanvas canvas in
@@ -116,6 +118,8 @@ class BabyRobotEnv(SingleDrawing, gym.Env):
 
     ``babyrobot_marl/BabyRobot-v0`` (``level="default"``); pass ``level=`` to ``gymnasium.make``
     for any other level, e.g. ``gymnasium.make("babyrobot_marl/BabyRobot-v0", level="maze-8x8")``.
+    The made env's ``spec.max_episode_steps`` is its ``max_steps`` (the env truncates itself
+    there), so ``TimeAwareObservation`` and ``TimeLimit(env, env.spec.max_episode_steps)`` read it.
     """
 
     metadata = {"render_modes": ["ansi", "rgb_array", "human"], "render_fps": 4}
@@ -226,6 +230,11 @@ class BabyRobotEnv(SingleDrawing, gym.Env):
         return keys_to_action()
 
     # ------------------------------------------------------------------------ helpers
+    @property
+    def own_step_limit(self) -> int:
+        """``max_steps``: ``env.spec.max_episode_steps`` after ``gymnasium.make``."""
+        return self.max_steps
+
     @property
     def robot_cell(self) -> Cell | None:
         """The robot's ``(x, y)``, or None before the first reset."""

@@ -429,17 +429,34 @@ def sb3_vec_env(level: str | Level | None = None, n_envs: int = 1, n_robots: int
     ``DummyVecEnv`` does. ``seed(s)`` seeds the next ``reset()``: env (race) ``i`` gets ``s + i``,
     the episodes a single env reset with that seed plays; it returns the seed of each slot.
     ``set_options({"start": (x, y)})`` (one robot) or ``{"starts": [...]}`` (a race) applies to the
-    next ``reset()``.
+    next ``reset()``. ``autoreset_mode`` may only be ``"same-step"``, the one SB3 has (its
+    ``VecEnv`` always resets an env in the step it ends); any other is refused.
 
-    Needs ``stable-baselines3`` (``pip install "babyrobot_marl[train]"``).
+    Needs ``stable-baselines3``: ``pip install torch==2.13.0 --index-url https://download.pytorch.org/whl/cpu``,
+    then ``pip install "babyrobot_marl[train]"`` (torch first: its CPU build, not the ~3 GB CUDA one).
     """
     try:
         import stable_baselines3  # noqa: F401
     except ImportError as err:
-        raise ImportError('sb3_vec_env needs stable-baselines3: pip install "babyrobot_marl[train]" (the train extra)') from err
+        raise ImportError(
+            "sb3_vec_env needs stable-baselines3 (the train extra): pip install torch==2.13.0 --index-url "
+            "https://download.pytorch.org/whl/cpu, then pip install 'babyrobot_marl[train]' (torch first: its CPU build, "
+            "not the ~3 GB CUDA one)") from err
     from .sb3 import BabyRobotSB3VecEnv
+    if "autoreset_mode" in kwargs:
+        check_sb3_autoreset(kwargs["autoreset_mode"])
     if check_positive_int(n_robots, "n_robots") == 1:
         venv: _BatchVectorEnv = BabyRobotVectorEnv(n_envs, **({"level": level} if level is not None else {}), **kwargs)
     else:
         venv = RaceVectorEnv(n_envs, **({"level": level} if level is not None else {}), n_robots=n_robots, **kwargs)
     return BabyRobotSB3VecEnv(venv)
+
+
+def check_sb3_autoreset(mode: object) -> None:
+    """``mode`` is Gymnasium's same-step auto-reset, the only one an SB3 ``VecEnv`` has; else a ``ValueError``."""
+    _, name = resolve_autoreset_mode(mode)
+    if name != SAME_STEP:
+        raise ValueError(
+            f"autoreset_mode: a Stable-Baselines3 VecEnv always resets an env in the step it ends (its last "
+            f"observation in infos[k]['terminal_observation']), which is 'same-step'; got {mode!r}"
+        )

@@ -156,11 +156,15 @@ class RaceGame:
 
     @property
     def racing(self) -> list[int]:
-        return [self.env.possible_agents.index(a) for a in self.env.agents]
+        """The robots still racing: not finished (with ``finished="freeze"`` a finished robot stays
+        in ``agents``, parked, until the race ends: the keys never go to it)."""
+        if self.over:
+            return []
+        return [i for i, rank in enumerate(self.env.ranks) if not rank]
 
     @property
     def driven_racing(self) -> bool:
-        return f"robot_{self.driven}" in self.env.agents
+        return not self.over and not self.env.ranks[self.driven]
 
     @property
     def robots(self) -> list[Cell | None]:
@@ -221,9 +225,13 @@ class RaceGame:
 
     def _step(self, given: dict[int, int]) -> None:
         actions = {}
+        ranks = self.env.ranks
         for a in self.env.agents:
             i = self.env.possible_agents.index(a)
-            actions[a] = given[i] if i in given else int(self.policies[i](self.obs[a]))
+            if ranks[i]:  # parked (finished="freeze"): its action is ignored, and it may have no policy
+                actions[a] = 0
+            else:
+                actions[a] = given[i] if i in given else int(self.policies[i](self.obs[a]))
         self.obs, _, _, _, self._infos = self.env.step(actions)
         for a, info in self._infos.items():
             i = self.env.possible_agents.index(a)

@@ -233,7 +233,7 @@ def _play_out(game: RaceGame, kb: Keyboard, out: TextIO, title: str, delay: floa
     start = game.steps
     finish = [None if s is None else s - start for s in ahead.finish_steps]
     finish = [None if s is not None and s <= 0 else s for s in finish]  # already finished: not in this stretch
-    racing = [i for i in range(game.env.n_robots) if f"robot_{i}" in game.env.agents]
+    racing = game.racing  # not the parked robots of finished="freeze"
     plan = schedule([finish[i] for i in racing], ahead.steps - start, delay)
     for pause, fast in plan:
         keys = kb.read(timeout=pause)  # a key cuts the pause short: every key is answered at once

@@ -185,6 +185,7 @@ class LiveCanvas:
         """Show ``robots`` (a ``Scene``, or robot ``i`` at ``robots[i]``), gliding from where they
         came from unless ``animate`` is False; redraw the overlay and panel if they changed."""
         scene = as_scene(robots)
+        self.renderer.check_frame(overlay or self.overlay, scene)  # the whole frame within the limit: nothing drawn else
         if overlay is not None:
             self.set_overlay(overlay, scene)
         self.scene = scene
@@ -205,6 +206,7 @@ class LiveCanvas:
         """Show ``overlay``: the bottom layer again if its cells changed, the panel if it did."""
         if overlay is self.overlay:
             return
+        self.renderer.check_frame(overlay, scene or self.scene)
         old, self.overlay = self.overlay, overlay
         if self.renderer.static(overlay) is not self.renderer.static(old) or self._static is None:
             self._draw_static()

@@ -53,6 +53,12 @@ def text_width(text: str, size: int) -> float:
     return sum(glyphs[(size, ord(c))][5] for c in _clean(text)) / 64.0
 
 
+def advances(text: str, size: int) -> np.ndarray:
+    """Each character's advance width in pixels at ``size`` (their sum is ``text_width``)."""
+    glyphs = _atlas()[1]
+    return np.array([glyphs[(size, ord(c))][5] for c in _clean(text)], dtype=np.float64) / 64.0
+
+
 def cap_height(size: int) -> tuple[int, int]:
     """``(top, height)`` of a capital letter below the line's top, in pixels."""
     code = _atlas()[0][size][2]

@@ -151,7 +151,11 @@ def colour_map(values: np.ndarray, name: str, lo: float | None = None, hi: float
     if lo is None or hi is None:
         lo = float(values[finite].min()) if finite.any() else 0.0
         hi = float(values[finite].max()) if finite.any() else 0.0
-    t = np.full(values.shape, 0.5) if hi == lo else (np.where(finite, values, lo) - lo) / (hi - lo)
+    if hi == lo:
+        t = np.full(values.shape, 0.5)
+    else:  # scaled first: values near the float maximum give no overflow in the differences
+        s = max(abs(lo), abs(hi))
+        t = (np.where(finite, values, lo) / s - lo / s) / (hi / s - lo / s)
     stops = np.array(COLOUR_MAPS[name], dtype=np.float64)
     pos = np.clip(t, 0.0, 1.0) * (len(stops) - 1)
     k = np.minimum(pos.astype(int), len(stops) - 2)

@@ -3,7 +3,12 @@
 ``panel_sections(width, ...)`` lays them out top to bottom in a panel ``width`` pixels wide
 (the grid's width: long lines wrap rather than being cut), as strips each drawn from its own
 top; ``rgb_array`` caches the strips' images, the live canvas redraws only the strips that
-changed.
+changed. ``panel_height`` gives the panel's height without laying it out (the frame limit is
+checked on it before anything is drawn).
+
+The legend lists every robot of a race of up to ``LEGEND_ROWS`` robots, in robot order; a
+larger race's legend stays as tall: its ``LEGEND_ROWS - 1`` leaders (finished ones by rank,
+then racing ones by return), then one row counting the rest ("+1,193 more: ...").
 """
 
 from __future__ import annotations
@@ -14,7 +19,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from .glyphs import cap_height, fit, text_width
+from .glyphs import advances, cap_height, fit, text_width
 from .paint import Colour, Fill, Op, Text, rect, round_rect
 from .palette import Theme, colour_map
 from .sprites import MEDALS, OTHER_RANK, Sprite, Stamp, flatten, robot_sprite
@@ -29,6 +34,21 @@ class LegendRow:
     ret: float
     rank: int
     racing: bool
+
+
+LEGEND_ROWS = 8  # robots listed one a row; a larger race: its leaders, then a row counting the rest
+
+
+def legend_rows(legend: Sequence[LegendRow]) -> tuple[list[LegendRow], str]:
+    """The rows the legend lists, and the text of the row that counts the others ("" if none)."""
+    if len(legend) <= LEGEND_ROWS:
+        return list(legend), ""
+    order = sorted(legend, key=lambda r: (r.rank == 0, r.rank, -r.ret, r.number))  # finished by rank, then by return
+    shown, rest = order[: LEGEND_ROWS - 1], order[LEGEND_ROWS - 1 :]
+    racing = sum(1 for r in rest if r.racing)
+    finished = sum(1 for r in rest if r.rank)
+    counts = [f"{k:,} {what}" for k, what in ((racing, "racing"), (finished, "finished")) if k]
+    return shown, f"+{len(rest):,} more" + (f": {', '.join(counts)}" if counts else "")
 
 
 def ordinal(rank: int) -> str:
@@ -51,15 +71,61 @@ def wrap(line: str, width: float, size: int) -> list[str]:
             continue
         if cur:
             out.append(cur)
-        while text_width(word, size) > width and len(word) > 1:
-            k = len(word)
-            while k > 1 and text_width(word[:k], size) > width:
-                k -= 1
-            out.append(word[:k])
-            word = word[k:]
+        if text_width(word, size) > width and len(word) > 1:  # pieces that fit, in one pass
+            *pieces, word = _cut(word, width, size)
+            out += pieces
         cur = word
     out.append(cur)
     return out
+
+
+def _cut(word: str, width: float, size: int) -> list[str]:
+    """``word`` in pieces each as wide as fits ``width`` (at least one character)."""
+    ends = np.cumsum(advances(word, size))
+    out, start, base = [], 0, 0.0
+    while start < len(word):
+        k = max(start + 1, int(np.searchsorted(ends, base + width, side="right")))
+        out.append(word[start:k])
+        base, start = float(ends[k - 1]), k
+    return out
+
+
+@lru_cache(maxsize=64)
+def _wrapped(lines: tuple[str, ...], width: float, size: int) -> tuple[str, ...]:
+    """The panel's lines wrapped (cached: the frame check and the drawing wrap them once)."""
+    return tuple(part for line in lines for part in wrap(line, width, size))
+
+
+@dataclass(frozen=True)
+class Metrics:
+    """The panel's type size and strip heights for a cell size (``ratio``: device pixels per CSS pixel)."""
+
+    size: int
+    cap: int
+    pad: int
+    line_h: int  # a text line
+    bar_h: int  # the colour bar
+    row_h: int  # a legend row
+    head_h: int  # the legend's heading
+
+
+@lru_cache(maxsize=64)
+def metrics(cs: int, ratio: int = 1) -> Metrics:
+    size = text_size(cs // ratio) * ratio
+    cap = cap_height(size)[1]
+    return Metrics(size, cap, max(4, size // 2), int(round(cap * 2.0)), int(round(cap * 2.2)),
+                   int(round(max(cap * 2.6, 20.0 * ratio))), int(round(cap * 2.2)))  # fmt: skip
+
+
+def panel_height(width: int, cs: int, lines: Sequence[str] = (), bar: bool = False, robots: int = 0, ratio: int = 1) -> int:
+    """The height of ``panel_sections``' strips for these parts (``robots``: the legend's robots)."""
+    if not lines and not bar and not robots:
+        return 0
+    m = metrics(cs, ratio)
+    h = m.pad + len(_wrapped(tuple(lines), width - 2 * m.pad, m.size)) * m.line_h if lines else m.pad
+    h += m.bar_h if bar else 0
+    h += m.head_h + (min(robots, LEGEND_ROWS) * m.row_h) if robots else 0
+    return h + m.pad + (-(h + m.pad)) % ratio
 
 
 @dataclass(frozen=True, eq=False)
@@ -90,14 +156,12 @@ def panel_sections(
     pixel (the canvas draws at 2: ``cs`` is then twice the cell size and so is the type)."""
     if not lines and value_range is None and not legend:
         return []
-    size = text_size(cs // ratio) * ratio
-    cap = cap_height(size)[1]
-    pad = max(4, size // 2)
-    line_h = int(round(cap * 2.0))
+    m = metrics(cs, ratio)
+    size, pad, line_h = m.size, m.pad, m.line_h
     bg = theme.panel
     out: list[Section] = []
     if lines:
-        parts = [part for line in lines for part in wrap(line, width - 2 * pad, size)]
+        parts = _wrapped(tuple(lines), width - 2 * pad, size)
 
         def text_lines() -> list[Op]:
             return [Text(pad, pad + (k + 0.5) * line_h, part, size, theme.text, align="left") for k, part in enumerate(parts)]
@@ -106,15 +170,17 @@ def panel_sections(
     else:
         out.append(_section(("top",), pad, width, bg, list))
     if value_range is not None:
-        h = int(round(cap * 2.2))
+        h = m.bar_h
         out.append(_section(("bar", value_range), h, width, bg, lambda: _colour_bar(width, h, size, value_range, theme)))
     if legend:
-        rh = int(round(max(cap * 2.6, 20.0 * ratio)))
-        head = int(round(cap * 2.2))
+        rh, head = m.row_h, m.head_h
         cols = _columns(width, size, rh)
         out.append(_section(("legend",), head, width, bg, lambda: _legend_head(cols, head, size, theme)))
-        for row in legend:
+        rows, more = legend_rows(legend)
+        for row in rows:
             out.append(_legend_row(cols, width, rh, size, row, theme))
+        if more:
+            out.append(_section(("more", more, rh), rh, width, bg, lambda: _legend_more(cols, width, rh, size, more, theme)))
     total = sum(sec.height for sec in out) + pad
     out.append(_section(("bottom", pad + (-total) % ratio), pad + (-total) % ratio, width, bg, list))  # whole CSS pixels
     return out
@@ -210,6 +276,17 @@ def _legend_row(cols: tuple[float, float, float, float], width: int, rh: int, si
         (split_rank, width, ("rank", row.rank, row.racing), rank),
     )
     return Section(("row", row), rh, theme.panel, lambda: [*who(), *score(), *rank()], parts)
+
+
+def _legend_more(cols: tuple[float, float, float, float], width: int, rh: int, size: int, text: str, theme: Theme) -> list[Op]:
+    """The row that counts the robots the legend does not list."""
+    _, x_name, _, _ = cols
+    room, cap = width - x_name - max(4, size // 2), cap_height(size)[1]
+    s = fit(text, room, cap, largest=size, smallest=7)
+    if s is None:  # too narrow for the counts: the number alone
+        text = text.split(":")[0]
+        s = fit(text, room, cap, largest=size, smallest=7) or 7
+    return [Text(x_name, rh / 2, text, s, theme.text, align="left", alpha=0.7)]
 
 
 @lru_cache(maxsize=128)

@@ -26,7 +26,7 @@ from . import annotate
 from .overlay import Overlay
 from .paint import Op, Text, paint, to_uint8
 from .palette import THEMES, Theme, resolve_theme
-from .panel import panel_sections
+from .panel import metrics, panel_height, panel_sections
 from .picture import feature_ops, floor_ops, label_band, label_ops, level_ops
 from .scene import Scene, as_scene, glide, robot_sprites
 from .sprites import Patch, blend, patch
@@ -61,14 +61,56 @@ def check_cell_size(cell_size: object, level: Level | None = None) -> int | None
     return cs
 
 
-def check_frame_size(level: Level, cs: int) -> None:
-    pixels = level.width * level.height * cs * cs
-    if pixels > MAX_FRAME_PIXELS:
-        fit = max(MIN_CELL_SIZE, math.isqrt(MAX_FRAME_PIXELS // (level.width * level.height)))
+def check_frame_size(level: Level, cs: int, lines: Sequence[str] = (), bar: bool = False, robots: int = 0) -> None:
+    """The whole frame, the grid and the panel under it (``lines`` of text, the colour ``bar``, the
+    legend of ``robots``), is within ``MAX_FRAME_PIXELS``; else a ``ValueError`` naming what to
+    change: the panel's lines when the frame fits without them, else ``cell_size``. Checked from
+    the sizes alone, before anything is drawn."""
+    width, grid = level.width * cs, level.height * cs
+    height = grid + panel_height(width, cs, lines, bar, robots)
+    if width * height <= MAX_FRAME_PIXELS:
+        return
+    rest = grid + panel_height(width, cs, (), bar, robots)
+    if lines and width * rest <= MAX_FRAME_PIXELS:
+        line_h = metrics(cs).line_h
+        room = (MAX_FRAME_PIXELS // width - rest) // line_h
         raise ValueError(
-            f"cell_size: a {level.width}x{level.height} level at {cs} pixels a cell is a {level.width * cs}x{level.height * cs} "
-            f"frame, over the limit of {MAX_FRAME_PIXELS:,} pixels; use cell_size <= {fit} (or None)"
+            f"panel: {len(lines):,} lines ({_wrapped_count(width, cs, lines):,} wrapped to the frame's width) make a "
+            f"{width}x{height:,} frame, over the limit of {MAX_FRAME_PIXELS:,} pixels; at cell_size {cs} at most "
+            f"{room:,} wrapped lines fit: show fewer or shorter lines"
         )
+    below = [what for what, on in (("the colour bar", bar), (f"the legend of {robots:,} robots", robots)) if on]
+    fit = _largest_fit(level, cs, bar, robots)
+    way = f"use cell_size <= {fit} (or None)" if fit >= MIN_CELL_SIZE else (
+        "no cell_size fits it (the legend is too wide a strip): use render_mode='ansi' or None")  # fmt: skip
+    raise ValueError(
+        f"cell_size: a {level.width}x{level.height} level at {cs} pixels a cell"
+        + (f" with {' and '.join(below)} below" if below else "")
+        + f" is a {width}x{height} frame, over the limit of {MAX_FRAME_PIXELS:,} pixels; {way}"
+    )
+
+
+def _largest_fit(level: Level, cs: int, bar: bool, robots: int) -> int:
+    """The largest cell size below ``cs`` whose grid, bar and legend fit the limit (< MIN_CELL_SIZE: none)."""
+    c = min(cs - 1, math.isqrt(MAX_FRAME_PIXELS // (level.width * level.height)))
+    while c >= MIN_CELL_SIZE:
+        w = level.width * c
+        if w * (level.height * c + panel_height(w, c, (), bar, robots)) <= MAX_FRAME_PIXELS:
+            break
+        c -= 1
+    return c
+
+
+def _wrapped_count(width: int, cs: int, lines: Sequence[str]) -> int:
+    from .panel import _wrapped
+
+    m = metrics(cs)
+    return len(_wrapped(tuple(lines), width - 2 * m.pad, m.size))
+
+
+def check_overlay_frame(level: Level, cs: int, overlay: Overlay, robots: int = 0) -> None:
+    """``check_frame_size`` for the frame of ``overlay`` (``robots``: a race's legend)."""
+    check_frame_size(level, cs, overlay.panel, annotate.value_range(overlay) is not None, robots)
 
 
 class RgbRenderer:
@@ -99,6 +141,7 @@ class RgbRenderer:
         ``t`` < 1: the robots that moved this step a fraction ``t`` of the way (in-between
         frames for smooth GIFs, as the live canvas glides)."""
         scene = as_scene(robots)
+        self.check_frame(overlay, scene)
         static = self.static(overlay)
         strips = self._panel_strips(overlay, scene)
         h = static.shape[0]
@@ -131,6 +174,11 @@ class RgbRenderer:
             if any(_overlap(lb, box) for box in blended):
                 blend(grid, label, x0, y0)
         return img
+
+    def check_frame(self, overlay: Overlay | None, scene: Scene) -> None:
+        """The frame of ``overlay`` and ``scene`` (grid, panel, legend) within the limit, before drawing it."""
+        if overlay is not None or scene.legend:
+            check_overlay_frame(self.level, self.cell_size, overlay or Overlay(), len(scene.legend))
 
     def _cells_of(self, box: tuple[int, int, int, int]) -> list[tuple[int, int]]:
         cs = self.cell_size

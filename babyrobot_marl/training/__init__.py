@@ -5,8 +5,10 @@ Stable-Baselines3.
 race with one shared policy; ``policy``: trained policies as robots, saved and loaded;
 ``evaluate``: races against scripted robots on the batch engine; ``cli``: the ``train`` command),
 ``single`` (SB3 PPO/DQN on BabyRobot-v0) and ``race`` (one shared SB3 PPO policy for all robots
-through SuperSuit) need the ``train`` extra (``pip install 'babyrobot_marl[train]'``); they import
-it inside their functions, and ``require_train()`` says clearly what is missing.
+through SuperSuit) need the ``train`` extra, torch first from PyTorch's CPU index (plain PyPI's torch is
+the ~3 GB CUDA build): ``pip install torch==2.13.0 --index-url https://download.pytorch.org/whl/cpu``, then
+``pip install 'babyrobot_marl[train]'``. They import it inside their functions, and ``require_train()``
+says clearly what is missing.
 """
 
 from .deps import MissingTrainExtraError, require_train

@@ -8,12 +8,17 @@
     babyrobot-marl play --level maze-8x8 --policy ppo.pt                 # replay a saved policy
 
 On a terminal a progress bar shows steps/s and the mean training return; elsewhere (a log, a
-pipe) one line per evaluation. The LAST line is always one JSON object: ``env_steps_per_second``
-(timesteps over training seconds: rollouts and updates, evaluations excluded), ``timesteps``,
-``seconds``, and for one robot ``optimal_return`` (value iteration), ``final_return`` (the greedy
-policy from the level's start), ``timesteps_to_95`` and ``seconds_to_95`` (the first evaluation
-within 5% of the optimum; null if none); for a race ``win_rate`` against ``opponents`` (and the
-tie rate, and the rates against shortest-path robots).
+pipe) one line per evaluation. Every argument is checked before training (a ``--steps`` that
+whole rollouts round up is said in one line first); a run whose loss or weights stop being finite
+numbers ends with one error line and saves nothing. After training, one line gives the speed in
+wall-clock and in CPU time. The LAST line is always one JSON object: ``env_steps_per_second``
+(timesteps over wall-clock training seconds: rollouts and updates, evaluations excluded),
+``timesteps``, ``seconds``, ``cpu_seconds`` and ``env_steps_per_cpu_second`` (the same over the
+process's CPU time: on a busy machine wall time also counts the others), and for one robot
+``optimal_return`` (value iteration), ``final_return`` (the greedy policy from the level's start),
+``timesteps_to_95`` and ``seconds_to_95`` (the first evaluation within 5% of the optimum; null if
+none); for a race ``win_rate`` against ``opponents`` (and the tie rate, and the rates against
+shortest-path robots).
 """
 
 from __future__ import annotations
@@ -26,8 +31,12 @@ import time
 from typing import Any, TextIO
 
 from .. import cli as base
+from ..checks import check_batch
+from ..cli_args import int_in, non_negative_float, output_path, positive_float, unit_real
 from ..core.level import Level
 from ..envs.single import BabyRobotEnv
+from .deps import INSTALL_HINT
+from .ppo import MAX_NEAR_RADIUS
 
 BACKENDS = ("fast", "sb3")
 # PPO knobs: CLI flag -> (PPOConfig / SB3 PPO keyword, type)
@@ -36,12 +45,14 @@ KNOBS = {
     "n_steps": ("n_steps", base._positive_int),
     "batch_size": ("batch_size", base._positive_int),
     "n_epochs": ("n_epochs", base._positive_int),
-    "lr": ("learning_rate", float),
-    "gamma": ("gamma", float),
-    "gae_lambda": ("gae_lambda", float),
-    "clip_range": ("clip_range", float),
-    "ent_coef": ("ent_coef", float),
+    "lr": ("learning_rate", positive_float),
+    "gamma": ("gamma", unit_real),
+    "gae_lambda": ("gae_lambda", unit_real),
+    "clip_range": ("clip_range", positive_float),
+    "ent_coef": ("ent_coef", non_negative_float),
 }
+# the backends' own rollout sizes (PPOConfig; SB3: training.single.ALGO_KWARGS, training.race)
+FAST_ROLLOUT, SB3_ROLLOUT, SB3_RACE_ROLLOUT = (1024, 16), (8, 128), (4, 256)  # (n_envs, n_steps)
 
 
 def _net_arch(text: str) -> tuple[int, ...]:
@@ -62,7 +73,7 @@ def add_train_parser(sub: argparse._SubParsersAction) -> None:
         "value iteration's optimum. Several robots: one PPO policy shared by all robots, then its win rate against "
         "'random' and 'shortest' robots. --backend fast (default) steps the batch engine directly; --backend sb3 "
         "trains Stable-Baselines3 (SuperSuit for a race). The last line printed is one JSON object of figures. "
-        "Needs the 'train' extra: pip install 'babyrobot_marl[train]'.",
+        f"Needs the 'train' extra: {INSTALL_HINT}.",
     )
     base._add_level_arg(p, default="maze-8x8")
     p.add_argument("--robots", type=base._positive_int, default=1, metavar="N", help="1: single robot; more: a race (default: 1)")
@@ -75,10 +86,11 @@ def add_train_parser(sub: argparse._SubParsersAction) -> None:
                    help="seed of training and evaluation (default: 0)")
     p.add_argument("--episodes", type=base._positive_int, default=None, metavar="N",
                    help="final evaluation: episodes (one robot, default 20) or races per opponent (default 100)")
-    p.add_argument("--save", metavar="PATH", help="save the trained policy to exactly PATH (fast: a torch file; sb3: SB3's zip)")
+    p.add_argument("--save", type=output_path, metavar="PATH",
+                   help="save the trained policy to exactly PATH (fast: a torch file; sb3: SB3's zip); its folder must exist")
     p.add_argument("--load", metavar="PATH", help="fast backend: start from a policy saved by --save")
-    p.add_argument("--gif", metavar="PATH", help="single robot: write a GIF of the learnt policy here")
-    p.add_argument("--curve", metavar="PATH", help="write the learning curve here as a PNG")
+    p.add_argument("--gif", type=output_path, metavar="PATH", help="single robot: write a GIF of the learnt policy here")
+    p.add_argument("--curve", type=output_path, metavar="PATH", help="write the learning curve here as a PNG")
     p.add_argument("--threads", type=base._non_negative_int, default=1, metavar="N",
                    help="torch threads while training (default: 1, which a busy machine slows in proportion instead of "
                    "stalling; 0: torch's own setting)")
@@ -88,20 +100,27 @@ def add_train_parser(sub: argparse._SubParsersAction) -> None:
         knobs.add_argument("--" + flag.replace("_", "-"), type=kind, default=None, metavar="X", help=f"SB3's {name}")
     knobs.add_argument("--net-arch", type=_net_arch, default=None, metavar="H1,H2", help="hidden layers (default: 64,64)")
     knobs.add_argument("--eval-every", type=base._positive_int, default=None, metavar="N", help="timesteps between evaluations")
-    knobs.add_argument("--near-radius", type=base._non_negative_int, default=None, metavar="N",
+    knobs.add_argument("--near-radius", type=int_in(0, MAX_NEAR_RADIUS), default=None, metavar="N",
                        help="fast backend, race: a robot sees the robots within N steps of it, 0..4 (default: 1)")
     p.set_defaults(func=cmd_train)
 
 
 def cmd_train(args: argparse.Namespace, out: TextIO) -> int:
-    from . import MissingTrainExtraError, require_train
+    from . import require_train
 
-    try:
-        require_train(*(("torch", "tqdm") if args.backend == "fast" else ()))
-    except MissingTrainExtraError as err:
-        print(f"{base.PROG}: error: {err}", file=sys.stderr)
-        return 1
+    # a missing package: MissingTrainExtraError, one line from the CLI's main (exit 2)
+    require_train(*(("torch", "tqdm") if args.backend == "fast" else ()))
     level = base.load_level(args.level)
+    _check_args(args, level)
+    tty = not args.no_progress and base._isatty(out) and base._isatty(sys.stderr)
+    run = _fast if args.backend == "fast" else _sb3
+    figures = run(args, level, tty, out)
+    out.write(json.dumps(figures) + "\n")  # the last line: machine-readable figures
+    return 0
+
+
+def _check_args(args: argparse.Namespace, level: Level) -> None:
+    """What the argument types cannot check alone, before any training (errors name the flags)."""
     if args.algo == "dqn" and (args.backend != "sb3" or args.robots > 1):
         raise ValueError("--algo dqn: only for one robot with --backend sb3")
     if args.robots > 1 and args.gif:
@@ -110,11 +129,33 @@ def cmd_train(args: argparse.Namespace, out: TextIO) -> int:
         raise ValueError("--load: starting from a saved policy needs --backend fast")
     if args.near_radius is not None and args.backend != "fast":
         raise ValueError("--near-radius: only the fast backend's race input has it; drop it or use --backend fast")
-    tty = not args.no_progress and base._isatty(out) and base._isatty(sys.stderr)
-    run = _fast if args.backend == "fast" else _sb3
-    figures = run(args, level, tty, out)
-    out.write(json.dumps(figures) + "\n")  # the last line: machine-readable figures
-    return 0
+    if args.near_radius is not None and args.robots == 1:
+        raise ValueError(f"--near-radius: a lone robot (--robots 1) sees no other robot; drop --near-radius or race "
+                         f"--robots 2 or more (--near-radius {args.near_radius})")
+    n, obs = args.robots, 3 * args.robots - 1 if args.robots > 1 else 2  # the envs' global rows
+    check_batch(_rollout(args)[0], n, obs, what="--n-envs")
+    if n > 1:  # the final evaluation races every race at once in one batch
+        check_batch(args.episodes or 100, n, obs, what="--episodes")
+
+
+def _rollout(args: argparse.Namespace) -> tuple[int, int, int]:
+    """``(n_envs, n_steps, timesteps)`` of one rollout of the chosen backend; training runs whole rollouts
+    (SB3's DQN steps one env: a rollout of one timestep)."""
+    if args.backend == "sb3" and args.algo == "dqn":
+        return 1, 1, 1
+    envs, steps = FAST_ROLLOUT if args.backend == "fast" else SB3_ROLLOUT if args.robots == 1 else SB3_RACE_ROLLOUT
+    envs, steps = args.n_envs or envs, args.n_steps or steps
+    return envs, steps, envs * steps * args.robots
+
+
+def _say_rounded_steps(args: argparse.Namespace, out: TextIO) -> None:
+    """One line when whole rollouts round ``--steps`` up: the run trains the rounded count."""
+    envs, steps, unit = _rollout(args)
+    total = -(-args.steps // unit) * unit
+    if total != args.steps:
+        robots = f" x {args.robots} robots" if args.robots > 1 else ""
+        out.write(f"--steps {args.steps:,}: training runs whole rollouts of {unit:,} timesteps (--n-envs {envs} x "
+                  f"--n-steps {steps}{robots}), so {total:,} timesteps\n")
 
 
 def _knobs(args: argparse.Namespace) -> dict[str, Any]:
@@ -135,14 +176,14 @@ def _name(level: Level, args: argparse.Namespace) -> str:
 # ---------------------------------------------------------------------------- the fast trainer
 def _fast(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> dict[str, Any]:
     from .policy import load_checkpoint, load_net
-    from .ppo import PPOConfig, train_ppo
+    from .ppo import PPOConfig, TrainingDivergedError, train_ppo
     from .progress import TrainProgress
 
     knobs = _knobs(args)
     for name in ("eval_every", "near_radius"):
         if getattr(args, name) is not None:
             knobs[name] = getattr(args, name)
-    config = PPOConfig(threads=args.threads or None, **knobs)
+    config = PPOConfig(threads=args.threads or None, **knobs)  # each knob checked by its flag's type
     init = None
     if args.load:
         data = load_checkpoint(args.load)
@@ -155,6 +196,7 @@ def _fast(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> dic
             config = config.replace(net_arch=tuple(data["net_arch"]))
         if "near_radius" not in knobs and "near_radius" in data["config"]:
             config = config.replace(near_radius=data["config"]["near_radius"])
+    _say_rounded_steps(args, out)  # every argument checked, the saved policy too
     single = args.robots == 1
     evaluate, target, score_name, finish = _single_eval(level, args) if single else _race_eval(level, args)
     progress = TrainProgress(args.steps, tty, out, score_name, enabled=not args.no_progress)
@@ -163,17 +205,33 @@ def _fast(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> dic
             level, args.robots, args.steps, args.seed, config, evaluate=evaluate, target=target, init=init,
             on_update=progress.update, on_eval=lambda p: progress.evaluation(p.timesteps, p.seconds, p.train_return, p.score),
         )
+    except TrainingDivergedError as err:  # nothing is saved: the flag, the value and what to do, on one line
+        raise ValueError(f"--lr {config.learning_rate:g}: {str(err).split(': ', 1)[1]}; nothing was saved") from None
     finally:
         progress.close()
     agent = result.policy()
-    figures = {"backend": "fast", "level": _name(level, args), "robots": args.robots, "timesteps": result.timesteps,
-               "seconds": _round(result.seconds), "env_steps_per_second": _round(result.steps_per_second, 1)}
+    figures = _speed(args, level, result.timesteps, result.seconds, result.cpu_seconds, out)
     reached = result.reached
     figures.update(finish(agent, out, args, reached))
     points = [(p.timesteps, p.train_return, p.score) for p in result.history]
     _outputs(args, level, agent, out, points, score_name, target,
              lambda path: result.save(path), "policy")
     return figures
+
+
+def _speed(args: argparse.Namespace, level: Level, timesteps: int, seconds: float, cpu: float, out: TextIO) -> dict[str, Any]:
+    """The speed line (wall-clock and CPU time, each named) and the first JSON figures."""
+    wall_rate, cpu_rate = timesteps / seconds if seconds > 0 else math.nan, timesteps / cpu if cpu > 0 else math.nan
+    out.write(f"trained {timesteps:,} timesteps in {seconds:.2f} s wall-clock ({wall_rate:,.0f} env steps/s) and "
+              f"{cpu:.2f} s of CPU time ({cpu_rate:,.0f} env steps/s of CPU time): rollouts and updates only\n")
+    return {"backend": args.backend, "level": _name(level, args), "robots": args.robots, "timesteps": timesteps,
+            "seconds": _round(seconds), "env_steps_per_second": _round(wall_rate, 1),
+            "cpu_seconds": _round(cpu), "env_steps_per_cpu_second": _round(cpu_rate, 1)}
+
+
+def _method(args: argparse.Namespace) -> str:
+    """What trained, as the summary and the curve's title say it: e.g. "fast PPO", "sb3 DQN"."""
+    return f"{args.backend} {args.algo.upper()}"
 
 
 def _single_eval(level: Level, args: argparse.Namespace) -> tuple[Any, float, str, Any]:
@@ -190,7 +248,7 @@ def _single_eval(level: Level, args: argparse.Namespace) -> tuple[Any, float, st
 
     def finish(agent: Any, out: TextIO, args: argparse.Namespace, reached: tuple[int, float] | None) -> dict[str, Any]:
         ev = evaluate_single(agent, env, episodes=episodes, seed=seed)
-        out.write(f"{args.backend} PPO on {_name(level, args)}: greedy return {ev.mean:g} (+- {ev.std:g}, {ev.reached_exit}/"
+        out.write(f"{_method(args)} on {_name(level, args)}: greedy return {ev.mean:g} (+- {ev.std:g}, {ev.reached_exit}/"
                   f"{ev.episodes} reached the exit), optimal {optimum:g}; 95% of it "
                   + (f"first reached at {reached[0]} timesteps, {reached[1]:.2f} s\n" if reached else "not reached\n"))
         return {"optimal_return": _round(optimum), "final_return": _round(ev.mean),
@@ -243,7 +301,7 @@ def _outputs(args: argparse.Namespace, level: Level, agent: Any, out: TextIO, po
         from .curve import save_curve
 
         if points:
-            title = f"{args.backend} PPO on {_name(level, args)}" + (f", {args.robots} robots" if args.robots > 1 else "")
+            title = f"{_method(args)} on {_name(level, args)}" + (f", {args.robots} robots" if args.robots > 1 else "")
             out.write(f"learning curve saved to {save_curve(points, args.curve, score_name, target, title)}\n")
         else:
             out.write("no learning curve: no evaluation ran\n")
@@ -262,6 +320,7 @@ def _sb3(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> dict
         ppo_kwargs["policy_kwargs"] = {"net_arch": list(knobs["net_arch"])}
     n_envs = knobs.get("n_envs")
     every = args.eval_every or 5000
+    _say_rounded_steps(args, out)
     single = args.robots == 1
     with torch_threads(args.threads or None):
         if single:
@@ -271,32 +330,32 @@ def _sb3(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> dict
             progress = TrainProgress(args.steps, False, out, score_name, enabled=not args.no_progress and not tty)
             env = BabyRobotEnv(level=level)
             cb = target_callback(lambda m: evaluate_single(m, env, episodes=5, seed=args.seed + 1_000_000).mean, target,
-                                 every=every, stop=False, on_eval=lambda t, s, m: progress.evaluation(t, s, float("nan"), m))
+                                 every=every, stop=False, on_eval=lambda t, s, m: progress.evaluation(t, s, cb.train_return, m))
             if "policy_kwargs" in ppo_kwargs:  # keep the one-hot cell features beside the chosen layers
                 from .single import cell_features_class
 
                 w, h = level.width, level.height
                 ppo_kwargs["policy_kwargs"].update(features_extractor_class=cell_features_class(),
                                                    features_extractor_kwargs={"width": w, "height": h})
-            t0 = time.perf_counter()
+            t0, c0 = time.perf_counter(), time.process_time()
             agent = train_single(level, args.algo, steps=args.steps, seed=args.seed, progress_bar=tty, callback=cb,
                                  env_kwargs={"start": "random"}, threads=args.threads or None,
                                  **({"n_envs": n_envs} if n_envs else {}), **ppo_kwargs)
-            wall = time.perf_counter() - t0
-            seconds = wall - cb._eval_seconds
+            seconds = time.perf_counter() - t0 - cb._eval_seconds
+            cpu = time.process_time() - c0 - cb._eval_cpu_seconds
             timesteps = int(agent.num_timesteps)
             reached = cb.reached
             points = [(t, float("nan"), m) for t, _, m in cb.history]
         else:
             from .race import train_race
 
-            t0 = time.perf_counter()
+            t0, c0 = time.perf_counter(), time.process_time()
             agent = train_race(level, n_robots=args.robots, steps=args.steps, seed=args.seed, progress_bar=tty,
                                threads=args.threads or None, **({"n_envs": n_envs} if n_envs else {}), **ppo_kwargs)
-            seconds = time.perf_counter() - t0
+            seconds, cpu = time.perf_counter() - t0, time.process_time() - c0
             timesteps, reached, points, target, score_name = int(agent.num_timesteps), None, [], RACE_TARGET, "win rate vs random"
-    figures = {"backend": "sb3", "level": _name(level, args), "robots": args.robots, "timesteps": timesteps,
-               "seconds": _round(seconds), "env_steps_per_second": _round(timesteps / seconds, 1)}
+    _check_finite_sb3(agent, args)
+    figures = _speed(args, level, timesteps, seconds, cpu, out)
     if single:
         figures.update(finish(agent, out, args, reached))
     else:
@@ -320,3 +379,14 @@ def _sb3(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> dict
 
     _outputs(args, level, policy, out, points, score_name, target, save, "model")
     return figures
+
+
+def _check_finite_sb3(agent: Any, args: argparse.Namespace) -> None:
+    """An SB3 model whose weights are no longer finite numbers is refused before it is evaluated or saved."""
+    from .ppo import _torch
+
+    torch = _torch()
+    if not all(bool(torch.isfinite(p).all()) for p in agent.policy.parameters()):
+        lr = f"--lr {args.lr:g}" if args.lr is not None else "--lr"
+        raise ValueError(f"{lr}: training diverged (the weights are no longer finite numbers); nothing was saved: "
+                         "try a smaller --lr")

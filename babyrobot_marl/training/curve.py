@@ -6,6 +6,8 @@ import math
 import os
 from collections.abc import Sequence
 
+from .deps import INSTALL_HINT
+
 
 def save_curve(
     points: Sequence[tuple[int, float, float]],
@@ -22,7 +24,7 @@ def save_curve(
     try:
         from matplotlib.figure import Figure
     except ImportError:
-        raise ImportError("a learning curve needs matplotlib: pip install 'babyrobot_marl[train]'") from None
+        raise ImportError(f"a learning curve needs matplotlib (the 'train' extra): {INSTALL_HINT}") from None
     if not points:
         raise ValueError("points: no evaluations to plot (train for at least one update)")
     steps = [p[0] for p in points]

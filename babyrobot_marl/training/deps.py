@@ -6,7 +6,9 @@ import importlib
 from types import ModuleType
 
 TRAIN_EXTRA = ("stable_baselines3", "supersuit", "imageio")
-INSTALL_HINT = "pip install 'babyrobot_marl[train]'"
+# torch first, from PyTorch's CPU index: '[train]' alone pulls torch's CUDA build from PyPI (about 3 GB)
+TORCH_CPU = "pip install torch==2.13.0 --index-url https://download.pytorch.org/whl/cpu"
+INSTALL_HINT = f"{TORCH_CPU}, then pip install 'babyrobot_marl[train]' (torch first: its CPU build, not the ~3 GB CUDA one)"
 
 
 class MissingTrainExtraError(ImportError):
@@ -24,5 +26,5 @@ def require_train(*modules: str) -> list[ModuleType]:
         except ImportError:
             missing.append(name)
     if missing:
-        raise MissingTrainExtraError(f"training needs {', '.join(missing)} (the 'train' extra): {INSTALL_HINT}")
+        raise MissingTrainExtraError(f"this needs {', '.join(missing)} (the 'train' extra): {INSTALL_HINT}")
     return found

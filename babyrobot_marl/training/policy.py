@@ -6,50 +6,174 @@ SB3's ``predict(obs, deterministic=True) -> (action, None)`` for the evaluation 
 
 A saved policy is one torch file (``torch.save`` of plain data and tensors, loaded with
 ``weights_only=True``): the format tag, the level's size and text, the robots it was trained
-with, the layer sizes and the weights. ``make_policy(spec, table, seed)`` takes a scripted
+with, the observation form it reads (``observation``: ``observe="global"``,
+``obs_encoding="multidiscrete"``; ``config["near_radius"]``: the robots it sees), the layer sizes
+and the weights. Every field is checked on load (``load_checkpoint``): anything else is one
+``ValueError`` naming ``policy``, the file and the field.
+
+A policy reads the observation form it was trained on; ``policy.for_env(env)`` (or
+``load_policy(path, env=env)``) reads that env's form instead: any ``obs_encoding``, and
+``observe="local"`` / ``"nearest"`` when the view holds every robot the policy sees, else a
+``ValueError`` naming the mismatch. ``make_policy(spec, table, seed, env)`` takes a scripted
 policy's name or the path of a saved policy: the CLI's ``play --policy`` and ``race --policies``.
 """
 
 from __future__ import annotations
 
 import os
-from dataclasses import asdict
+import warnings
+from dataclasses import asdict, fields
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from ..checks import MAX_LEVEL_CELLS, MAX_LEVEL_TEXT_CHARS, shown
+from ..core.actions import N_ACTIONS
 from ..core.table import Table
-from .ppo import Inputs, PerKey, _torch, make_net, near_offsets
+from .ppo import Inputs, PerKey, PPOConfig, _torch, make_net, near_offsets
 
 FORMAT = "babyrobot_marl.ppo"
-VERSION = 2  # 2: a race policy sees the robots near it (version 1 read every robot's cell)
+# 3: the file records the observation form the policy reads; 2: a race policy sees the robots near
+# it (version 1 read every robot's cell)
+VERSION = 3
+# the observation form the fast trainer's policies read: the global MultiDiscrete rows (robot's [x, y],
+# then [x, y, finished] of every other robot)
+TRAINED_ON = {"observe": "global", "obs_encoding": "multidiscrete"}
+
+
+class Decoder:
+    """Reads one observation of an env's form as a ``TrainedPolicy``'s key (``Inputs``).
+
+    Without an env (``Decoder(inputs)``) it takes the form the policy was trained on, the global
+    ``MultiDiscrete`` rows, and refuses what cannot be one (floats, a wrong length, values off the
+    grid). ``Decoder.of_env(inputs, env)`` undoes the env's ``obs_encoding`` and reads its
+    ``observe`` mode: "local" needs ``view_radius >= near_radius``, "nearest" ``k >= n_robots - 1``
+    (fewer could leave out a robot the policy sees); a policy of one robot reads only ``[x, y]``.
+    """
+
+    def __init__(self, inputs: Inputs, observe: str = "global", encoding: str = "multidiscrete",
+                 nvec: np.ndarray | None = None, view_radius: int = 0):
+        self.inputs, self.observe, self.encoding = inputs, observe, encoding
+        self.nvec = None if nvec is None else np.asarray(nvec, dtype=np.int64)
+        if self.nvec is not None:
+            self.offsets = np.concatenate([[0], np.cumsum(self.nvec)[:-1]])
+            self.length = int(self.nvec.sum()) if encoding == "onehot" else len(self.nvec)
+        side = 2 * view_radius + 1  # "local": the window cell of each near offset, row by row
+        self.window_at = np.array([(dy + view_radius) * side + dx + view_radius for dx, dy in inputs.near], dtype=np.int64)
+
+    @classmethod
+    def of_env(cls, inputs: Inputs, env: Any) -> Decoder:
+        """The decoder of ``env``'s observations (a Gymnasium or PettingZoo env of this package, wrapped or not)."""
+        e = getattr(env, "unwrapped", env)
+        e = getattr(e, "race", e)  # the race's Gymnasium adapter: robot_0's race observation
+        encoder = getattr(e, "encoder", None)
+        if encoder is None:
+            raise TypeError(f"env: expected an env of babyrobot_marl (BabyRobotEnv, race_v0), got {type(env).__name__}")
+        observe, observer = getattr(e, "observe", "global"), getattr(e, "_observer", None)
+        m = len(inputs.near)
+        radius = observer.view.radius if observe == "local" else 0
+        need = max((abs(dx) + abs(dy) for dx, dy in inputs.near), default=0)  # near_radius
+        if m and observe == "local" and radius < need:
+            raise ValueError(f"policy: trained to see the robots within {need} steps (near_radius {need}); this env's "
+                             f"observe='local' view_radius={radius} shows fewer: use view_radius >= {need}")
+        if m and observe == "nearest" and observer.k < e.n_robots - 1:
+            raise ValueError(f"policy: trained to see every robot near it; this env's observe='nearest' k={observer.k} "
+                             f"of {e.n_robots - 1} other robots can leave one out: use k >= {e.n_robots - 1} (n_robots - 1)")
+        return cls(inputs, observe, encoder.encoding, encoder.nvec, radius)
+
+    def __call__(self, obs: Any) -> int:
+        o = self._integers(obs)
+        inputs, w, h = self.inputs, self.inputs.width, self.inputs.height
+        if len(o) < 2 or not (0 <= o[0] < w and 0 <= o[1] < h):
+            raise ValueError(f"obs: the robot's [x, y] must be on this policy's {w}x{h} grid, got {shown(o[:2].tolist())}")
+        cell = int(o[1]) * w + int(o[0])
+        m = len(inputs.near)
+        if not m:
+            return cell
+        if self.observe == "local":
+            bits = o[2:].reshape(-1, 6)[self.window_at, 1]  # LOCAL_FEATURES: the robot column
+        else:
+            occupied = self._others(o[2:], cell)
+            bits = np.array([int(c) in occupied for c in inputs.neighbours[cell]])
+        return (cell << m) | int(bits.astype(np.int64) @ (1 << np.arange(m)))
+
+    def _others(self, rest: np.ndarray, cell: int) -> set[int]:
+        """The cells of the other racing robots in view."""
+        w, h = self.inputs.width, self.inputs.height
+        if self.observe == "nearest":  # [dx + W - 1, dy + H - 1] each; missing ones off the grid
+            x, y = rest[0::2] - (w - 1) + cell % w, rest[1::2] - (h - 1) + cell // w
+            inside = (x >= 0) & (x < w) & (y >= 0) & (y < h)
+            return set((y[inside] * w + x[inside]).tolist())
+        triples = rest.reshape(-1, 3)
+        return {int(y) * w + int(x) for x, y, finished in triples if not finished}
+
+    def _integers(self, obs: Any) -> np.ndarray:
+        """The observation's ``MultiDiscrete`` integers, its encoding undone and its form checked."""
+        o = np.asarray(obs).reshape(-1)
+        if self.nvec is None:  # the form trained on: global MultiDiscrete rows
+            if not np.issubdtype(o.dtype, np.integer) or (len(o) - 2) % 3 or len(o) < 2:
+                kind = o.dtype.name if o.dtype.kind in "biuf" else type(obs).__name__
+                raise ValueError(
+                    f"obs: this policy reads observe='global', obs_encoding='multidiscrete' observations (integers: [x, y], "
+                    f"then [x, y, finished] per other robot), got {len(o)} {kind} numbers; bind it to your env with "
+                    "policy.for_env(env) (other encodings and observe modes), or make the env with those settings"
+                )
+            return o.astype(np.int64)
+        if len(o) != self.length:
+            raise ValueError(f"obs: this env's observations (observe={self.observe!r}, obs_encoding={self.encoding!r}) have "
+                             f"{self.length} numbers, got {len(o)}")
+        if self.encoding == "onehot":
+            ones = np.flatnonzero(o > 0.5)
+            entry = np.searchsorted(self.offsets, ones, side="right") - 1  # the entry of each 1
+            if len(ones) != len(self.nvec) or np.any(entry != np.arange(len(ones))):
+                raise ValueError("obs: not an obs_encoding='onehot' observation (one 1 per entry)")
+            return ones - self.offsets
+        ints = np.rint(o).astype(np.int64)
+        if np.any(ints != o) or np.any(ints < 0) or np.any(ints >= self.nvec):
+            raise ValueError(f"obs: not an observation of this env (obs_encoding={self.encoding!r}): values off its space")
+        return ints
 
 
 class TrainedPolicy:
     """Acts with a trained actor on the input ``inputs`` describes: greedy (``deterministic=True``) or
-    sampled from its own generator."""
+    sampled from its own generator. It reads the observation form it was trained on
+    (``Decoder``); ``for_env(env)`` gives the same policy reading ``env``'s form."""
 
     name = "trained"
 
-    def __init__(self, net: Any, inputs: Inputs, n_robots: int, deterministic: bool = True, seed: int | None = None):
+    def __init__(self, net: Any, inputs: Inputs, n_robots: int, deterministic: bool = True, seed: int | None = None,
+                 decoder: Decoder | None = None):
         self.net, self.inputs, self.n_robots = net, inputs, n_robots
         self.width, self.height = inputs.width, inputs.height
         self.deterministic = deterministic
         self.rng = np.random.default_rng(seed)
+        self.decoder = decoder or Decoder(inputs)
         torch = _torch()
         # the probabilities per input: a table over every input when there are few (one forward pass)
         self.probs = PerKey(inputs, lambda rows: torch.softmax(net.actor(rows), 1).double())
         if self.probs.table is not None:
             self._greedy = np.argmax(self.probs.table, axis=1).tolist()
 
+    def for_env(self, env: Any) -> TrainedPolicy:
+        """This policy reading ``env``'s observations (its ``obs_encoding`` and ``observe`` mode), or a
+        ``ValueError`` naming what it cannot read. The level's size must be the one trained on."""
+        e = getattr(getattr(env, "unwrapped", env), "race", getattr(env, "unwrapped", env))
+        table = getattr(e, "table", None)
+        if table is not None and (table.width, table.height) != (self.width, self.height):
+            raise ValueError(f"policy: trained on a {self.width}x{self.height} level; this env's level is "
+                             f"{table.width}x{table.height}")
+        bound = TrainedPolicy(self.net, self.inputs, self.n_robots, self.deterministic, None, Decoder.of_env(self.inputs, env))
+        bound.rng, bound.name = self.rng, self.name
+        return bound
+
     def action_probabilities(self, obs: Any) -> np.ndarray:
         """The policy's probabilities of the five actions given ``obs``."""
-        return self.probs(np.array([self.inputs.key_of_observation(obs)]))[0]
+        return self.probs(np.array([self.decoder(obs)]))[0]
 
     def __call__(self, obs: Any = None) -> int:
         if self.deterministic and self.probs.table is not None:
-            return self._greedy[self.inputs.key_of_observation(obs)]
+            return self._greedy[self.decoder(obs)]
         p = self.action_probabilities(obs)
         if self.deterministic:
             return int(np.argmax(p))
@@ -82,6 +206,7 @@ def save_policy(result: Any, path: str | os.PathLike) -> str:
         "level": level.to_ascii(),
         "level_name": level.name or "",
         "n_robots": result.n_robots,
+        "observation": dict(TRAINED_ON),
         "net_arch": list(result.config.net_arch),
         "config": {k: (list(v) if isinstance(v, tuple) else v) for k, v in asdict(result.config).items()},
         "timesteps": result.timesteps,
@@ -93,13 +218,16 @@ def save_policy(result: Any, path: str | os.PathLike) -> str:
 
 
 def load_checkpoint(path: str | os.PathLike) -> dict[str, Any]:
-    """The saved data, checked: a ``ValueError`` naming ``policy`` for anything that is not one."""
+    """The saved data, every field checked: a ``ValueError`` naming ``policy``, the file and the field
+    for anything that is not a policy this version reads."""
     torch = _torch()
     p = Path(path)
     if not p.is_file():
         raise ValueError(f"policy: no such policy file {str(path)!r}")
     try:
-        data = torch.load(p, map_location="cpu", weights_only=True)
+        with warnings.catch_warnings():  # torch warns about a plain pickle's protocol before refusing it
+            warnings.simplefilter("ignore")
+            data = torch.load(p, map_location="cpu", weights_only=True)
     except Exception as err:  # a zip of SB3, a text file, a truncated file: all say the same
         what = type(err).__name__
         raise ValueError(f"policy: {str(path)!r} is not a policy saved by 'babyrobot-marl train' ({what})") from None
@@ -109,9 +237,84 @@ def load_checkpoint(path: str | os.PathLike) -> dict[str, Any]:
     if version == 1 and data.get("n_robots") != 1:  # a one-robot policy of version 1 is the same net
         raise ValueError(f"policy: {str(path)!r} is a race policy of format version 1 (it read every robot's cell); "
                          f"train it again with this version")
-    if version not in (1, VERSION):
+    if version not in (1, 2, VERSION):
         raise ValueError(f"policy: {str(path)!r} has format version {version!r}; this version reads {VERSION}")
+    try:
+        _check_fields(data, version)
+    except ValueError as err:
+        raise ValueError(f"policy: {str(path)!r} is a broken policy file: {err}") from None
     return data
+
+
+FIELDS = ("format", "version", "width", "height", "level", "level_name", "n_robots", "net_arch", "config", "timesteps",
+          "state_dict")
+
+
+def _check_fields(data: dict[str, Any], version: int) -> None:
+    """Each field of saved data as ``save_policy`` writes it (its ``ValueError`` names the field)."""
+    expected = FIELDS + (("observation",) if version >= 3 else ())
+    missing, unknown = [k for k in expected if k not in data], [k for k in data if k not in expected]
+    if missing or unknown:
+        raise ValueError(f"{'missing' if missing else 'unknown'} field {shown((missing or unknown)[0])}")
+    w, h, n = (_int_field(data, k, 1, hi) for k, hi in (("width", MAX_LEVEL_CELLS), ("height", MAX_LEVEL_CELLS),
+                                                         ("n_robots", None)))
+    if w * h > MAX_LEVEL_CELLS:
+        raise ValueError(f"width, height: a level has at most {MAX_LEVEL_CELLS:,} cells, got {w}x{h}")
+    _int_field(data, "timesteps", 0, None)
+    for key in ("level", "level_name"):
+        if not isinstance(data[key], str) or len(data[key]) > MAX_LEVEL_TEXT_CHARS:
+            raise ValueError(f"{key}: must be a text, got {shown(data[key])}")
+    if version >= 3 and data["observation"] != TRAINED_ON:
+        raise ValueError(f"observation: this version reads policies of {TRAINED_ON}, got {shown(data['observation'])}")
+    arch = data["net_arch"]
+    if not isinstance(arch, (list, tuple)) or not all(type(x) is int and x >= 1 for x in arch):
+        raise ValueError(f"net_arch: must be a list of layer sizes >= 1, got {shown(arch)}")
+    config = data["config"]
+    if not isinstance(config, dict) or not set(config) <= {f.name for f in fields(PPOConfig)}:
+        raise ValueError(f"config: must be the PPO settings the policy was trained with, got {shown(config)}")
+    if n > 1 and "near_radius" not in config:
+        raise ValueError("config: a race policy's settings name its near_radius")
+    try:
+        PPOConfig(**{k: tuple(v) if k == "net_arch" and isinstance(v, list) else v for k, v in config.items()})
+    except (TypeError, ValueError) as err:
+        raise ValueError(f"config: {err}") from None
+    near = near_offsets(config.get("near_radius", 0)) if n > 1 else ()
+    _check_weights(data["state_dict"], Inputs(w, h, near).n_in, tuple(arch))
+
+
+def _int_field(data: dict[str, Any], key: str, lo: int, hi: int | None) -> int:
+    value = data[key]
+    if type(value) is not int or value < lo or (hi is not None and value > hi):
+        raise ValueError(f"{key}: must be an integer >= {lo}{'' if hi is None else f' and <= {hi:,}'}, got {shown(value)}")
+    return value
+
+
+def weight_shapes(n_in: int, net_arch: tuple[int, ...]) -> dict[str, tuple[int, ...]]:
+    """The name and shape of every tensor of ``make_net(n_in, net_arch)``'s state dict (without building it)."""
+    shapes = {}
+    for part, out in (("actor", N_ACTIONS), ("critic", 1)):
+        sizes = [*net_arch, out]
+        shapes[f"{part}.first"], shapes[f"{part}.first_bias"] = (n_in + 1, sizes[0]), (sizes[0],)
+        for i, (a, b) in enumerate(zip(sizes[:-1], sizes[1:])):
+            shapes[f"{part}.layers.{i}.weight"], shapes[f"{part}.layers.{i}.bias"] = (b, a), (b,)
+    return shapes
+
+
+def _check_weights(state: Any, n_in: int, net_arch: tuple[int, ...]) -> None:
+    torch = _torch()
+    shapes = weight_shapes(n_in, net_arch)
+    if not isinstance(state, dict) or set(state) != set(shapes):
+        got = sorted(state)[:8] if isinstance(state, dict) else type(state).__name__
+        raise ValueError(f"state_dict: must hold the tensors {sorted(shapes)} of layers {list(net_arch)}, got {shown(got, 200)}")
+    for name, shape in shapes.items():
+        t = state[name]
+        if not isinstance(t, torch.Tensor) or t.dtype != torch.float32 or tuple(t.shape) != shape:
+            got = f"{t.dtype} {tuple(t.shape)}" if isinstance(t, torch.Tensor) else type(t).__name__
+            raise ValueError(f"state_dict: {name} must be a float32 tensor of shape {shape}, got {got}")
+        if not bool(torch.isfinite(t).all()):
+            raise ValueError(f"state_dict: {name} holds non-finite weights (NaN or infinity: a training that diverged)")
+    if bool((state["actor.first"][n_in] != 0).any() or (state["critic.first"][n_in] != 0).any()):
+        raise ValueError("state_dict: the padding row of the first layer must be zero")
 
 
 def inputs_of(data: dict[str, Any]) -> Inputs:
@@ -129,27 +332,36 @@ def load_net(data: dict[str, Any]) -> Any:
 
 
 def load_policy(
-    path: str | os.PathLike, table: Table | None = None, deterministic: bool = True, seed: int | None = None
+    path: str | os.PathLike, table: Table | None = None, deterministic: bool = True, seed: int | None = None,
+    env: Any = None,
 ) -> TrainedPolicy:
-    """A saved policy as a robot. With ``table``, the level's size must be the one it was trained on."""
+    """A saved policy as a robot. With ``table`` (or ``env``), the level's size must be the one it was
+    trained on; with ``env``, it reads that env's observations (``TrainedPolicy.for_env``)."""
     data = load_checkpoint(path)
     w, h = data["width"], data["height"]
+    if table is None and env is not None:
+        e = getattr(env, "unwrapped", env)
+        table = getattr(getattr(e, "race", e), "table", None)
     if table is not None and (table.width, table.height) != (w, h):
         name = data["level_name"] or "its level"
         raise ValueError(
             f"policy: {str(path)!r} was trained on {name} ({w}x{h}); this level is {table.width}x{table.height} "
             f"(pass --level {data['level_name'] or 'a level of that size'})"
         )
-    return TrainedPolicy(load_net(data), inputs_of(data), data["n_robots"], deterministic, seed)
+    policy = TrainedPolicy(load_net(data), inputs_of(data), data["n_robots"], deterministic, seed)
+    return policy if env is None else policy.for_env(env)
 
 
-def make_policy(spec: str, table: Table, seed: int | None = None) -> Any:
-    """A scripted policy by name (``policies.make``), or the saved policy at path ``spec``."""
+def make_policy(spec: str, table: Table, seed: int | None = None, env: Any = None) -> Any:
+    """A scripted policy by name (``policies.make``), or the saved policy at path ``spec`` (named
+    ``spec``; reading ``env``'s observations if given)."""
     from .. import policies
 
     if spec in policies.POLICY_NAMES:
         return policies.make(spec, table, seed)
-    return load_policy(spec, table)
+    policy = load_policy(spec, table, env=env)
+    policy.name = spec  # its name in tables: the file
+    return policy
 
 
 def is_policy_spec(spec: str) -> bool:

@@ -481,8 +481,10 @@ class EvalPoint:
 class TrainResult:
     """What ``train_ppo`` returns: the network, where it was trained, the curve and the totals.
 
-    ``seconds`` is training time (rollouts and updates, evaluations excluded); ``reached`` the
-    first ``(timesteps, seconds)`` whose evaluation met ``target`` (None if never or no target).
+    ``seconds`` is training time (rollouts and updates, evaluations excluded), wall-clock;
+    ``cpu_seconds`` the process's CPU time over the same spans (on a busy machine wall time also
+    counts the others); ``reached`` the first ``(timesteps, seconds)`` whose evaluation met
+    ``target`` (None if never or no target).
     """
 
     net: Any
@@ -493,12 +495,19 @@ class TrainResult:
     timesteps: int = 0
     seconds: float = 0.0
     eval_seconds: float = 0.0
+    cpu_seconds: float = 0.0
     history: list[EvalPoint] = field(default_factory=list)
     reached: tuple[int, float] | None = None
 
     @property
     def steps_per_second(self) -> float:
+        """Timesteps per second of wall-clock training time."""
         return self.timesteps / self.seconds if self.seconds > 0 else float("nan")
+
+    @property
+    def steps_per_cpu_second(self) -> float:
+        """Timesteps per second of the process's CPU time while training."""
+        return self.timesteps / self.cpu_seconds if self.cpu_seconds > 0 else float("nan")
 
     def policy(self, deterministic: bool = True, seed: int | None = None) -> Any:
         """The trained policy with the scripted policies' interface (``policy(obs) -> action``)."""
@@ -512,6 +521,19 @@ class TrainResult:
         from .policy import save_policy
 
         return save_policy(self, path)
+
+
+class TrainingDivergedError(ValueError):
+    """The loss or the weights became NaN or infinite (a learning rate too large, most often)."""
+
+
+def check_finite(params: list[Any], timesteps: int, cfg: PPOConfig) -> None:
+    """Raise ``TrainingDivergedError`` if any weight is not finite (a NaN or infinite loss or gradient
+    makes the weights so at the optimizer's step). One norm per parameter: cheap once per update."""
+    torch = _torch()
+    if not bool(torch.isfinite(torch.stack(torch._foreach_norm(params))).all()):
+        raise TrainingDivergedError(f"learning_rate: training diverged within {timesteps:,} timesteps (the loss or the weights "
+                               f"are no longer finite numbers) at learning_rate {cfg.learning_rate:g}; try a smaller one")
 
 
 @contextlib.contextmanager
@@ -616,11 +638,12 @@ def train_ppo(
         ep_return = np.zeros((E, n))
         recent: deque[float] = deque(maxlen=100)
         next_eval = cfg.eval_every if cfg.eval_every else math.inf
-        t_train = time.perf_counter()
+        t_train, c_train = time.perf_counter(), time.process_time()
 
         def run_evaluation() -> bool:
-            nonlocal t_train
+            nonlocal t_train, c_train
             result.seconds += time.perf_counter() - t_train
+            result.cpu_seconds += time.process_time() - c_train
             t0 = time.perf_counter()
             net.eval()
             score = float(evaluate(result)) if evaluate is not None else float("nan")
@@ -631,7 +654,7 @@ def train_ppo(
             result.eval_seconds += time.perf_counter() - t0
             if on_eval is not None:
                 on_eval(point)
-            t_train = time.perf_counter()
+            t_train, c_train = time.perf_counter(), time.process_time()
             return stop_at_target and result.reached is not None
 
         while result.timesteps < total:
@@ -700,6 +723,7 @@ def train_ppo(
                     ppo_gradients(net, mb_rows, mb_old, mb, cfg)
                     clip_grad_norm(grads_of(params), cfg.max_grad_norm)
                     optim.step()
+            check_finite(params, result.timesteps + T * E * n, cfg)
 
             result.timesteps += T * E * n
             elapsed = result.seconds + time.perf_counter() - t_train
@@ -715,5 +739,6 @@ def train_ppo(
             run_evaluation()
         else:
             result.seconds += time.perf_counter() - t_train
+            result.cpu_seconds += time.process_time() - c_train
         net.eval()
     return result

@@ -27,15 +27,20 @@ def target_callback(evaluate: Any, target: float, every: int = 5000, stop: bool 
             self._next = every
             self._t0 = time.perf_counter()
             self._eval_seconds = 0.0  # evaluation time is not training time
+            self._eval_cpu_seconds = 0.0  # nor its CPU time
+            self.train_return = float("nan")  # mean return of SB3's recent training episodes, at the last evaluation
 
         def _on_step(self) -> bool:
             if self.num_timesteps < self._next:
                 return True
             self._next += every
-            t = time.perf_counter()
+            t, c = time.perf_counter(), time.process_time()
             seconds = t - self._t0 - self._eval_seconds
             mean = float(evaluate(self.model))
+            episodes = self.model.ep_info_buffer
+            self.train_return = float(sum(e["r"] for e in episodes) / len(episodes)) if episodes else float("nan")
             self._eval_seconds += time.perf_counter() - t
+            self._eval_cpu_seconds += time.process_time() - c
             self.history.append((self.num_timesteps, seconds, mean))
             if on_eval is not None:
                 on_eval(self.num_timesteps, seconds, mean)

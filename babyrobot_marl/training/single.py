@@ -116,7 +116,9 @@ def train_single(
     check_int(steps, "steps", 1)
     if features not in FEATURES:
         raise ValueError(f"features: must be one of {', '.join(map(repr, FEATURES))}, got {features!r}")
-    venv = sb3_vec_env(level, n_envs=1 if algo == "dqn" else n_envs, **(env_kwargs or {}))
+    (sb3,) = require_train("stable_baselines3")
+    # VecMonitor: SB3 keeps the training episodes' returns (ep_info_buffer) only from its "episode" infos
+    venv = sb3.common.vec_env.VecMonitor(sb3_vec_env(level, n_envs=1 if algo == "dqn" else n_envs, **(env_kwargs or {})))
     if features == "cell" and "policy_kwargs" not in algo_kwargs:
         w, h = (int(n) for n in venv.observation_space.nvec)
         algo_kwargs["policy_kwargs"] = {
