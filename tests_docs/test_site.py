@@ -2,8 +2,8 @@
 
 Run by ``bash .ci/docs.sh`` after ``mkdocs build --strict`` (the site in ``site/``, or
 ``$BABYROBOT_SITE``). The browser is Debian's ``/usr/bin/chromium`` (``.ci/browser.sh``; never
-``playwright install``). Screenshots go to ``$BABYROBOT_SCREENSHOTS`` (default
-``<tmp>/babyrobot_marl_screenshots``); their paths are printed.
+``playwright install``). Screenshots go to ``$BABYROBOT_SCREENSHOTS`` (default: pytest's
+temporary folder); their paths are printed. Waits are on the event, with one generous limit (WAIT).
 """
 
 from __future__ import annotations
@@ -14,7 +14,6 @@ import os
 import posixpath
 import re
 import shutil
-import tempfile
 import threading
 from pathlib import Path
 from urllib.parse import unquote, urljoin, urlparse
@@ -24,7 +23,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 SITE = Path(os.environ.get("BABYROBOT_SITE", ROOT / "site"))
-SHOTS = Path(os.environ.get("BABYROBOT_SCREENSHOTS", Path(tempfile.gettempdir()) / "babyrobot_marl_screenshots"))
+WAIT = 300_000  # ms: a limit for a loaded machine, never a deadline the test means
 CHROMIUM_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage", "--no-first-run", "--disable-background-networking"]
 
 # every <img> of the page: its src, whether it finished loading, and its natural size (0 if broken)
@@ -68,16 +67,22 @@ def page():
 
 
 def visit(page, url: str) -> list[dict]:
-    page.goto(url, wait_until="load", timeout=60_000)
-    page.wait_for_function("() => Array.from(document.images).every(i => i.complete)", timeout=30_000)
+    page.goto(url, wait_until="load", timeout=WAIT)
+    page.wait_for_function("() => Array.from(document.images).every(i => i.complete)", timeout=WAIT)
     return page.evaluate(IMAGES)
 
 
-def screenshot(page, name: str) -> np.ndarray:
+@pytest.fixture(scope="session")
+def shots(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    chosen = os.environ.get("BABYROBOT_SCREENSHOTS")
+    return Path(chosen) if chosen else tmp_path_factory.mktemp("screenshots")
+
+
+def screenshot(page, name: str, shots: Path) -> np.ndarray:
     import imageio.v3 as iio
 
-    SHOTS.mkdir(parents=True, exist_ok=True)
-    path = SHOTS / f"docs_{name}.png"
+    shots.mkdir(parents=True, exist_ok=True)
+    path = shots / f"docs_{name}.png"
     page.screenshot(path=str(path), full_page=False)
     print(f"screenshot: {path}")
     return iio.imread(path)[..., :3]
@@ -95,7 +100,7 @@ def colour_share(img: np.ndarray, colour: list[int]) -> float:
     return float((np.abs(band - colour).sum(axis=1) < 12).mean())
 
 
-def test_home_page_shows_its_title_the_race_animation_and_the_navigation(server, page):
+def test_home_page_shows_its_title_the_race_animation_and_the_navigation(server, page, shots):
     images = visit(page, f"{server}/")
     assert page.title() == "Baby Robot"
     assert page.locator("h1").first.inner_text().rstrip("¶").strip() == "Baby Robot"
@@ -104,13 +109,13 @@ def test_home_page_shows_its_title_the_race_animation_and_the_navigation(server,
     nav = page.locator("nav.md-nav--primary").inner_text()
     for entry in ("Environments", "BabyRobot-v0", "race_v0", "Rules and collisions", "API reference"):
         assert entry in nav, nav
-    img = screenshot(page, "home")
+    img = screenshot(page, "home", shots)
     colour = header_colour(page)
     assert colour != [255, 255, 255] and colour_share(img, colour) > 0.5  # the theme's stylesheet loaded and drew the header
     assert img.std() > 20  # text and pictures, not a blank page
 
 
-def test_race_env_page_shows_the_animation_drawn_by_the_env_and_its_table(server, page):
+def test_race_env_page_shows_the_animation_drawn_by_the_env_and_its_table(server, page, shots):
     from babyrobot_marl import race_v0
 
     images = visit(page, f"{server}/environments/race_v0/")
@@ -133,26 +138,26 @@ def test_race_env_page_shows_the_animation_drawn_by_the_env_and_its_table(server
         assert row in table, table
     headings = page.locator("h2").all_inner_texts()
     assert any(h.startswith("Version history") for h in headings), headings  # the docstring's sections
-    img = screenshot(page, "race_v0")
+    img = screenshot(page, "race_v0", shots)
     assert img.std() > 20
 
 
-def test_collision_pictures_all_load(server, page):
+def test_collision_pictures_all_load(server, page, shots):
     images = visit(page, f"{server}/guides/rules/")
     pictures = [i for i in images if "/collisions/" in i["src"]]
     assert len(pictures) == 7, images
     assert all(i["w"] > 0 and i["h"] > 0 for i in pictures), pictures
-    screenshot(page, "rules")
+    screenshot(page, "rules", shots)
 
 
-def test_tutorial_page_holds_the_executed_notebook_outputs_and_the_canvas_pictures(server, page):
+def test_tutorial_page_holds_the_executed_notebook_outputs_and_the_canvas_pictures(server, page, shots):
     images = visit(page, f"{server}/tutorials/quickstart/")
     text = page.locator("article").inner_text()
     assert "quickstart notebook: done" in text  # the last cell's output: the notebook ran at build time
     # the live canvas's outputs carry a PNG of their frame: the static page shows those pictures
     pictures = [i for i in images if (i["src"] or "").startswith("data:image/png")]
     assert len(pictures) >= 2 and all(i["w"] > 100 and i["h"] > 100 for i in pictures), images
-    screenshot(page, "tutorial_quickstart")
+    screenshot(page, "tutorial_quickstart", shots)
 
 
 def site_url() -> str:
