@@ -36,7 +36,8 @@ def test_one_robot_prints_evaluation_lines_and_ends_with_the_json_figures(tmp_pa
                             "timesteps_to_95", "seconds_to_95"}
     assert figures["backend"] == "fast" and figures["optimal_return"] == -3 and figures["timesteps"] >= 4096
     assert figures["final_return"] == -3 and 0 < figures["timesteps_to_95"] <= figures["timesteps"]
-    assert figures["env_steps_per_second"] == pytest.approx(figures["timesteps"] / figures["seconds"], rel=1e-3)
+    # seconds are printed to 4 decimals: a short run's rate computed back from them is off by more than 0.1%
+    assert figures["timesteps"] / figures["env_steps_per_second"] == pytest.approx(figures["seconds"], abs=1e-4)
     assert sum(" steps/s " in line and "eval greedy return" in line for line in out.splitlines()) >= 4  # not a terminal
     assert f"policy saved to {policy}\n" in out and policy.is_file() and not (tmp_path / "m.zip").exists()
     assert curve.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
