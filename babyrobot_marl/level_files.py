@@ -14,7 +14,7 @@ import stat
 from pathlib import Path
 
 from . import levels
-from .checks import MAX_LEVEL_TEXT_CHARS, shown
+from .core.checks import MAX_LEVEL_TEXT_CHARS, shown
 from .core.level import Level, looks_like_level_text
 
 # os.stat errors that mean "no file by that name" rather than "a file we may not read"

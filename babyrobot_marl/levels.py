@@ -28,7 +28,7 @@ from functools import cache, lru_cache
 
 import numpy as np
 
-from .checks import check_int, shown
+from .core.checks import check_int, shown
 from .core.level import Level
 
 _TEXTS: dict[str, str] = {

@@ -11,9 +11,9 @@ import numpy as np
 from gymnasium import spaces
 from pettingzoo import ParallelEnv
 
-from ..checks import check_global_view, check_view_numbers
 from ..core.actions import N_ACTIONS
 from ..core.batch import BatchRace
+from ..core.checks import check_global_view, check_view_numbers
 from ..core.level import Cell, Level
 from ..core.observe import global_gather, make_observer
 from ..core.race import race_step

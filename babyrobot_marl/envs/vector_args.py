@@ -8,9 +8,9 @@ from typing import Any
 
 import numpy as np
 
-from ..checks import check_batch, check_int
 from ..core.actions import N_ACTIONS
 from ..core.batch import BatchRace
+from ..core.checks import check_batch, check_int
 from .common import ACTION_HELP, check_seed
 
 

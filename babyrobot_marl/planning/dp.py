@@ -15,8 +15,8 @@ from functools import cached_property
 
 import numpy as np
 
-from ..checks import check_int
 from ..core.actions import N_ACTIONS
+from ..core.checks import check_int
 from .mdp import Model
 
 DEFAULT_MAX_SWEEPS = 100_000

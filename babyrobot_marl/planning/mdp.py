@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from ..checks import check_dense_states
+from ..core.checks import check_dense_states
 from ..core.level import Level
 from ..core.model import Transition, frozenlake_P, sparse_arrays, transition_arrays
 from ..core.rules import Rules

@@ -34,7 +34,7 @@ from typing import Any
 
 import numpy as np
 
-from ..checks import check_int
+from ..core.checks import check_int
 from ..core.level import Cell
 from .glyphs import baseline_y, css_font, origin
 from .overlay import Overlay

@@ -23,6 +23,7 @@ import numpy as np
 
 from ..core.level import Cell, Level
 from . import annotate
+from .checks import MAX_FRAME_PIXELS
 from .overlay import Overlay
 from .paint import Op, Text, paint, to_uint8
 from .palette import THEMES, Theme, resolve_theme
@@ -34,7 +35,6 @@ from .sprites import Patch, blend, patch
 __all__ = ["MAX_CELL_SIZE", "MAX_FRAME_PIXELS", "MIN_CELL_SIZE", "THEMES", "RgbRenderer", "Theme", "resolve_theme"]
 
 MIN_CELL_SIZE, MAX_CELL_SIZE = 8, 256
-MAX_FRAME_PIXELS = 4096 * 4096  # a 256x256 maze at 16-pixel cells; larger frames ask for a smaller cell_size
 DEFAULT_MAX_CELL, COLUMN_WIDTH, COLUMN_HEIGHT = 64, 896, 768  # a notebook column
 
 

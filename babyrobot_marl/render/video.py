@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from ..checks import check_int
+from ..core.checks import check_int
 
 
 def _imageio() -> Any:
