@@ -11,7 +11,7 @@ import pytest
 from babyrobot_marl import Level, levels, race_v0
 from babyrobot_marl.core.checks import MAX_DENSE_STATES, MAX_LEVEL_CELLS, MAX_LEVEL_TEXT_CHARS
 from babyrobot_marl.core.rules import Rules
-from babyrobot_marl.envs.common import resolve_level
+from babyrobot_marl.levels.resolve import resolve_level
 from babyrobot_marl.planning import model, value_iteration
 from babyrobot_marl.render.checks import check_frame_pixels, max_cell_size
 

@@ -9,22 +9,12 @@ from typing import Any
 
 from gymnasium.envs.registration import EnvSpec
 
-from .. import levels
 from ..core.checks import ACTION_HELP, check_action, check_count, check_seed, unexpected_keyword  # noqa: F401
-from ..core.level import Level, looks_like_level_text
 from ..core.outcomes import FINISHED, OUTCOME_NAMES, START  # noqa: F401
 from ..core.rules import known_args, resolve_rules  # noqa: F401
+from ..levels.resolve import resolve_level  # noqa: F401
 
 check_positive_int = check_count
-
-
-def resolve_level(level: str | Level) -> Level:
-    """A ``Level`` from a built-in name, a level text (several lines) or a ``Level``."""
-    if isinstance(level, Level):
-        return level
-    if isinstance(level, str):
-        return Level.from_ascii(level) if looks_like_level_text(level) else levels.get(level)
-    raise TypeError(f"level: expected a level name, a level text or a Level, got {type(level).__name__}")
 
 
 def check_render_mode(render_mode: str | None, modes: list[str]) -> str | None:

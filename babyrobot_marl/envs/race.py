@@ -21,7 +21,7 @@ from ..core.rng import new_key
 from ..core.rules import COLLISION_MODES, Rules
 from ..core.table import compile_level
 from ..encodings import Encoder
-from ..level_sources import DrawnLevels
+from ..levels.sources import LevelPicker
 from ..render.ansi import frame, robot_glyph
 from ..render.canvas import check_animation_frames, check_fps
 from ..render.overlay import Overlay
@@ -34,7 +34,6 @@ from .common import (
     check_positive_int,
     check_render_mode,
     check_seed,
-    resolve_level,
     resolve_rules,
 )
 from .drawing import RaceDrawing
@@ -51,7 +50,7 @@ _ARGS = (
 )
 
 
-class RaceEnv(RaceDrawing, DrawnLevels, LazyGenerator, ParallelEnv):
+class RaceEnv(RaceDrawing, LazyGenerator, ParallelEnv):
     """Several Baby Robots race to the exit. See ``babyrobot_marl.race_v0`` for the full table."""
 
     metadata = {
@@ -81,7 +80,8 @@ class RaceEnv(RaceDrawing, DrawnLevels, LazyGenerator, ParallelEnv):
         obs_encoding: str = "multidiscrete",
         **rule_overrides: Any,
     ):
-        self.level = resolve_level(self._init_level_source(level))  # level= a family or a callable: drawn per reset
+        self.levels = LevelPicker(level)  # level= a family or a callable: drawn per reset
+        self.level = self.levels.first
         if collisions is not None:
             if collisions not in COLLISION_MODES:
                 raise ValueError(f"collisions: must be one of {', '.join(map(repr, COLLISION_MODES))}, got {collisions!r}")
@@ -169,8 +169,10 @@ class RaceEnv(RaceDrawing, DrawnLevels, LazyGenerator, ParallelEnv):
         seed = check_seed(seed)
         if seed is not None:
             self.np_random, _ = _seeding(seed)
-        self._draw_level()
-        if starts is not None and self._level_source is not None:  # checked again on the level just drawn
+        drawn = self.levels.draw(self.np_random, self.level)
+        if drawn is not None:
+            self._use_level(drawn)
+        if starts is not None and drawn is not None:  # checked again on the level just drawn
             starts = check_cells(self.table, options["starts"], self.n_robots, 'options["starts"]')
         self._key = new_key(self.np_random)
         n = self.n_robots
@@ -344,7 +346,7 @@ class RaceEnv(RaceDrawing, DrawnLevels, LazyGenerator, ParallelEnv):
     def batch(self, n_envs: int) -> BatchRace:
         """``n_envs`` copies of this race as one batch engine (the ``finished="freeze"`` view):
         env ``i`` plays exactly the races of this env seeded the same way."""
-        self._check_one_level("the batch engine (and the vector envs)")
+        self.levels.check_one_level("the batch engine (and the vector envs)")
         return BatchRace(
             self.table, n_envs, self.n_robots, self.max_cycles, self._fixed_starts, self._free, self.start, self.rules.win_bonus,
             observer=self._observer,
@@ -440,6 +442,18 @@ class RaceEnv(RaceDrawing, DrawnLevels, LazyGenerator, ParallelEnv):
     def _check_started(self, what: str) -> None:
         if not self._started:
             raise RuntimeError(f"{what}: the race has not started; call reset() first")
+
+    def _use_level(self, level: Level) -> None:
+        """Race on ``level`` (drawn at reset, the size of the last): everything that depends on it."""
+        self.level, self.table = level, compile_level(level, self.rules)
+        self._lists = self.table.lists
+        self._reward_at = self._lists.reward.__getitem__
+        self._observer = self._observer_of(self.table)
+        self._fixed_starts, self._free = self._placement(self.n_robots)
+        self.__dict__.pop("rgb_renderer", None)  # drawn again for the new walls
+        if self.canvas is not None:  # a live canvas shows one level: a new one for this
+            self._close_canvas()
+            self.canvas = None
 
     def _placement(self, n: int) -> tuple[list[int], list[int]]:
         return placement(self.table, self.start, n)

@@ -18,9 +18,9 @@ from typing import Any
 from .. import policies as policy_lib
 from ..core.actions import Action
 from ..core.level import Level
-from ..envs.common import resolve_level
 from ..envs.race import RaceEnv
 from ..envs.single import BabyRobotEnv
+from ..levels.resolve import resolve_level
 from ..render.canvas import LiveCanvas
 from ..render.rgb import RgbRenderer
 from . import editor as ed
