@@ -14,9 +14,9 @@ import numpy as np
 
 from ..core.engine import BUMPED, MOVED, move
 from ..core.rng import SLOTS
+from ..render.checks import check_overlay_frame
 from ..render.overlay import KEEP, Overlay, update_overlay
 from ..render.panel import LegendRow
-from ..render.rgb import check_overlay_frame
 from ..render.scene import POSE_OF_OUTCOME, RobotView, Scene
 
 

@@ -23,9 +23,9 @@ from ..core.table import compile_level
 from ..encodings import Encoder
 from ..levels.sources import LevelPicker
 from ..render.ansi import frame, robot_glyph
-from ..render.canvas import check_animation_frames, check_fps
+from ..render.checks import check_animation_frames, check_cell_size, check_fps, check_frame_size
 from ..render.overlay import Overlay
-from ..render.rgb import RgbRenderer, Theme, check_cell_size, check_frame_size, resolve_theme
+from ..render.rgb import RgbRenderer, Theme, resolve_theme
 from .common import (
     FINISHED,
     START,

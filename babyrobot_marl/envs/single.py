@@ -20,9 +20,9 @@ from ..core.rules import Rules
 from ..core.table import compile_level
 from ..encodings import Encoder
 from ..render.ansi import frame
-from ..render.canvas import check_animation_frames, check_fps
+from ..render.checks import check_animation_frames, check_cell_size, check_fps
 from ..render.overlay import Overlay
-from ..render.rgb import RgbRenderer, Theme, check_cell_size, resolve_theme
+from ..render.rgb import RgbRenderer, Theme, resolve_theme
 from .common import (
     START,
     OwnStepLimitSpec,
