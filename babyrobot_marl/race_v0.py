@@ -168,7 +168,7 @@ from typing import Any
 
 from pettingzoo.utils import parallel_to_aec, wrappers
 
-from .envs.common import check_action
+from .core.checks import check_action
 from .envs.race import RaceEnv
 
 __all__ = ["RaceEnv", "env", "parallel_env", "raw_env"]

@@ -13,32 +13,24 @@ from pettingzoo import ParallelEnv
 
 from ..core.actions import N_ACTIONS
 from ..core.batch import BatchRace
-from ..core.checks import check_global_view, check_view_numbers
+from ..core.checks import check_action, check_count, check_global_view, check_seed, check_view_numbers
 from ..core.level import Cell, Level
 from ..core.observe import global_gather, make_observer
+from ..core.outcomes import FINISHED, START
 from ..core.race import race_step
 from ..core.rng import new_key
-from ..core.rules import COLLISION_MODES, Rules
+from ..core.rules import COLLISION_MODES, Rules, resolve_rules
 from ..core.table import compile_level
-from ..encodings import Encoder
 from ..levels.sources import LevelPicker
 from ..render.ansi import frame, robot_glyph
 from ..render.checks import check_animation_frames, check_cell_size, check_fps, check_frame_size
 from ..render.overlay import Overlay
 from ..render.rgb import RgbRenderer, Theme, resolve_theme
-from .common import (
-    FINISHED,
-    START,
-    check_action,
-    check_options,
-    check_positive_int,
-    check_render_mode,
-    check_seed,
-    resolve_rules,
-)
+from .checks import check_cells, check_options, check_render_mode
 from .drawing import RaceDrawing
+from .encodings import Encoder
 from .single import default_max_steps
-from .starts import LazyGenerator, _seeding, check_cells, draw_starts, placement
+from .starts import LazyGenerator, _seeding, draw_starts, placement
 
 START_MODES = ("level", "fill", "random")
 FINISHED_MODES = ("remove", "freeze")
@@ -91,8 +83,8 @@ class RaceEnv(RaceDrawing, LazyGenerator, ParallelEnv):
         self.table = compile_level(self.level, self.rules)
         self._observer_of = partial(make_observer, observe=observe, view_radius=view_radius, k=k)
         self.observe, self._observer = observe, self._observer_of(self.table)  # None: "global"
-        self.n_robots = n = check_positive_int(n_robots, "n_robots")
-        self.max_cycles = default_max_steps(self.level) if max_cycles is None else check_positive_int(max_cycles, "max_cycles")
+        self.n_robots = n = check_count(n_robots, "n_robots")
+        self.max_cycles = default_max_steps(self.level) if max_cycles is None else check_count(max_cycles, "max_cycles")
         if start not in START_MODES:
             raise ValueError(f"start: must be one of {', '.join(map(repr, START_MODES))}, got {start!r}")
         if finished not in FINISHED_MODES:

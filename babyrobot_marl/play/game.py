@@ -12,11 +12,11 @@ from collections.abc import Callable, Sequence
 
 from ..core.actions import Action
 from ..core.level import Cell
-from ..envs.common import OUTCOME_NAMES
+from ..core.outcomes import OUTCOME_NAMES
+from ..envs.keys import QUIT, RESTART, SWITCH, Command
 from ..envs.race import RaceEnv
 from ..envs.single import BabyRobotEnv
 from ..render.ansi import robot_glyph
-from .keys import QUIT, RESTART, SWITCH, Command
 
 # What an outcome means, for someone who just pressed the key.
 OUTCOME_TEXT = {

@@ -18,6 +18,7 @@ from typing import Any
 from .. import policies as policy_lib
 from ..core.actions import Action
 from ..core.level import Level
+from ..envs.keys import BROWSER_KEYS, RESTART, SWITCH, Command
 from ..envs.race import RaceEnv
 from ..envs.single import BabyRobotEnv
 from ..levels.resolve import resolve_level
@@ -25,7 +26,6 @@ from ..render.canvas import LiveCanvas
 from ..render.rgb import RgbRenderer
 from . import editor as ed
 from .game import RaceGame, SingleGame
-from .keys import BROWSER_KEYS, RESTART, SWITCH, Command
 
 BUTTONS = (  # (label, command, css class): the class names stable selectors for tests
     ("\u2190", Action.WEST, "west"), ("\u2191", Action.NORTH, "north"), ("\u2193", Action.SOUTH, "south"),

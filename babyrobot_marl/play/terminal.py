@@ -17,11 +17,11 @@ import sys
 from collections.abc import Callable, Sequence
 from typing import Any, TextIO
 
+from ..envs.keys import HELP, QUIT, RESTART, Command, decode
 from ..envs.race import RaceEnv
 from ..envs.single import BabyRobotEnv
 from ..render.ansi import frame
 from .game import RaceGame, SingleGame
-from .keys import HELP, QUIT, RESTART, Command, decode
 from .watch import schedule, settled_step
 
 CURSOR_HOME, CLEAR_TO_EOL, CLEAR_BELOW = "\x1b[H", "\x1b[K", "\x1b[J"
