@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import operator
 from collections.abc import Mapping, Sequence
-from functools import cached_property, partial
+from functools import partial
 from typing import Any
 
 import numpy as np
@@ -24,13 +24,14 @@ from ..core.table import compile_level
 from ..levels.sources import LevelPicker
 from ..render.ansi import frame, robot_glyph
 from ..render.checks import check_animation_frames, check_cell_size, check_fps, check_frame_size
-from ..render.overlay import Overlay
-from ..render.rgb import RgbRenderer, Theme, resolve_theme
+from ..render.rgb import Theme, resolve_theme
+from ..render.scene import Scene
 from .checks import check_cells, check_options, check_render_mode
-from .drawing import RaceDrawing
+from .drawing import EnvDrawing, OverlayMethods
 from .encodings import Encoder
+from .scenes import race_scene
 from .single import default_max_steps
-from .starts import LazyGenerator, _seeding, draw_starts, placement
+from .starts import draw_starts, new_generator, placement
 
 START_MODES = ("level", "fill", "random")
 FINISHED_MODES = ("remove", "freeze")
@@ -42,7 +43,7 @@ _ARGS = (
 )
 
 
-class RaceEnv(RaceDrawing, LazyGenerator, ParallelEnv):
+class RaceEnv(OverlayMethods, ParallelEnv):
     """Several Baby Robots race to the exit. See ``babyrobot_marl.race_v0`` for the full table."""
 
     metadata = {
@@ -98,7 +99,8 @@ class RaceEnv(RaceDrawing, LazyGenerator, ParallelEnv):
         self.animation_frames = check_animation_frames(animation_frames)
         if render_fps is not None:  # this env's own metadata: the class's stays as it is
             self.metadata = {**type(self).metadata, "render_fps": check_fps(render_fps)}
-        self._overlay, self.canvas = Overlay(), None
+        self.drawing = EnvDrawing(self.level, self.cell_size, self.theme, self.animation_frames, robots=n)
+        self._np_random: np.random.Generator | None = None  # made at first use (np_random)
 
         w, h = self.level.width, self.level.height
         self.possible_agents = [f"robot_{i}" for i in range(n)]
@@ -160,7 +162,7 @@ class RaceEnv(RaceDrawing, LazyGenerator, ParallelEnv):
             starts = check_cells(self.table, starts, self.n_robots, 'options["starts"]')
         seed = check_seed(seed)
         if seed is not None:
-            self.np_random, _ = _seeding(seed)
+            self.np_random = new_generator(seed)
         drawn = self.levels.draw(self.np_random, self.level)
         if drawn is not None:
             self._use_level(drawn)
@@ -329,10 +331,10 @@ class RaceEnv(RaceDrawing, LazyGenerator, ParallelEnv):
             gymnasium.logger.warn("render() called with render_mode=None; pass render_mode='ansi' or 'human'")
             return None
         if self.render_mode == "rgb_array":
-            return self._overlay_frame()
+            return self.drawing.frame(self._scene())
         if self.render_mode == "ansi":
             return self.render_text()
-        self._show_human(self.render_text, animate=self._t > 0)
+        self.drawing.show(self._scene, self.render_text, self._t > 0, self.metadata["render_fps"])
         return None
 
     def batch(self, n_envs: int) -> BatchRace:
@@ -344,13 +346,20 @@ class RaceEnv(RaceDrawing, LazyGenerator, ParallelEnv):
             observer=self._observer,
         )
 
-    @cached_property
-    def rgb_renderer(self) -> RgbRenderer:
-        """Draws this level (made on first use: large levels make large images)."""
-        return RgbRenderer(self.level, self.cell_size, self.theme)
+    @property
+    def np_random(self) -> np.random.Generator:
+        """The race's generator, made unseeded at first use, as Gymnasium's ``Env`` does: copies of an
+        env taken before its first reset (SuperSuit clones it with cloudpickle) draw different races."""
+        if self._np_random is None:
+            self._np_random = new_generator(None)
+        return self._np_random
 
-    def close(self) -> None:
-        self._close_canvas()
+    @np_random.setter
+    def np_random(self, value: np.random.Generator) -> None:
+        self._np_random = value
+
+    def _scene(self) -> Scene:
+        return race_scene(self)
 
     # ----------------------------------------------------------------------- helpers
     def render_text(self, colour: bool = False) -> str:
@@ -442,10 +451,7 @@ class RaceEnv(RaceDrawing, LazyGenerator, ParallelEnv):
         self._reward_at = self._lists.reward.__getitem__
         self._observer = self._observer_of(self.table)
         self._fixed_starts, self._free = self._placement(self.n_robots)
-        self.__dict__.pop("rgb_renderer", None)  # drawn again for the new walls
-        if self.canvas is not None:  # a live canvas shows one level: a new one for this
-            self._close_canvas()
-            self.canvas = None
+        self.drawing.new_level(level)
 
     def _placement(self, n: int) -> tuple[list[int], list[int]]:
         return placement(self.table, self.start, n)

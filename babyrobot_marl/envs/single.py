@@ -23,11 +23,12 @@ from ..core.table import compile_level
 from ..levels.resolve import resolve_level
 from ..render.ansi import frame
 from ..render.checks import check_animation_frames, check_cell_size, check_fps
-from ..render.overlay import Overlay
-from ..render.rgb import RgbRenderer, Theme, resolve_theme
+from ..render.rgb import Theme, resolve_theme
+from ..render.scene import Scene
 from .checks import check_options, check_render_mode, check_start
-from .drawing import SingleDrawing
+from .drawing import EnvDrawing, OverlayMethods
 from .encodings import Encoder
+from .scenes import single_scene
 from .spec import StepLimitSpec
 
 _ARGS = (
@@ -40,7 +41,7 @@ def default_max_steps(level: Level) -> int:
     return max(100, 4 * level.n_cells)
 
 
-class BabyRobotEnv(SingleDrawing, gym.Env):
+class BabyRobotEnv(OverlayMethods, gym.Env):
     """Baby Robot looks for the exit of a grid of walls, glass walls, puddles and blocked cells.
 
     ## Action space
@@ -148,7 +149,7 @@ cell is a ``ValueError``; any other option key is ignored with a ``UserWarning``
         self.animation_frames = check_animation_frames(animation_frames)
         if render_fps is not None:  # this env's own metadata: the class's stays as it is
             self.metadata = {**type(self).metadata, "render_fps": check_fps(render_fps)}
-        self._overlay, self.canvas = Overlay(), None
+        self.drawing = EnvDrawing(self.level, self.cell_size, self.theme, self.animation_frames)
 
         w, h = self.level.width, self.level.height
         self.action_space = spaces.Discrete(N_ACTIONS)
@@ -214,7 +215,7 @@ cell is a ``ValueError``; any other option key is ignored with a ``UserWarning``
         if self.render_mode == "ansi":
             return self._frame()
         if self.render_mode == "rgb_array":
-            return self._overlay_frame()
+            return self.drawing.frame(self._scene())
         self._render_human()
         return None
 
@@ -247,11 +248,6 @@ cell is a ``ValueError``; any other option key is ignored with a ``UserWarning``
         return BatchRace(self.table, n_envs, 1, self.max_steps, fixed, self._free, start, win_bonus=0.0)
 
     @cached_property
-    def rgb_renderer(self) -> RgbRenderer:
-        """Draws this level (made on first use: large levels make large images)."""
-        return RgbRenderer(self.level, self.cell_size, self.theme)
-
-    @cached_property
     def P(self) -> dict[int, dict[int, list[Transition]]]:
         """FrozenLake-style model: ``P[s][a] == [(prob, next_s, reward, terminated), ...]``.
 
@@ -266,4 +262,7 @@ cell is a ``ValueError``; any other option key is ignored with a ``UserWarning``
         return frame(self.level, robots, status, colour=colour)
 
     def _render_human(self, animate: bool = True) -> None:
-        self._show_human(self._frame, animate)
+        self.drawing.show(self._scene, self._frame, animate, self.metadata["render_fps"])
+
+    def _scene(self) -> Scene:
+        return single_scene(self)

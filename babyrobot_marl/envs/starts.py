@@ -4,34 +4,17 @@ from the race's generator."""
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any
 
 import numpy as np
 
 from ..core.table import Table
 
 
-class LazyGenerator:
-    """``np_random`` made unseeded at first use, as Gymnasium's ``Env`` does: copies of an env taken
-    before its first reset (SuperSuit clones it with cloudpickle) draw different races."""
-
-    _np_random: np.random.Generator | None = None
-
-    @property
-    def np_random(self) -> np.random.Generator:
-        if self._np_random is None:
-            self._np_random, _ = _seeding(None)
-        return self._np_random
-
-    @np_random.setter
-    def np_random(self, value: np.random.Generator) -> None:
-        self._np_random = value
-
-
-def _seeding(seed: int | None) -> tuple[np.random.Generator, Any]:
+def new_generator(seed: int | None) -> np.random.Generator:
+    """A generator as Gymnasium's ``Env`` seeds its own (``seeding.np_random``); None: unseeded."""
     from gymnasium.utils import seeding
 
-    return seeding.np_random(seed)
+    return seeding.np_random(seed)[0]
 
 
 def placement(table: Table, start: str, n: int) -> tuple[list[int], list[int]]:
