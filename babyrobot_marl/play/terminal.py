@@ -22,10 +22,9 @@ from ..envs.race import RaceEnv
 from ..envs.single import BabyRobotEnv
 from ..render.ansi import frame
 from .game import RaceGame, SingleGame
+from .screen import CLEAR_SCREEN, HIDE_CURSOR, SHOW_CURSOR, draw
 from .watch import schedule, settled_step
 
-CURSOR_HOME, CLEAR_TO_EOL, CLEAR_BELOW = "\x1b[H", "\x1b[K", "\x1b[J"
-CLEAR_SCREEN, HIDE_CURSOR, SHOW_CURSOR = "\x1b[2J", "\x1b[?25l", "\x1b[?25h"
 ESC_WAIT = 0.05  # seconds to wait for the rest of an escape sequence cut between two reads
 
 
@@ -137,12 +136,6 @@ class Keyboard:
 
 def _exit_on_signal(signum: int, _frame: object) -> None:
     raise SystemExit(128 + signum)  # unwinds through every finally: the terminal is restored
-
-
-def draw(out: TextIO, text: str) -> None:
-    """Redraw the screen in place: cursor home, each line cleared to its end, the rest cleared."""
-    out.write(CURSOR_HOME + text.replace("\n", CLEAR_TO_EOL + "\n") + CLEAR_TO_EOL + "\n" + CLEAR_BELOW)
-    out.flush()
 
 
 # ------------------------------------------------------------------------ one robot

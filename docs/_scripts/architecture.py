@@ -76,6 +76,8 @@ def _targets(mod: str, node: ast.Import | ast.ImportFrom, mods: dict[str, Path])
         as_module = ".".join(dotted + [alias.name])
         if as_module in mods:  # from pkg import mod: the module itself
             out.append(as_module)
+        elif as_module + ".__init__" in mods:  # from pkg import subpackage: its __init__
+            out.append(as_module + ".__init__")
         else:
             target = _module_of(dotted, mods)
             if target:
