@@ -17,6 +17,7 @@ import sys
 from collections.abc import Callable, Sequence
 from typing import Any, TextIO
 
+from ..core.checks import check_int
 from ..envs.keys import HELP, QUIT, RESTART, Command, decode
 from ..envs.race import RaceEnv
 from ..envs.single import BabyRobotEnv
@@ -189,8 +190,8 @@ def race_keys(
     policies. Once you finish (or the race ends) the rest is played out, paced as ``race`` paces it,
     until every place is known. ``results`` (rank, steps, ret, collisions per robot) are filled in."""
     n = env.n_robots
-    if isinstance(human, bool) or not isinstance(human, int) or not 0 <= human < n:
-        raise ValueError(f"--human: must be a robot number in 0..{n - 1} (robot_0 ... robot_{n - 1}), got {human!r}")
+    wording = "{name}: must be a robot number in 0..{hi} (robot_0 ... robot_{hi}), got {value}"
+    human = check_int(human, "--human", 0, n - 1, message=wording)
     fd = require_terminal(stdin or sys.stdin, out, "race --human")
     pols = [None if i == human else p for i, p in enumerate(robot_policies)]
     game = RaceGame(env, pols, driven=human, seed=seed, switchable=False)
