@@ -7,10 +7,11 @@ from __future__ import annotations
 
 import gymnasium
 
-from . import encodings, levels
+from . import levels
 from .core import Action, Level, Rules, compile_level
-from .encodings import ENCODINGS
-from .envs.common import OUTCOME_NAMES
+from .core.outcomes import OUTCOME_NAMES
+from .envs import encodings
+from .envs.encodings import ENCODINGS
 from .envs.race_gym import BabyRobotRaceEnv
 from .envs.single import BabyRobotEnv
 from .envs.vector import sb3_vec_env

@@ -1,65 +1,22 @@
-"""Text frames shown one after another: redrawn in place on a terminal, one after another in a file.
+"""Deprecated: ``babyrobot_marl.animation`` moved to ``babyrobot_marl.play.screen``; this path goes in 0.3."""
 
-``animate(frames, display, out)`` is what ``babyrobot-marl play`` and ``race`` use; ``Display``
-says how (colour, clearing, pause). ANSI control sequences are written only to a terminal.
-"""
+import warnings
 
-from __future__ import annotations
+from .play.screen import (  # noqa: F401
+    CLEAR_BELOW,
+    CLEAR_SCREEN,
+    CLEAR_TO_EOL,
+    CURSOR_HOME,
+    DEFAULT_DELAY,
+    HIDE_CURSOR,
+    SHOW_CURSOR,
+    Display,
+    animate,
+    isatty,
+)
 
-import time
-from collections.abc import Callable, Iterable
-from dataclasses import dataclass
-from typing import TextIO
-
-DEFAULT_DELAY = 0.15  # seconds between frames on a terminal: fast, yet each move is visible
-
-CLEAR_SCREEN = "\x1b[2J"
-CURSOR_HOME = "\x1b[H"
-CLEAR_TO_EOL = "\x1b[K"
-CLEAR_BELOW = "\x1b[J"
-HIDE_CURSOR = "\x1b[?25l"
-SHOW_CURSOR = "\x1b[?25h"
-
-
-@dataclass(frozen=True)
-class Display:
-    """How frames reach the terminal: colour, clearing between frames, pause between frames."""
-
-    colour: bool
-    clear: bool
-    delay: float
-
-
-def isatty(out: TextIO) -> bool:
-    try:
-        return out.isatty()
-    except (AttributeError, ValueError):  # a closed or unusual stream: treat as a file
-        return False
-
-
-def animate(frames: Iterable[str], display: Display, out: TextIO, sleep: Callable[[float], None] = time.sleep) -> int:
-    """Show text frames one after another; returns how many were shown.
-
-    On a terminal (``display.clear``) each frame is redrawn in place: cursor home, the frame
-    with every line cleared to its end, the rest of the screen cleared (no flicker from a full
-    clear). Elsewhere frames follow each other, separated by a blank line, so a log reads top
-    to bottom.
-    """
-    n = 0
-    if display.clear:
-        out.write(HIDE_CURSOR + CLEAR_SCREEN)
-    try:
-        for text in frames:
-            if n and display.delay > 0:
-                sleep(display.delay)
-            if display.clear:
-                out.write(CURSOR_HOME + text.replace("\n", CLEAR_TO_EOL + "\n") + CLEAR_TO_EOL + "\n" + CLEAR_BELOW)
-            else:
-                out.write(("\n" if n else "") + text + "\n")
-            out.flush()
-            n += 1
-    finally:
-        if display.clear:
-            out.write(SHOW_CURSOR)
-            out.flush()
-    return n
+warnings.warn(
+    "babyrobot_marl.animation moved to babyrobot_marl.play.screen; the old path goes in 0.3",
+    DeprecationWarning,
+    stacklevel=2,
+)

@@ -1,216 +1,40 @@
-"""Argument checks and size limits shared by the whole package.
+"""Deprecated: ``babyrobot_marl.checks`` moved to ``babyrobot_marl.core.checks`` (the frame limits to
+``babyrobot_marl.render.checks``); this path goes in 0.3."""
 
-One rule for integer arguments (``check_int``): Python and numpy integers are accepted, bools
-and floats (even ``3.0``) are not. One rule for real numbers (``check_real``): finite Python or
-numpy reals, not bools; a huge integer such as ``10**400`` is refused by name instead of
-raising ``OverflowError``.
+import warnings
 
-The limits below are checked before anything large is allocated; README "Limits" states them.
+from .core.checks import (  # noqa: F401
+    ACTION_HELP,
+    MAX_BATCH_ENVS,
+    MAX_BATCH_OBS,
+    MAX_BATCH_ROBOTS,
+    MAX_DENSE_STATES,
+    MAX_LEVEL_CELLS,
+    MAX_LEVEL_TEXT_CHARS,
+    MAX_NEAREST_K,
+    MAX_RACES,
+    as_int,
+    check_action,
+    check_batch,
+    check_choice,
+    check_count,
+    check_dense_states,
+    check_global_view,
+    check_int,
+    check_level_size,
+    check_nearest_k,
+    check_real,
+    check_seed,
+    check_view_numbers,
+    check_view_radius,
+    real_array,
+    shown,
+)
+from .render.checks import MAX_FRAME_PIXELS, check_frame_pixels, max_cell_size  # noqa: F401
 
-=======================  ==================================================================
-``check_int``            integers (Python, numpy) in bounds; bools, floats, strings refused
-``check_real``           finite reals; bools, complex, strings, ``10**400`` refused
-``real_array``           a float64 array of real numbers; complex, strings, bools refused
-``check_level_size``     ``width * height <= MAX_LEVEL_CELLS``
-``check_dense_states``   the dense model ``P[s, a, s']`` within ``MAX_DENSE_STATES``
-``check_frame_pixels``   an image within ``MAX_FRAME_PIXELS``; ``max_cell_size`` the largest cell that fits
-``check_batch``          a batch engine (vector env) within ``MAX_BATCH_ENVS``, ``MAX_BATCH_ROBOTS``, ``MAX_BATCH_OBS``
-``check_global_view``    one race's "global" observations within ``MAX_BATCH_OBS``
-``check_view_radius``    "local"'s ``view_radius``: at most the radius that sees the whole level
-``check_nearest_k``      "nearest"'s ``k``: at most ``MAX_NEAREST_K``
-``check_view_numbers``   one race's "local" or "nearest" observations within ``MAX_BATCH_OBS``
-``MAX_RACES``            races of one ``babyrobot-marl race --races N`` run
-``shown``                a short ``repr`` for error messages (never a huge input in full)
-=======================  ==================================================================
-"""
-
-from __future__ import annotations
-
-import math
-import numbers
-import operator
-
-import numpy as np
-
-MAX_LEVEL_CELLS = 65_536  # width * height: a 256x256 maze, or a one-row corridor 65,536 cells long
-MAX_LEVEL_TEXT_CHARS = 2 * 1024 * 1024  # a level text (or file, in bytes): the largest level takes under 700 kB, CRLF included
-MAX_DENSE_STATES = 2_500  # planning's dense P[s, a, s']: 5 * S * S floats, 250 MB at 2,500 states (50x50)
-MAX_FRAME_PIXELS = 4096 * 4096  # an rgb_array frame (48 MB of RGB): a 256x256 maze at 16-pixel cells, as render.rgb
-MAX_BATCH_ENVS = 65_536  # envs of one batch engine / vector env: each has its own generator (~1 kB, ~60 us to make)
-MAX_BATCH_ROBOTS = 1 << 20  # n_envs * n_robots: about 100 bytes of arrays per robot and step
-MAX_BATCH_OBS = 1 << 28  # numbers in one step's observations of a batch: 2 GiB of int64
-MAX_NEAREST_K = 1024  # "nearest": other robots in a row (2 numbers each); fewer racing: the rest marked missing
-MAX_RACES = 100_000  # races of one `race --races N`: run one after another, each kept for the table
-
-
-def check_int(value: object, name: str, lo: int | None = None, hi: int | None = None) -> int:
-    """``value`` as a Python int in ``lo..hi`` (either bound may be None); else a ``ValueError`` naming ``name``.
-
-    Python and numpy integers (and 0-d integer arrays) are accepted; bools, floats and strings are not.
-    """
-    v: int | None = None
-    if not isinstance(value, (bool, np.bool_)):
-        try:
-            v = operator.index(value)  # int, numpy integers, 0-d integer arrays; not float, not str
-        except TypeError:
-            v = None
-    if v is None or (lo is not None and v < lo) or (hi is not None and v > hi):
-        raise ValueError(f"{name}: must be {_int_range(lo, hi)}, got {shown(value)}")
-    return v
-
-
-def check_real(value: object, name: str, lo: float | None = None, hi: float | None = None) -> float:
-    """``value`` as a finite Python float in ``[lo, hi]``; else a ``ValueError`` naming ``name``.
-
-    Python and numpy reals are accepted (integers too, when they fit a float); bools, complex
-    numbers, strings and non-finite values are not.
-    """
-    f: float | None = None
-    if isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_)):
-        try:
-            f = float(value)
-        except (OverflowError, ValueError):  # 10**400 does not fit a float
-            f = None
-    if f is None or not math.isfinite(f) or (lo is not None and f < lo) or (hi is not None and f > hi):
-        low, high = "-inf" if lo is None else lo, "inf" if hi is None else hi
-        bounds = "" if lo is None and hi is None else f" in [{low}, {high}]"
-        raise ValueError(f"{name}: must be a finite number{bounds}, got {shown(value)}")
-    return f
-
-
-def real_array(value: object, name: str) -> np.ndarray:
-    """``value`` as a float64 array, if it holds real numbers only (ints, floats; numpy's too).
-
-    Bools, complex numbers and strings (even numeric ones such as ``"1.5"``) are a ``ValueError``
-    naming ``name``: ``np.array(value, dtype=float)`` alone would take ``"1.5"`` and drop ``1j``.
-    """
-    try:
-        arr = np.asarray(value)
-    except (TypeError, ValueError):  # ragged nesting
-        raise ValueError(f"{name}: expected an array of numbers, got {shown(value)}") from None
-    if arr.dtype.kind not in "iuf":
-        raise ValueError(f"{name}: expected real numbers (ints or floats), got an array of dtype {arr.dtype}")
-    return arr.astype(np.float64)
-
-
-def check_level_size(width: int, height: int, what: str = "width, height") -> None:
-    """A level of ``width x height`` cells is within ``MAX_LEVEL_CELLS``."""
-    if width * height > MAX_LEVEL_CELLS:
-        raise ValueError(
-            f"{what}: a level has at most {MAX_LEVEL_CELLS:,} cells (e.g. 256x256, or a one-row corridor "
-            f"{MAX_LEVEL_CELLS:,} cells long), got {width}x{height} = {width * height:,}"
-        )
-
-
-def check_dense_states(n_states: int, width: int, height: int, what: str = "P") -> None:
-    """A dense ``P[s, a, s']`` of ``n_states`` states is within ``MAX_DENSE_STATES`` (checked before allocating it)."""
-    if n_states > MAX_DENSE_STATES:
-        raise ValueError(
-            f"{what}: the dense model holds at most {MAX_DENSE_STATES:,} states ({5 * 8 * MAX_DENSE_STATES**2 / 1e6:,.0f} MB); "
-            f"this {width}x{height} level has {n_states:,} and would need {5 * 8 * n_states**2 / 1e9:,.1f} GB. "
-            "Use the sparse model instead: model.next, model.prob and model.reward (value_iteration and the "
-            "other planning functions read those)"
-        )
-
-
-def check_frame_pixels(width: int, height: int, what: str = "cell_size", hint: str = "use a smaller cell_size") -> None:
-    """An image of ``width x height`` pixels is within ``MAX_FRAME_PIXELS`` (checked before allocating it)."""
-    if width * height > MAX_FRAME_PIXELS:
-        raise ValueError(
-            f"{what}: the frame would be {width}x{height} = {width * height:,} pixels, more than the limit of "
-            f"{MAX_FRAME_PIXELS:,} ({3 * MAX_FRAME_PIXELS // 10**6} MB of RGB); {hint}"
-        )
-
-
-def check_batch(n_envs: int, n_robots: int, obs_size: int, what: str = "n_envs") -> None:
-    """A batch of ``n_envs`` races of ``n_robots``, observations of ``obs_size`` numbers a robot, is
-    within the limits (checked before anything per env exists); ``what`` names the env count argument."""
-    if n_envs > MAX_BATCH_ENVS:
-        raise ValueError(
-            f"{what}: a batch holds at most {MAX_BATCH_ENVS:,} envs (each keeps its own random generator), "
-            f"got {n_envs:,}; step several batches instead"
-        )
-    if n_envs * n_robots > MAX_BATCH_ROBOTS:
-        raise ValueError(
-            f"{what}, n_robots: a batch holds at most {MAX_BATCH_ROBOTS:,} robots in all (n_envs * n_robots), "
-            f"got {n_envs:,} x {n_robots:,} = {n_envs * n_robots:,}; use fewer envs or robots"
-        )
-    numbers = n_envs * n_robots * obs_size
-    if numbers > MAX_BATCH_OBS:
-        raise ValueError(
-            f"{what}, n_robots: one step's observations would be {n_envs:,} x {n_robots:,} x {obs_size:,} = {numbers:,} "
-            f"numbers ({8 * numbers / 2**30:,.1f} GiB), more than the limit of {MAX_BATCH_OBS:,} (2 GiB of int64); "
-            "use fewer envs or robots, or observe='local' or 'nearest' (rows that do not grow with the robots)"
-        )
-
-
-def check_global_view(n_robots: int) -> None:
-    """One race's "global" observations (every robot sees every other: ``n * (3n - 1)`` numbers a
-    step, and an index as large) are within ``MAX_BATCH_OBS`` (checked before either exists)."""
-    numbers = n_robots * (3 * n_robots - 1)
-    if numbers > MAX_BATCH_OBS:
-        raise ValueError(
-            f"n_robots: with observe='global' each of {n_robots:,} robots sees every other, {numbers:,} numbers a step, "
-            f"past the limit of {MAX_BATCH_OBS:,}; use observe='local' or 'nearest'"
-        )
-
-
-def check_view_radius(value: object, width: int, height: int, least: int = 2) -> int:
-    """"local"'s ``view_radius`` as an int in ``0..max(width - 1, height - 1, least)``: a radius of
-    ``max(width, height) - 1`` sees the whole level from any cell, a larger one only more outside
-    (``least``: the default radius, allowed on the smallest levels too)."""
-    top = max(width - 1, height - 1, least)
-    try:
-        return check_int(value, "view_radius", 0, top)
-    except ValueError as err:
-        raise ValueError(f"{err}; a radius of {top} sees the whole {width}x{height} level from any cell") from None
-
-
-def check_nearest_k(value: object) -> int:
-    """"nearest"'s ``k`` as an int in ``1..MAX_NEAREST_K`` (more than the other robots is allowed: the
-    missing ones are marked so)."""
-    try:
-        return check_int(value, "k", 1, MAX_NEAREST_K)
-    except ValueError as err:
-        raise ValueError(f"{err} (the nearest other robots a robot sees)") from None
-
-
-def check_view_numbers(n_robots: int, obs_size: int, what: str) -> None:
-    """One race's "local" or "nearest" observations, ``n_robots`` rows of ``obs_size`` numbers a step,
-    are within ``MAX_BATCH_OBS`` (checked before they exist); ``what`` names the size argument."""
-    numbers = n_robots * obs_size
-    if numbers > MAX_BATCH_OBS:
-        raise ValueError(
-            f"{what}, n_robots: {n_robots:,} robots seeing {obs_size:,} numbers each make {numbers:,} numbers a step, "
-            f"past the limit of {MAX_BATCH_OBS:,}; use a smaller {what} or fewer robots"
-        )
-
-
-def max_cell_size(width_cells: int, height_cells: int, extra_height_px: int = 0) -> int:
-    """The largest cell size (pixels) whose frame of ``width_cells x height_cells`` (plus a panel) fits the limit."""
-    size = math.isqrt(MAX_FRAME_PIXELS // max(1, width_cells * height_cells))
-    while size > 0 and size * width_cells * (size * height_cells + extra_height_px) > MAX_FRAME_PIXELS:
-        size -= 1
-    return size
-
-
-def _int_range(lo: int | None, hi: int | None) -> str:
-    if lo is not None and hi is not None:
-        return f"an integer in {lo}..{hi}"
-    if lo is not None:
-        return f"an integer >= {lo}"
-    if hi is not None:
-        return f"an integer <= {hi}"
-    return "an integer"
-
-
-def shown(value: object, limit: int = 60) -> str:
-    """``repr(value)``, cut short: an error message never echoes a huge input in full."""
-    try:
-        text = repr(value)
-    except ValueError:  # int too large to convert to str (over 4,300 digits)
-        if isinstance(value, int):
-            return f"an integer of about {value.bit_length() * 0.30103:.0f} digits"
-        return type(value).__name__
-    return text if len(text) <= limit else f"{text[: limit - 15]}...{text[-12:]} ({len(text):,} characters)"
-
+warnings.warn(
+    "babyrobot_marl.checks moved to babyrobot_marl.core.checks (frame limits: babyrobot_marl.render.checks); "
+    "the old path goes in 0.3",
+    DeprecationWarning,
+    stacklevel=2,
+)

@@ -1,66 +1,12 @@
-"""Observation encodings: the same ``MultiDiscrete`` integers in the form a learning library takes.
+"""Deprecated: ``babyrobot_marl.encodings`` moved to ``babyrobot_marl.envs.encodings``; this path goes in 0.3."""
 
-Every env (single, race, race-gym, vector envs) takes ``obs_encoding=``:
+import warnings
 
-| ``obs_encoding``            | space                                   | an observation ``[x, y]`` on a 5x4 grid    |
-|-----------------------------|-----------------------------------------|--------------------------------------------|
-| ``"multidiscrete"`` default | ``MultiDiscrete(nvec)``, int64          | ``[3, 1]``                                 |
-| ``"box"``                   | ``Box(0, nvec - 1)``, float32           | ``[3., 1.]``                               |
-| ``"onehot"``                | ``Box(0, 1, (sum(nvec),))``, float32    | ``[0,0,0,1,0, 0,1,0,0]``: one 1 per entry |
+from .envs.checks import check_encoding  # noqa: F401
+from .envs.encodings import ENCODINGS, Encoder  # noqa: F401
 
-``"box"`` suits libraries that only take ``Box`` spaces (SuperSuit's observation wrappers,
-AgileRL, BenchMARL's MLPs, RLlib's default encoders); ``"onehot"`` is what a network learns
-from fastest on a grid: entry ``i`` of value ``v`` becomes a 1 at ``sum(nvec[:i]) + v``.
-
-``Encoder`` encodes any 1-d ``MultiDiscrete`` (so any observation mode of the race gets the
-encodings too), over arrays of any leading shape: ``(L,)``, ``(n_agents, L)``, ``(n_envs, L)``.
-"""
-
-from __future__ import annotations
-
-import numpy as np
-from gymnasium import spaces
-
-ENCODINGS = ("multidiscrete", "box", "onehot")
-
-__all__ = ["ENCODINGS", "Encoder", "check_encoding"]
-
-
-def check_encoding(encoding: object, what: str = "obs_encoding") -> str:
-    if encoding not in ENCODINGS:
-        raise ValueError(f"{what}: must be one of {', '.join(map(repr, ENCODINGS))}, got {encoding!r}")
-    return encoding  # type: ignore[return-value]
-
-
-class Encoder:
-    """Encodes observations of ``MultiDiscrete(nvec)`` as ``encoding`` (see the module table)."""
-
-    def __init__(self, nvec: np.ndarray | list[int], encoding: str = "multidiscrete"):
-        self.encoding = check_encoding(encoding)
-        self.nvec = np.asarray(nvec, dtype=np.int64).reshape(-1)
-        self.identity = self.encoding == "multidiscrete"
-        if self.encoding == "multidiscrete":
-            self.space: spaces.Space = spaces.MultiDiscrete(self.nvec)
-        elif self.encoding == "box":
-            self.space = spaces.Box(0.0, (self.nvec - 1).astype(np.float32), shape=self.nvec.shape, dtype=np.float32)
-        else:
-            self.space = spaces.Box(0.0, 1.0, shape=(int(self.nvec.sum()),), dtype=np.float32)
-        # where each entry's one-hot block begins
-        self._offsets = np.concatenate([[0], np.cumsum(self.nvec)[:-1]]).astype(np.int64)
-        self._width = int(self.nvec.sum())
-
-    def __call__(self, obs: np.ndarray) -> np.ndarray:
-        """``obs`` (..., L) integers -> the encoded array (..., L) or (..., sum(nvec)); a new array."""
-        if self.identity:
-            return obs
-        if self.encoding == "box":
-            return obs.astype(np.float32)
-        lead = obs.shape[:-1]
-        flat = obs.reshape(-1, obs.shape[-1])
-        out = np.zeros((flat.shape[0], self._width), dtype=np.float32)
-        rows = np.arange(flat.shape[0])[:, None]
-        out[rows, flat + self._offsets] = 1.0
-        return out.reshape(*lead, self._width)
-
-    def __repr__(self) -> str:
-        return f"Encoder({self.nvec.tolist()}, {self.encoding!r})"
+warnings.warn(
+    "babyrobot_marl.encodings moved to babyrobot_marl.envs.encodings; the old path goes in 0.3",
+    DeprecationWarning,
+    stacklevel=2,
+)

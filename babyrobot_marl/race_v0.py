@@ -135,7 +135,7 @@ race_v0.parallel_env(level="race-2", n_robots=2, collisions="block", max_cycles=
 
 * `level`: a built-in name (`babyrobot_marl.levels.names()`), a level text or a `Level`; or
   levels drawn at every reset from the env's seeded generator: a maze family `"maze-WxH-*"`,
-  `babyrobot_marl.level_sources.maze_family(W, H, seeds=...)`, or a callable
+  `babyrobot_marl.levels.sources.maze_family(W, H, seeds=...)`, or a callable
   `f(np_random) -> Level | name | text` (one size for all; not for the batch and vector envs).
 * `n_robots`: how many robots race (`robot_0` ... `robot_{n-1}`).
 * `collisions`: `"block"`, `"bounce"` or `"pass"` (overrides `rules.collisions`).
@@ -168,7 +168,7 @@ from typing import Any
 
 from pettingzoo.utils import parallel_to_aec, wrappers
 
-from .envs.common import check_action
+from .core.checks import check_action
 from .envs.race import RaceEnv
 
 __all__ = ["RaceEnv", "env", "parallel_env", "raw_env"]

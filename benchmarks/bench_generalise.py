@@ -25,7 +25,7 @@ import time
 import numpy as np
 
 from babyrobot_marl.experiments import run_races, wilson
-from babyrobot_marl.level_sources import maze_family
+from babyrobot_marl.levels.sources import maze_family
 
 TRAIN_SEEDS = range(500)
 UNSEEN_SEEDS = range(100_000, 100_500)

@@ -70,7 +70,7 @@ def assert_robot_pixels(img: np.ndarray, level, robots) -> None:
 def test_player_buttons_and_keys_move_the_robot_where_the_game_predicts(page, screenshots):
     open_notebook(page, "play_single", [
         f"""
-        from babyrobot_marl import notebook
+        from babyrobot_marl.play import notebook
         player = notebook.play("walls", seed=0, cell_size={CELL})
         player
         """,
@@ -102,7 +102,7 @@ def test_player_buttons_and_keys_move_the_robot_where_the_game_predicts(page, sc
 def test_race_tab_hands_the_keys_to_the_next_robot(page, screenshots):
     open_notebook(page, "play_race", [
         f"""
-        from babyrobot_marl import notebook
+        from babyrobot_marl.play import notebook
         race = notebook.play("race-4", policies="shortest", seed=0, cell_size={CELL})
         race
         """,
@@ -126,7 +126,7 @@ def test_editor_builds_a_level_by_clicks_and_plays_it(page, screenshots):
     cs = 40
     open_notebook(page, "edit_level", [
         f"""
-        from babyrobot_marl import notebook
+        from babyrobot_marl.play import notebook
         editor = notebook.edit((3, 2), cell_size={cs})
         editor
         """,

@@ -13,8 +13,8 @@ from hypothesis import strategies as st
 
 from babyrobot_marl import levels
 from babyrobot_marl.core import DELTAS, OUTCOMES, Rules, compile_level, move, move_array, rng
-from babyrobot_marl.core.engine import BUMPED, GLASS, MOVED, SKIDDED, STAYED
 from babyrobot_marl.core.level import Level
+from babyrobot_marl.core.outcomes import BUMPED, GLASS, MOVED, SKIDDED, STAYED
 
 RULE_SETS = {
     "default": Rules(),

@@ -12,7 +12,7 @@ from gymnasium.vector import SyncVectorEnv
 
 import babyrobot_marl
 from babyrobot_marl import OUTCOME_NAMES, BabyRobotEnv, BabyRobotRaceEnv, race_v0
-from babyrobot_marl.encodings import Encoder
+from babyrobot_marl.envs.encodings import Encoder
 from babyrobot_marl.envs.vector import BabyRobotVectorEnv, RaceVectorEnv
 
 ENVS = {

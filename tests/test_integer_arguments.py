@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from babyrobot_marl import Level, compile_level, levels, policies
-from babyrobot_marl.checks import check_int, check_real, real_array
+from babyrobot_marl.core.checks import check_int, check_real, real_array
 from babyrobot_marl.envs.race import RaceEnv
 from babyrobot_marl.envs.single import BabyRobotEnv
 

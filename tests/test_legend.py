@@ -6,11 +6,11 @@ import numpy as np
 import pytest
 
 from babyrobot_marl import BabyRobotEnv, levels, race_v0
-from babyrobot_marl.checks import MAX_FRAME_PIXELS
+from babyrobot_marl.render.checks import MAX_FRAME_PIXELS, check_frame_size
 from babyrobot_marl.render.overlay import Overlay, update_overlay
 from babyrobot_marl.render.palette import THEMES
 from babyrobot_marl.render.panel import LEGEND_ROWS, LegendRow, legend_rows, panel_height, panel_sections
-from babyrobot_marl.render.rgb import RgbRenderer, check_frame_size
+from babyrobot_marl.render.rgb import RgbRenderer
 from babyrobot_marl.render.scene import Scene
 
 

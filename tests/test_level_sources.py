@@ -8,7 +8,7 @@ import pytest
 
 from babyrobot_marl import levels, race_v0
 from babyrobot_marl.envs.vector import RaceVectorEnv
-from babyrobot_marl.level_sources import maze_family
+from babyrobot_marl.levels.sources import maze_family
 
 
 def race(level, **kw):

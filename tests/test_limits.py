@@ -9,10 +9,11 @@ from functools import partial
 import pytest
 
 from babyrobot_marl import Level, levels, race_v0
-from babyrobot_marl.checks import MAX_DENSE_STATES, MAX_LEVEL_CELLS, MAX_LEVEL_TEXT_CHARS, check_frame_pixels, max_cell_size
+from babyrobot_marl.core.checks import MAX_DENSE_STATES, MAX_LEVEL_CELLS, MAX_LEVEL_TEXT_CHARS
 from babyrobot_marl.core.rules import Rules
-from babyrobot_marl.envs.common import resolve_level
+from babyrobot_marl.levels.resolve import resolve_level
 from babyrobot_marl.planning import model, value_iteration
+from babyrobot_marl.render.checks import check_frame_pixels, max_cell_size
 
 TINY = "+-+-+\n|S E|\n+-+-+"
 
@@ -169,7 +170,7 @@ def test_a_custom_reward_too_large_for_a_float_is_a_value_error_naming_rewards()
 
 # ------------------------------------------------------------------------ batch engine and vector envs
 def test_a_vector_env_of_a_billion_envs_is_refused_by_name_before_anything_per_env_exists():
-    from babyrobot_marl.checks import MAX_BATCH_ENVS
+    from babyrobot_marl.core.checks import MAX_BATCH_ENVS
     from babyrobot_marl.envs.vector import BabyRobotVectorEnv, RaceVectorEnv
 
     for make, name in ((RaceVectorEnv, "n_envs"), (BabyRobotVectorEnv, "num_envs")):
@@ -242,7 +243,7 @@ def test_view_radius_and_k_past_their_bounds_are_refused_by_name_before_anything
 
 
 def test_the_largest_view_radius_and_k_work():
-    from babyrobot_marl.checks import MAX_NEAREST_K
+    from babyrobot_marl.core.checks import MAX_NEAREST_K
 
     env = race_v0.parallel_env(level="maze-7x7", n_robots=3, start="random", observe="local", view_radius=6)
     obs, _ = env.reset(seed=0)

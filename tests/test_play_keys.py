@@ -6,9 +6,9 @@ import pytest
 
 from babyrobot_marl import BabyRobotEnv, policies
 from babyrobot_marl.core.actions import Action
+from babyrobot_marl.envs.keys import QUIT, RESTART, SWITCH, decode
 from babyrobot_marl.envs.race import RaceEnv
 from babyrobot_marl.play.game import RaceGame, SingleGame, ordinal
-from babyrobot_marl.play.keys import QUIT, RESTART, SWITCH, decode
 
 
 def test_arrow_keys_in_both_cursor_modes_wasd_and_the_control_keys():
@@ -57,7 +57,7 @@ def test_the_notebook_module_imports_no_widget_library_until_it_is_used():
     import sys
 
     code = (
-        "import sys, babyrobot_marl, babyrobot_marl.notebook, babyrobot_marl.play.keys, babyrobot_marl.play.editor;"
+        "import sys, babyrobot_marl, babyrobot_marl.play.notebook, babyrobot_marl.envs.keys, babyrobot_marl.play.editor;"
         "print(sorted(m for m in ('ipycanvas', 'ipywidgets', 'pygame', 'IPython') if m in sys.modules))"
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120, check=True).stdout

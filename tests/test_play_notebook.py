@@ -7,8 +7,9 @@ import pytest
 pytest.importorskip("ipycanvas")
 pytest.importorskip("ipywidgets")
 
-from babyrobot_marl import BabyRobotEnv, notebook, race_v0  # noqa: E402
+from babyrobot_marl import BabyRobotEnv, race_v0  # noqa: E402
 from babyrobot_marl.core.actions import Action  # noqa: E402
+from babyrobot_marl.play import notebook  # noqa: E402
 from babyrobot_marl.play.game import RaceGame, SingleGame  # noqa: E402
 from babyrobot_marl.policies import ShortestPathPolicy  # noqa: E402
 

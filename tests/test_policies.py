@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from babyrobot_marl import Action, BabyRobotEnv, Level, Rules, compile_level, levels
-from babyrobot_marl.envs.common import OUTCOME_NAMES
+from babyrobot_marl.core.outcomes import OUTCOME_NAMES
 from babyrobot_marl.policies import POLICY_NAMES, RandomPolicy, ShortestPathPolicy, distances, make, shortest_path_actions
 from tests.strategies import exit_distances
 

@@ -12,7 +12,7 @@ import pytest
 from gymnasium import spaces
 
 from babyrobot_marl import Action, race_v0
-from babyrobot_marl.envs.common import OUTCOME_NAMES
+from babyrobot_marl.core.outcomes import OUTCOME_NAMES
 from babyrobot_marl.envs.race import RaceEnv
 from tests.strategies import OPEN
 

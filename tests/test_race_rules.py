@@ -15,7 +15,7 @@ from babyrobot_marl import Action
 from babyrobot_marl.core import race as race_core
 from babyrobot_marl.core import rng
 from babyrobot_marl.core.level import Level
-from babyrobot_marl.envs.common import OUTCOME_NAMES
+from babyrobot_marl.core.outcomes import OUTCOME_NAMES
 from babyrobot_marl.envs.race import RaceEnv
 from tests.strategies import OPEN, resolve_all_robots
 

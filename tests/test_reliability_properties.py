@@ -20,7 +20,7 @@ from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 
 from babyrobot_marl import BabyRobotEnv, race_v0
-from babyrobot_marl.envs.common import OUTCOME_NAMES
+from babyrobot_marl.core.outcomes import OUTCOME_NAMES
 from babyrobot_marl.envs.race_gym import BabyRobotRaceEnv
 from babyrobot_marl.policies import ShortestPathPolicy
 from tests.strategies import (

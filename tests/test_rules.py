@@ -14,8 +14,8 @@ import numpy as np
 import pytest
 
 from babyrobot_marl import Action, BabyRobotEnv, Level, Rules, levels
+from babyrobot_marl.core.outcomes import OUTCOME_NAMES
 from babyrobot_marl.core.rules import COLLISION_MODES
-from babyrobot_marl.envs.common import OUTCOME_NAMES
 
 DELTA = {Action.STAY: (0, 0), Action.NORTH: (0, -1), Action.EAST: (1, 0), Action.SOUTH: (0, 1), Action.WEST: (-1, 0)}
 

@@ -19,7 +19,7 @@ from gymnasium.utils.env_checker import check_env as gym_check_env
 
 import babyrobot_marl
 from babyrobot_marl import Action, BabyRobotEnv, Level, Rules, levels
-from babyrobot_marl.envs.common import OUTCOME_NAMES
+from babyrobot_marl.core.outcomes import OUTCOME_NAMES
 from babyrobot_marl.policies import RandomPolicy
 from tests.strategies import exit_distances
 

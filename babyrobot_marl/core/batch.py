@@ -18,8 +18,8 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from ..checks import check_batch, check_int
 from .actions import N_ACTIONS
+from .checks import check_batch, check_int
 from .engine import move_array, move_drawn
 from .observe import Observer, Recycler, global_observations
 from .rng import SLOT_PRIORITY, SLOTS, uniform_array

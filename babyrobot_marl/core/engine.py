@@ -21,12 +21,13 @@ from __future__ import annotations
 import numpy as np
 
 from .actions import N_ACTIONS
+from .outcomes import BUMPED, GLASS, MOVED, OUTCOMES, SKIDDED, STAYED
 from .rng import SLOT_GLASS, SLOT_SKID, SLOT_SKID_DIRECTION, uniform, uniform_array
 from .table import Table, TableLists
 
-MOVED, STAYED, BUMPED, SKIDDED, GLASS = range(5)  # MOVED and STAYED first: 'intended' is <= STAYED
+__all__ = ["BUMPED", "GLASS", "MOVED", "OUTCOMES", "SKIDDED", "STAYED", "move", "move_array", "move_drawn"]
+
 _SLOT_COLUMN = np.array([[SLOT_SKID], [SLOT_SKID_DIRECTION], [SLOT_GLASS]], dtype=np.uint64)  # row i: slot i
-OUTCOMES = ("moved", "stayed", "bumped", "skidded", "glass")
 
 
 def move(t: TableLists, cell: int, action: int, key: int, count: int) -> tuple[int, int]:

@@ -25,7 +25,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from ..checks import MAX_LEVEL_TEXT_CHARS, check_int, check_level_size, check_real, shown
+from .checks import MAX_LEVEL_TEXT_CHARS, check_int, check_level_size, check_real, shown
 
 Cell = tuple[int, int]
 Edge = tuple[Cell, Cell]

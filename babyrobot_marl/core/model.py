@@ -13,8 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..checks import check_dense_states
 from .actions import N_ACTIONS
+from .checks import check_dense_states
 from .table import Table
 
 Transition = tuple[float, int, float, bool]  # (probability, next cell, reward, terminated)

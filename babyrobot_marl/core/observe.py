@@ -30,7 +30,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from ..checks import check_nearest_k, check_view_radius, shown
+from .checks import check_nearest_k, check_view_radius, shown
 from .table import Table
 
 OBSERVE_MODES = ("global", "local", "nearest")

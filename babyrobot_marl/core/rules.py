@@ -2,10 +2,11 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, fields, replace
 from typing import Any
 
-from ..checks import check_real
+from .checks import check_choice, check_real, unexpected_keyword
 
 COLLISION_MODES = ("block", "bounce", "pass")
 
@@ -48,8 +49,7 @@ class Rules:
         for f in fields(self):
             value = getattr(self, f.name)
             if f.name == "collisions":
-                if value not in COLLISION_MODES:
-                    raise ValueError(f"collisions: must be one of {', '.join(map(repr, COLLISION_MODES))}, got {value!r}")
+                check_choice(value, "collisions", COLLISION_MODES)
                 continue
             value = check_real(value, f.name)  # 10**400 too: a ValueError naming the field, not OverflowError
             if f.name in _PROBABILITIES and not 0.0 <= value <= 1.0:
@@ -65,3 +65,35 @@ class Rules:
 
 
 RULE_NAMES = frozenset(f.name for f in fields(Rules))
+
+
+def resolve_rules(
+    rules: Rules | Mapping[str, Any] | None, overrides: Mapping[str, Any], owner: str = "", known: Sequence[str] = ()
+) -> Rules:
+    """``Rules`` from a ``Rules``, a dict or ``None`` (defaults), with keyword overrides on top.
+
+    An override that is no rule is a ``TypeError`` in Python's own wording for ``owner``'s
+    ``__init__`` (TorchRL's ``GymEnv`` matches on it to drop ``frameskip=``), then the known names.
+    """
+    if rules is None:
+        base = Rules()
+    elif isinstance(rules, Rules):
+        base = rules
+    elif isinstance(rules, Mapping):
+        bad = [k for k in rules if not isinstance(k, str)]
+        if bad:
+            raise TypeError(f"rules: keys are rule names (str), got {bad[0]!r}; rules are: {', '.join(sorted(RULE_NAMES))}")
+        base = Rules().replace(**rules)
+    else:
+        raise TypeError(f"rules: expected a Rules, a dict of rule values or None, got {type(rules).__name__}")
+    unknown = sorted(set(overrides) - RULE_NAMES, key=str)
+    if unknown:
+        raise unexpected_keyword(owner, unknown[0], known, RULE_NAMES)
+    return base.replace(**overrides) if overrides else base
+
+
+def known_args(owner: str, kwargs: Mapping[str, Any], known: Sequence[str]) -> None:
+    """Unknown keywords: Python's own ``TypeError`` naming ``owner`` (rule overrides and ``known`` names pass through)."""
+    unknown = sorted(set(kwargs) - RULE_NAMES - set(known), key=str)
+    if unknown:
+        raise unexpected_keyword(owner, unknown[0], known, RULE_NAMES)

@@ -14,6 +14,7 @@ import numpy as np
 
 from .actions import DELTAS, N_ACTIONS
 from .level import Cell, Level
+from .outcomes import BUMPED, MOVED, STAYED
 from .rules import Rules
 
 MAX_SKIDS = N_ACTIONS - 2  # the open directions other than the intended one: at most 3
@@ -117,7 +118,6 @@ class Table:
     @cached_property
     def flat(self) -> FlatTable:
         """The per-(cell, action) tables as flat arrays indexed by ``c * 5 + a`` (for batches)."""
-        from .engine import BUMPED, MOVED, STAYED  # the outcome codes live with the step
 
         n = self.n_cells
         cells = np.repeat(np.arange(n), N_ACTIONS)
@@ -213,7 +213,6 @@ def _compile(level: Level, rules: Rules) -> Table:
 
 def _sure_outcomes(t: Table) -> list[list[tuple[int, int] | None]]:
     """``(next cell, outcome)`` of every cell and action whose step draws no random number."""
-    from .engine import BUMPED, MOVED, STAYED  # the outcome codes live with the step
 
     out: list[list[tuple[int, int] | None]] = []
     for c in range(t.n_cells):

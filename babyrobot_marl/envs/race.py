@@ -4,42 +4,34 @@ from __future__ import annotations
 
 import operator
 from collections.abc import Mapping, Sequence
-from functools import cached_property, partial
+from functools import partial
 from typing import Any
 
 import numpy as np
 from gymnasium import spaces
 from pettingzoo import ParallelEnv
 
-from ..checks import check_global_view, check_view_numbers
 from ..core.actions import N_ACTIONS
 from ..core.batch import BatchRace
+from ..core.checks import check_action, check_count, check_global_view, check_seed, check_view_numbers
 from ..core.level import Cell, Level
 from ..core.observe import global_gather, make_observer
+from ..core.outcomes import FINISHED, START
 from ..core.race import race_step
 from ..core.rng import new_key
-from ..core.rules import COLLISION_MODES, Rules
+from ..core.rules import COLLISION_MODES, Rules, resolve_rules
 from ..core.table import compile_level
-from ..encodings import Encoder
-from ..level_sources import DrawnLevels
+from ..levels.sources import LevelPicker
 from ..render.ansi import frame, robot_glyph
-from ..render.canvas import check_animation_frames, check_fps
-from ..render.overlay import Overlay
-from ..render.rgb import RgbRenderer, Theme, check_cell_size, check_frame_size, resolve_theme
-from .common import (
-    FINISHED,
-    START,
-    check_action,
-    check_options,
-    check_positive_int,
-    check_render_mode,
-    check_seed,
-    resolve_level,
-    resolve_rules,
-)
-from .drawing import RaceDrawing
+from ..render.checks import check_animation_frames, check_cell_size, check_fps, check_frame_size
+from ..render.rgb import Theme, resolve_theme
+from ..render.scene import Scene
+from .checks import check_cells, check_options, check_render_mode
+from .drawing import EnvDrawing, OverlayMethods
+from .encodings import Encoder
+from .scenes import race_scene
 from .single import default_max_steps
-from .starts import LazyGenerator, _seeding, check_cells, draw_starts, placement
+from .starts import draw_starts, new_generator, placement
 
 START_MODES = ("level", "fill", "random")
 FINISHED_MODES = ("remove", "freeze")
@@ -51,7 +43,7 @@ _ARGS = (
 )
 
 
-class RaceEnv(RaceDrawing, DrawnLevels, LazyGenerator, ParallelEnv):
+class RaceEnv(OverlayMethods, ParallelEnv):
     """Several Baby Robots race to the exit. See ``babyrobot_marl.race_v0`` for the full table."""
 
     metadata = {
@@ -81,7 +73,8 @@ class RaceEnv(RaceDrawing, DrawnLevels, LazyGenerator, ParallelEnv):
         obs_encoding: str = "multidiscrete",
         **rule_overrides: Any,
     ):
-        self.level = resolve_level(self._init_level_source(level))  # level= a family or a callable: drawn per reset
+        self.levels = LevelPicker(level)  # level= a family or a callable: drawn per reset
+        self.level = self.levels.first
         if collisions is not None:
             if collisions not in COLLISION_MODES:
                 raise ValueError(f"collisions: must be one of {', '.join(map(repr, COLLISION_MODES))}, got {collisions!r}")
@@ -91,8 +84,8 @@ class RaceEnv(RaceDrawing, DrawnLevels, LazyGenerator, ParallelEnv):
         self.table = compile_level(self.level, self.rules)
         self._observer_of = partial(make_observer, observe=observe, view_radius=view_radius, k=k)
         self.observe, self._observer = observe, self._observer_of(self.table)  # None: "global"
-        self.n_robots = n = check_positive_int(n_robots, "n_robots")
-        self.max_cycles = default_max_steps(self.level) if max_cycles is None else check_positive_int(max_cycles, "max_cycles")
+        self.n_robots = n = check_count(n_robots, "n_robots")
+        self.max_cycles = default_max_steps(self.level) if max_cycles is None else check_count(max_cycles, "max_cycles")
         if start not in START_MODES:
             raise ValueError(f"start: must be one of {', '.join(map(repr, START_MODES))}, got {start!r}")
         if finished not in FINISHED_MODES:
@@ -106,7 +99,8 @@ class RaceEnv(RaceDrawing, DrawnLevels, LazyGenerator, ParallelEnv):
         self.animation_frames = check_animation_frames(animation_frames)
         if render_fps is not None:  # this env's own metadata: the class's stays as it is
             self.metadata = {**type(self).metadata, "render_fps": check_fps(render_fps)}
-        self._overlay, self.canvas = Overlay(), None
+        self.drawing = EnvDrawing(self.level, self.cell_size, self.theme, self.animation_frames, robots=n)
+        self._np_random: np.random.Generator | None = None  # made at first use (np_random)
 
         w, h = self.level.width, self.level.height
         self.possible_agents = [f"robot_{i}" for i in range(n)]
@@ -168,9 +162,11 @@ class RaceEnv(RaceDrawing, DrawnLevels, LazyGenerator, ParallelEnv):
             starts = check_cells(self.table, starts, self.n_robots, 'options["starts"]')
         seed = check_seed(seed)
         if seed is not None:
-            self.np_random, _ = _seeding(seed)
-        self._draw_level()
-        if starts is not None and self._level_source is not None:  # checked again on the level just drawn
+            self.np_random = new_generator(seed)
+        drawn = self.levels.draw(self.np_random, self.level)
+        if drawn is not None:
+            self._use_level(drawn)
+        if starts is not None and drawn is not None:  # checked again on the level just drawn
             starts = check_cells(self.table, options["starts"], self.n_robots, 'options["starts"]')
         self._key = new_key(self.np_random)
         n = self.n_robots
@@ -335,28 +331,35 @@ class RaceEnv(RaceDrawing, DrawnLevels, LazyGenerator, ParallelEnv):
             gymnasium.logger.warn("render() called with render_mode=None; pass render_mode='ansi' or 'human'")
             return None
         if self.render_mode == "rgb_array":
-            return self._overlay_frame()
+            return self.drawing.frame(self._scene())
         if self.render_mode == "ansi":
             return self.render_text()
-        self._show_human(self.render_text, animate=self._t > 0)
+        self.drawing.show(self._scene, self.render_text, self._t > 0, self.metadata["render_fps"])
         return None
 
     def batch(self, n_envs: int) -> BatchRace:
         """``n_envs`` copies of this race as one batch engine (the ``finished="freeze"`` view):
         env ``i`` plays exactly the races of this env seeded the same way."""
-        self._check_one_level("the batch engine (and the vector envs)")
+        self.levels.check_one_level("the batch engine (and the vector envs)")
         return BatchRace(
             self.table, n_envs, self.n_robots, self.max_cycles, self._fixed_starts, self._free, self.start, self.rules.win_bonus,
             observer=self._observer,
         )
 
-    @cached_property
-    def rgb_renderer(self) -> RgbRenderer:
-        """Draws this level (made on first use: large levels make large images)."""
-        return RgbRenderer(self.level, self.cell_size, self.theme)
+    @property
+    def np_random(self) -> np.random.Generator:
+        """The race's generator, made unseeded at first use, as Gymnasium's ``Env`` does: copies of an
+        env taken before its first reset (SuperSuit clones it with cloudpickle) draw different races."""
+        if self._np_random is None:
+            self._np_random = new_generator(None)
+        return self._np_random
 
-    def close(self) -> None:
-        self._close_canvas()
+    @np_random.setter
+    def np_random(self, value: np.random.Generator) -> None:
+        self._np_random = value
+
+    def _scene(self) -> Scene:
+        return race_scene(self)
 
     # ----------------------------------------------------------------------- helpers
     def render_text(self, colour: bool = False) -> str:
@@ -440,6 +443,15 @@ class RaceEnv(RaceDrawing, DrawnLevels, LazyGenerator, ParallelEnv):
     def _check_started(self, what: str) -> None:
         if not self._started:
             raise RuntimeError(f"{what}: the race has not started; call reset() first")
+
+    def _use_level(self, level: Level) -> None:
+        """Race on ``level`` (drawn at reset, the size of the last): everything that depends on it."""
+        self.level, self.table = level, compile_level(level, self.rules)
+        self._lists = self.table.lists
+        self._reward_at = self._lists.reward.__getitem__
+        self._observer = self._observer_of(self.table)
+        self._fixed_starts, self._free = self._placement(self.n_robots)
+        self.drawing.new_level(level)
 
     def _placement(self, n: int) -> tuple[list[int], list[int]]:
         return placement(self.table, self.start, n)

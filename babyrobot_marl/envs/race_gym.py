@@ -8,13 +8,14 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 
+from ..core.checks import check_action, check_seed
 from ..core.level import Level
-from ..core.rules import Rules
+from ..core.rules import Rules, known_args
 from ..policies import POLICY_NAMES, make
 from ..render.rgb import Theme
-from .common import OwnStepLimitSpec, check_action, check_options, check_seed, known_args
+from .checks import check_cells, check_options
 from .race import RaceEnv
-from .starts import check_cells
+from .spec import StepLimitSpec
 
 _ARGS = (
     "level", "opponents", "collisions", "max_cycles", "start", "rules", "render_mode", "cell_size", "theme",
@@ -22,7 +23,7 @@ _ARGS = (
 )
 
 
-class BabyRobotRaceEnv(OwnStepLimitSpec, gym.Env):
+class BabyRobotRaceEnv(gym.Env):
     """Robot 0 learns; robots 1.. are scripted (``"shortest"`` or ``"random"``) on the same level.
 
     Actions, observations, rewards and collision rules are robot 0's view of
@@ -47,6 +48,7 @@ class BabyRobotRaceEnv(OwnStepLimitSpec, gym.Env):
     """
 
     metadata = {"render_modes": ["ansi", "rgb_array", "human"], "render_fps": 4}
+    spec = StepLimitSpec()  # its max_episode_steps: this env's own step limit (spec.py)
 
     def __init__(
         self,

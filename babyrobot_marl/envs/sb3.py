@@ -7,22 +7,20 @@ find it.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
+import gymnasium as gym
 import numpy as np
 from stable_baselines3.common.vec_env import VecEnv
 
-from .common import check_options
-from .vector_args import check_actions, restart, seed_envs, seed_list
-
-if TYPE_CHECKING:
-    from .vector import _BatchVectorEnv
+from .checks import check_actions, check_options, seed_list
+from .vector_reset import restart, seed_envs
 
 
 class BabyRobotSB3VecEnv(VecEnv):
     """A Stable-Baselines3 ``VecEnv`` over a Gymnasium batch vector env (see ``sb3_vec_env``)."""
 
-    def __init__(self, venv: _BatchVectorEnv):
+    def __init__(self, venv: gym.vector.VectorEnv):  # a vector.BabyRobotVectorEnv or RaceVectorEnv
         self.venv_gym = venv
         self._actions: np.ndarray | None = None
         super().__init__(venv.num_envs, venv.single_observation_space, venv.single_action_space)

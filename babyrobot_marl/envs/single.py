@@ -12,29 +12,24 @@ from gymnasium import spaces
 
 from ..core.actions import N_ACTIONS, Action
 from ..core.batch import BatchRace
+from ..core.checks import check_action, check_count, check_seed
 from ..core.engine import OUTCOMES, STAYED, move
-from ..core.level import Cell, Level, as_cell
+from ..core.level import Cell, Level
 from ..core.model import Transition, frozenlake_P
+from ..core.outcomes import START
 from ..core.rng import SLOTS, new_key
-from ..core.rules import Rules
+from ..core.rules import Rules, resolve_rules
 from ..core.table import compile_level
-from ..encodings import Encoder
+from ..levels.resolve import resolve_level
 from ..render.ansi import frame
-from ..render.canvas import check_animation_frames, check_fps
-from ..render.overlay import Overlay
-from ..render.rgb import RgbRenderer, Theme, check_cell_size, resolve_theme
-from .common import (
-    START,
-    OwnStepLimitSpec,
-    check_action,
-    check_options,
-    check_positive_int,
-    check_render_mode,
-    check_seed,
-    resolve_level,
-    resolve_rules,
-)
-from .drawing import SingleDrawing
+from ..render.checks import check_animation_frames, check_cell_size, check_fps
+from ..render.rgb import Theme, resolve_theme
+from ..render.scene import Scene
+from .checks import check_options, check_render_mode, check_start
+from .drawing import EnvDrawing, OverlayMethods
+from .encodings import Encoder
+from .scenes import single_scene
+from .spec import StepLimitSpec
 
 _ARGS = (
     "level", "rules", "max_steps", "start", "render_mode", "cell_size", "theme", "animation_frames", "render_fps", "obs_encoding"
@@ -46,7 +41,7 @@ def default_max_steps(level: Level) -> int:
     return max(100, 4 * level.n_cells)
 
 
-class BabyRobotEnv(OwnStepLimitSpec, SingleDrawing, gym.Env):
+class BabyRobotEnv(OverlayMethods, gym.Env):
     """Baby Robot looks for the exit of a grid of walls, glass walls, puddles and blocked cells.
 
     ## Action space
@@ -123,6 +118,7 @@ cell is a ``ValueError``; any other option key is ignored with a ``UserWarning``
     """
 
     metadata = {"render_modes": ["ansi", "rgb_array", "human"], "render_fps": 4}
+    spec = StepLimitSpec()  # its max_episode_steps: this env's own step limit (spec.py)
 
     def __init__(
         self,
@@ -141,7 +137,7 @@ cell is a ``ValueError``; any other option key is ignored with a ``UserWarning``
         self.level = resolve_level(level)
         self.rules = resolve_rules(rules, rule_overrides, "BabyRobotEnv", _ARGS)
         self.table = compile_level(self.level, self.rules)
-        self.max_steps = default_max_steps(self.level) if max_steps is None else check_positive_int(max_steps, "max_steps")
+        self.max_steps = default_max_steps(self.level) if max_steps is None else check_count(max_steps, "max_steps")
         if start not in (None, "random"):
             raise ValueError(f"start: must be None (the level's start) or 'random', got {start!r}")
         self._free = list(self.table.free_cells)
@@ -153,7 +149,7 @@ cell is a ``ValueError``; any other option key is ignored with a ``UserWarning``
         self.animation_frames = check_animation_frames(animation_frames)
         if render_fps is not None:  # this env's own metadata: the class's stays as it is
             self.metadata = {**type(self).metadata, "render_fps": check_fps(render_fps)}
-        self._overlay, self.canvas = Overlay(), None
+        self.drawing = EnvDrawing(self.level, self.cell_size, self.theme, self.animation_frames)
 
         w, h = self.level.width, self.level.height
         self.action_space = spaces.Discrete(N_ACTIONS)
@@ -175,7 +171,7 @@ cell is a ``ValueError``; any other option key is ignored with a ``UserWarning``
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
         start = check_options(options, ("start",)).get("start")
         if start is not None:
-            start = self._check_start(start)
+            start = check_start(self.table, start)
         super().reset(seed=check_seed(seed))
         self._key = new_key(self.np_random)
         if start is not None:
@@ -219,13 +215,13 @@ cell is a ``ValueError``; any other option key is ignored with a ``UserWarning``
         if self.render_mode == "ansi":
             return self._frame()
         if self.render_mode == "rgb_array":
-            return self._overlay_frame()
+            return self.drawing.frame(self._scene())
         self._render_human()
         return None
 
     def get_keys_to_action(self) -> dict[tuple[int, ...], int]:
         """Keys for ``gymnasium.utils.play.play(env)`` (render_mode="rgb_array"): arrows and WASD, space stays."""
-        from ..play.keys import keys_to_action
+        from .keys import keys_to_action
 
         return keys_to_action()
 
@@ -252,11 +248,6 @@ cell is a ``ValueError``; any other option key is ignored with a ``UserWarning``
         return BatchRace(self.table, n_envs, 1, self.max_steps, fixed, self._free, start, win_bonus=0.0)
 
     @cached_property
-    def rgb_renderer(self) -> RgbRenderer:
-        """Draws this level (made on first use: large levels make large images)."""
-        return RgbRenderer(self.level, self.cell_size, self.theme)
-
-    @cached_property
     def P(self) -> dict[int, dict[int, list[Transition]]]:
         """FrozenLake-style model: ``P[s][a] == [(prob, next_s, reward, terminated), ...]``.
 
@@ -271,16 +262,7 @@ cell is a ``ValueError``; any other option key is ignored with a ``UserWarning``
         return frame(self.level, robots, status, colour=colour)
 
     def _render_human(self, animate: bool = True) -> None:
-        self._show_human(self._frame, animate)
+        self.drawing.show(self._scene, self._frame, animate, self.metadata["render_fps"])
 
-    def _check_start(self, start: object) -> int:
-        try:
-            x, y = as_cell(start, "options['start']")  # integers only: (1.5, 0) is not a cell
-        except ValueError:
-            raise ValueError(f"options['start']: expected a cell (x, y) of integers, got {start!r}") from None
-        if not (0 <= x < self.level.width and 0 <= y < self.level.height):
-            raise ValueError(f"options['start']: cell {(x, y)} is outside the {self.level.width}x{self.level.height} grid")
-        c = self.table.cell_id((x, y))
-        if self.table.blocked[c] or self.table.is_exit[c]:
-            raise ValueError(f"options['start']: cell {(x, y)} is blocked or an exit; start on an open cell")
-        return c
+    def _scene(self) -> Scene:
+        return single_scene(self)

@@ -4,35 +4,17 @@ from the race's generator."""
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any
 
 import numpy as np
 
-from ..core.level import as_cell
 from ..core.table import Table
 
 
-class LazyGenerator:
-    """``np_random`` made unseeded at first use, as Gymnasium's ``Env`` does: copies of an env taken
-    before its first reset (SuperSuit clones it with cloudpickle) draw different races."""
-
-    _np_random: np.random.Generator | None = None
-
-    @property
-    def np_random(self) -> np.random.Generator:
-        if self._np_random is None:
-            self._np_random, _ = _seeding(None)
-        return self._np_random
-
-    @np_random.setter
-    def np_random(self, value: np.random.Generator) -> None:
-        self._np_random = value
-
-
-def _seeding(seed: int | None) -> tuple[np.random.Generator, Any]:
+def new_generator(seed: int | None) -> np.random.Generator:
+    """A generator as Gymnasium's ``Env`` seeds its own (``seeding.np_random``); None: unseeded."""
     from gymnasium.utils import seeding
 
-    return seeding.np_random(seed)
+    return seeding.np_random(seed)[0]
 
 
 def placement(table: Table, start: str, n: int) -> tuple[list[int], list[int]]:
@@ -62,28 +44,3 @@ def draw_starts(rng: np.random.Generator, fixed: Sequence[int], free: Sequence[i
         return list(fixed)
     picks = rng.choice(len(free), size=need, replace=False)
     return list(fixed) + [free[int(k)] for k in picks]
-
-
-def check_cells(table: Table, cells: object, n: int, what: str, distinct: bool = True) -> list[int]:
-    """``n`` cells ``(x, y)`` as cell ids: each inside the grid, neither blocked nor an exit, and
-    (``distinct``) no two the same; else a ``ValueError`` naming ``what`` and what is allowed."""
-    allowed = f"{n} distinct open cells (x, y), one per robot, not blocked and not an exit"
-    if not isinstance(cells, Sequence) or isinstance(cells, (str, bytes)):
-        raise ValueError(f"{what}: expected a list of {allowed}, got {cells!r}")
-    if len(cells) != n:
-        raise ValueError(f"{what}: expected {allowed}; got {len(cells)} cells")
-    ids = []
-    for cell in cells:
-        try:
-            x, y = as_cell(cell, what)
-        except ValueError:
-            raise ValueError(f"{what}: expected {allowed}; {cell!r} is not a cell (x, y) of integers") from None
-        if not (0 <= x < table.width and 0 <= y < table.height):
-            raise ValueError(f"{what}: {(x, y)} is outside the {table.width}x{table.height} grid; expected {allowed}")
-        c = table.cell_id((x, y))
-        if table.blocked[c] or table.is_exit[c]:
-            raise ValueError(f"{what}: {(x, y)} is blocked or an exit; expected {allowed}")
-        ids.append(c)
-    if distinct and len(set(ids)) < len(ids):
-        raise ValueError(f"{what}: two robots share a cell; expected {allowed}")
-    return ids

@@ -28,25 +28,29 @@ from gymnasium.vector.utils import batch_space
 
 from ..core.actions import N_ACTIONS
 from ..core.batch import BatchRace
+from ..core.checks import check_count
 from ..core.engine import STAYED
 from ..core.level import Cell, Level
-from ..core.rules import Rules
-from ..encodings import Encoder
+from ..core.outcomes import FINISHED, START
+from ..core.rules import Rules, known_args
 from ..render.ansi import frame
 from ..render.rgb import Theme
 from .autoreset import DISABLED, NEXT_STEP, SAME_STEP, final_infos, resolve_autoreset_mode, set_reset_values, with_masks
-from .common import (
-    FINISHED,
-    START,
+from .checks import (
+    check_actions,
+    check_cells,
+    check_envs,
     check_options,
-    check_positive_int,
     check_render_mode,
-    known_args,
+    check_sb3_autoreset,
+    check_start,
+    mask_envs,
+    seed_list,
 )
+from .encodings import Encoder
 from .race import RaceEnv
 from .single import BabyRobotEnv
-from .starts import check_cells
-from .vector_args import RACE_ARGS, SINGLE_ARGS, check_actions, check_envs, mask_envs, restart, seed_envs, seed_list
+from .vector_reset import restart, seed_envs
 
 if TYPE_CHECKING:
     from stable_baselines3.common.vec_env import VecEnv
@@ -55,6 +59,10 @@ __all__ = ["BabyRobotVectorEnv", "RaceVectorEnv", "sb3_vec_env"]
 
 _INTENDED = np.array([code <= STAYED for code in range(5)] + [False])  # by engine code; -1 (parked) reads the last
 _RENDER_MODES = ["rgb_array", "ansi"]
+SINGLE_ARGS = ("num_envs", "level", "rules", "max_steps", "start", "render_mode", "cell_size", "theme", "obs_encoding",
+                "autoreset_mode")  # fmt: skip
+RACE_ARGS = ("n_envs", "level", "n_robots", "collisions", "max_cycles", "start", "rules", "render_mode", "cell_size",
+              "theme", "observe", "view_radius", "k", "obs_encoding", "autoreset_mode")  # fmt: skip
 
 
 class _BatchVectorEnv(gym.vector.VectorEnv):
@@ -290,7 +298,7 @@ class BabyRobotVectorEnv(_BatchVectorEnv):
 
     def _start_option(self, options: Mapping[str, Any]) -> tuple[int, ...] | None:
         start = options.get("start")
-        return None if start is None else (self._ref._check_start(start),)
+        return None if start is None else (check_start(self._ref.table, start),)
 
     def _robots(self, i: int) -> list[Cell | None]:
         return [self._xy[int(self._batch.cells[i, 0])]] if self._started else []  # at its exit too, as the single env draws it
@@ -445,18 +453,8 @@ def sb3_vec_env(level: str | Level | None = None, n_envs: int = 1, n_robots: int
     from .sb3 import BabyRobotSB3VecEnv
     if "autoreset_mode" in kwargs:
         check_sb3_autoreset(kwargs["autoreset_mode"])
-    if check_positive_int(n_robots, "n_robots") == 1:
+    if check_count(n_robots, "n_robots") == 1:
         venv: _BatchVectorEnv = BabyRobotVectorEnv(n_envs, **({"level": level} if level is not None else {}), **kwargs)
     else:
         venv = RaceVectorEnv(n_envs, **({"level": level} if level is not None else {}), n_robots=n_robots, **kwargs)
     return BabyRobotSB3VecEnv(venv)
-
-
-def check_sb3_autoreset(mode: object) -> None:
-    """``mode`` is Gymnasium's same-step auto-reset, the only one an SB3 ``VecEnv`` has; else a ``ValueError``."""
-    _, name = resolve_autoreset_mode(mode)
-    if name != SAME_STEP:
-        raise ValueError(
-            f"autoreset_mode: a Stable-Baselines3 VecEnv always resets an env in the step it ends (its last "
-            f"observation in infos[k]['terminal_observation']), which is 'same-step'; got {mode!r}"
-        )

@@ -39,7 +39,7 @@ except ImportError as e:  # pragma: no cover - depends on the install
         "babyrobot_marl.integrations.rllib needs Ray RLlib: pip install torch==2.13.0 && pip install -e '.[rllib]'"
     ) from e
 
-from ..checks import check_int, shown
+from ..core.checks import check_int, shown
 from ..envs.race import RaceEnv
 
 ENV_NAME = "babyrobot_marl_race"

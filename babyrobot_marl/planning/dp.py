@@ -8,15 +8,13 @@ action that may lead into such a cell gets ``q = -inf`` (never chosen).
 
 from __future__ import annotations
 
-import math
-from collections import deque
 from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
 
-from ..checks import check_int
 from ..core.actions import N_ACTIONS
+from .checks import check_dp_args, check_policy, check_proper
 from .mdp import Model
 
 DEFAULT_MAX_SWEEPS = 100_000
@@ -83,7 +81,7 @@ def value_iteration(
     beyond: e.g. positive custom rewards with ``gamma == 1``). ``tie_tol``: actions whose ``q``
     lies within it of the best count as best in ``Solution.best_actions``.
     """
-    gamma, theta, max_iterations, tie_tol = _check(gamma, theta, max_iterations, tie_tol)
+    gamma, theta, max_iterations, tie_tol = check_dp_args(gamma, theta, max_iterations, tie_tol)
     sweep = _Sweep(m, gamma)
     u = np.zeros(sweep.n_live + 1)
     v = u[:-1]  # a view: the last entry stays 0
@@ -113,11 +111,11 @@ def policy_evaluation(
     ``gamma == 1`` the policy must reach an exit from every cell that can reach one
     (``ValueError`` otherwise: its values would be infinite).
     """
-    gamma, theta, max_iterations, tie_tol = _check(gamma, theta, max_iterations, tie_tol)
-    pi = _policy_matrix(m, policy)
+    gamma, theta, max_iterations, tie_tol = check_dp_args(gamma, theta, max_iterations, tie_tol)
+    pi = check_policy(m, policy)
     sweep = _Sweep(m, gamma)
     if gamma == 1.0:
-        _check_proper(m, pi, sweep)
+        check_proper(m, pi, sweep.live)
     u = sweep.compact(np.zeros(m.n_states) if initial is None else np.asarray(initial, dtype=np.float64))
     v = u[:-1]
     p_live = np.ascontiguousarray(pi[sweep.live].T)  # [a, s]
@@ -145,8 +143,8 @@ def policy_iteration(
     reaches an exit, as ``gamma == 1`` needs). An action changes only when another is better by
     more than ``tie_tol``, so ties cannot make it cycle. ``max_iterations`` improvement rounds.
     """
-    gamma, theta, max_iterations, tie_tol = _check(gamma, theta, max_iterations, tie_tol)
-    current = (m.proper_policy if policy is None else _policy_matrix(m, policy).argmax(axis=1)).astype(np.int64)
+    gamma, theta, max_iterations, tie_tol = check_dp_args(gamma, theta, max_iterations, tie_tol)
+    current = (m.proper_policy if policy is None else check_policy(m, policy).argmax(axis=1)).astype(np.int64)
     sol = None
     for it in range(1, max_iterations + 1):
         sol = policy_evaluation(m, current, gamma, theta, tie_tol=tie_tol, initial=None if sol is None else sol.values)
@@ -207,61 +205,3 @@ class _Sweep:
         policy = np.argmax(best >= best.max(axis=1, keepdims=True) - tie_tol, axis=1).astype(np.int64)
         policy[~self.live] = 0
         return Solution(values, q, policy, m.width, m.height, m.is_exit, m.blocked, self.gamma, iterations, tie_tol)
-
-
-def _is_real(x: object) -> bool:
-    return not isinstance(x, bool) and isinstance(x, (int, float, np.floating, np.integer))
-
-
-def _check(gamma: object, theta: object, max_iterations: object, tie_tol: object) -> tuple[float, float, int, float]:
-    if not _is_real(gamma) or not 0.0 < gamma <= 1.0:
-        raise ValueError(f"gamma: must be a number in (0, 1], got {gamma!r}")
-    if not _is_real(theta) or not 0.0 < theta < math.inf:
-        raise ValueError(f"theta: must be a number > 0, got {theta!r}")
-    if not _is_real(tie_tol) or not 0.0 <= tie_tol < math.inf:
-        raise ValueError(f"tie_tol: must be a number >= 0, got {tie_tol!r}")
-    n = check_int(max_iterations, "max_iterations", lo=1)
-    return float(gamma), float(theta), n, float(tie_tol)
-
-
-def _policy_matrix(m: Model, policy: object) -> np.ndarray:
-    """``float[S, 5]`` action probabilities from ``int[S]`` actions or ``float[S, 5]`` probabilities."""
-    arr = np.asarray(policy)
-    s = m.n_states
-    if arr.shape == (s,) and arr.dtype.kind in "iu":
-        if arr.size and (arr.min() < 0 or arr.max() >= N_ACTIONS):
-            raise ValueError(f"policy: actions must lie in 0..{N_ACTIONS - 1}, got values from {arr.min()} to {arr.max()}")
-        return np.eye(N_ACTIONS)[arr]
-    if arr.shape == (s, N_ACTIONS) and arr.dtype.kind == "f":
-        live = ~m.terminal
-        if not np.all(np.isfinite(arr)) or np.any(arr < 0) or not np.allclose(arr[live].sum(axis=1), 1.0, atol=1e-9):
-            raise ValueError("policy: action probabilities must be finite, >= 0 and sum to 1 in every non-terminal state")
-        return arr.astype(np.float64)
-    raise ValueError(
-        f"policy: expected int[{s}] (one action per state) or float[{s}, {N_ACTIONS}] (action probabilities), "
-        f"got {arr.dtype} array of shape {arr.shape}"
-    )
-
-
-def _check_proper(m: Model, pi: np.ndarray, sweep: _Sweep) -> None:
-    """With gamma == 1 every live cell must reach an exit with positive probability under ``pi``."""
-    n = m.n_states
-    into: list[list[int]] = [[] for _ in range(n)]
-    step = (m.prob > 0) & (pi[:, :, None] > 0) & sweep.live[:, None, None]
-    for s, a, k in zip(*np.nonzero(step)):
-        into[int(m.next[s, a, k])].append(int(s))
-    reached = m.is_exit.copy()
-    todo = deque(np.flatnonzero(reached).tolist())
-    while todo:
-        c = todo.popleft()
-        for p in into[c]:
-            if not reached[p]:
-                reached[p] = True
-                todo.append(p)
-    stuck = np.flatnonzero(sweep.live & ~reached)
-    if stuck.size:
-        cells = ", ".join(str(m.table.cell_xy(int(c))) for c in stuck[:5])
-        raise ValueError(
-            f"policy: with gamma=1 it must reach an exit from every cell that can reach one; it never does from {cells}"
-            f"{' ...' if stuck.size > 5 else ''} (its values would be infinite; use gamma < 1 or another policy)"
-        )

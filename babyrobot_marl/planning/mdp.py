@@ -9,11 +9,12 @@ from typing import Any
 
 import numpy as np
 
-from ..checks import check_dense_states
+from ..core.checks import check_dense_states
 from ..core.level import Level
 from ..core.model import Transition, frozenlake_P, sparse_arrays, transition_arrays
-from ..core.rules import Rules
+from ..core.rules import Rules, resolve_rules
 from ..core.table import Table, compile_level
+from ..levels.resolve import resolve_level
 
 
 @dataclass(frozen=True, eq=False)
@@ -123,7 +124,6 @@ def model(level: Any, rules: Rules | dict | None = None) -> Model:
     ``BabyRobotEnv`` (also wrapped, e.g. from ``gymnasium.make``), whose level and rules are used;
     ``rules``: a ``Rules``, a dict of rule values or None (the defaults; not allowed with an env).
     """
-    from ..envs.common import resolve_level, resolve_rules
 
     env = getattr(level, "unwrapped", level)
     if hasattr(env, "table") and isinstance(env.table, Table):

@@ -15,25 +15,17 @@ editor (``play.notebook``) only maps clicks to these functions.
 from __future__ import annotations
 
 import re
-from collections.abc import Sequence
 
 from ..core.level import Cell, Level
+from .checks import MAX_SIDE, check_editor_cell, check_editor_size  # noqa: F401  (MAX_SIDE: read as editor.MAX_SIDE)
 
 Draft = tuple[str, ...]
 CELL_CYCLE = (" ", "p", "P", "#", "start", "E")  # what a click on a cell turns it into, in turn
-MAX_SIDE = 64  # the editor's canvas: a bigger level is better typed as text
-
-
-def check_size(width: object, height: object) -> tuple[int, int]:
-    for name, v in (("width", width), ("height", height)):
-        if isinstance(v, bool) or not isinstance(v, int) or not 1 <= v <= MAX_SIDE:
-            raise ValueError(f"{name}: the editor takes an integer in 1..{MAX_SIDE}, got {v!r}")
-    return width, height  # type: ignore[return-value]
 
 
 def blank(width: int, height: int, race: bool = False) -> Draft:
     """An open grid: the start top left, the exit bottom right (a valid level from the first click)."""
-    w, h = check_size(width, height)
+    w, h = check_editor_size(width, height)
     lines = [list(("+-" * w) + "+")]
     for _ in range(h):
         lines.append(list("|" + " " * (2 * w - 1) + "|"))
@@ -52,7 +44,7 @@ def from_level(level: Level | str) -> Draft:
         level = Level.from_ascii(level)
     if not isinstance(level, Level):
         raise TypeError(f"level: expected a Level or a level text, got {type(level).__name__}")
-    check_size(level.width, level.height)
+    check_editor_size(level.width, level.height)
     return tuple(level.to_ascii().split("\n"))
 
 
@@ -101,7 +93,7 @@ def _renumber(draft: Draft) -> Draft:
 def cycle_cell(draft: Draft, cell: Cell, race: bool | None = None) -> Draft:
     """The cell turned into the next kind of ``CELL_CYCLE`` (a start: ``S``, or the next number in a race)."""
     w, h = size(draft)
-    x, y = _check_cell(cell, w, h)
+    x, y = check_editor_cell(cell, w, h)
     race = is_race(draft) if race is None else race
     ch = cell_char(draft, (x, y))
     kind = "start" if ch == "S" or ch.isdigit() else " " if ch == "." else ch
@@ -123,7 +115,7 @@ def cycle_cell(draft: Draft, cell: Cell, race: bool | None = None) -> Draft:
 def cycle_edge(draft: Draft, a: Cell, b: Cell) -> Draft:
     """The edge between neighbours ``a`` and ``b``: open -> wall -> glass wall -> open."""
     w, h = size(draft)
-    a, b = sorted((_check_cell(a, w, h), _check_cell(b, w, h)))
+    a, b = sorted((check_editor_cell(a, w, h), check_editor_cell(b, w, h)))
     if abs(a[0] - b[0]) + abs(a[1] - b[1]) != 1:
         raise ValueError(f"edge: {a} and {b} are not neighbours")
     vertical = a[1] == b[1]  # a slot between left and right neighbours
@@ -136,7 +128,7 @@ def cycle_edge(draft: Draft, a: Cell, b: Cell) -> Draft:
 
 def resize(draft: Draft, width: int, height: int) -> Draft:
     """A ``width`` x ``height`` draft with what fits of ``draft`` (cells and inner edges), the border closed."""
-    w, h = check_size(width, height)
+    w, h = check_editor_size(width, height)
     race = is_race(draft)
     out = [list(line) for line in blank(w, h, race)]
     out[1][1] = " "
@@ -199,15 +191,3 @@ def hit(px: float, py: float, cell_size: int, width: int, height: int, margin: f
         a, b = ((x, y - 1), (x, y)) if fv < 0.5 else ((x, y), (x, y + 1))
         return ("edge", a, b) if a[1] >= 0 and b[1] < height else None
     return ("cell", (x, y))
-
-
-def _check_cell(cell: Sequence[int], w: int, h: int) -> Cell:
-    try:
-        x, y = cell
-    except (TypeError, ValueError):
-        raise ValueError(f"cell: expected (x, y), got {cell!r}") from None
-    if isinstance(x, bool) or isinstance(y, bool) or not isinstance(x, int) or not isinstance(y, int):
-        raise ValueError(f"cell: expected integers (x, y), got {cell!r}")
-    if not (0 <= x < w and 0 <= y < h):
-        raise ValueError(f"cell: {cell!r} is outside the {w}x{h} grid")
-    return (x, y)

@@ -11,12 +11,13 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 
 from ..core.actions import Action
+from ..core.checks import check_int
 from ..core.level import Cell
-from ..envs.common import OUTCOME_NAMES
+from ..core.outcomes import OUTCOME_NAMES
+from ..envs.keys import QUIT, RESTART, SWITCH, Command
 from ..envs.race import RaceEnv
 from ..envs.single import BabyRobotEnv
 from ..render.ansi import robot_glyph
-from .keys import QUIT, RESTART, SWITCH, Command
 
 # What an outcome means, for someone who just pressed the key.
 OUTCOME_TEXT = {
@@ -125,8 +126,7 @@ class RaceGame:
         n = env.n_robots
         if len(policies) != n:
             raise ValueError(f"policies: expected one per robot ({n}), got {len(policies)}")
-        if isinstance(driven, bool) or not isinstance(driven, int) or not 0 <= driven < n:
-            raise ValueError(f"driven: must be a robot number in 0..{n - 1}, got {driven!r}")
+        driven = check_int(driven, "driven", 0, n - 1, message="{name}: must be a robot number in 0..{hi}, got {value}")
         missing = [i for i, p in enumerate(policies) if p is None and (switchable or i != driven)]
         if missing:
             raise ValueError(

@@ -1,9 +1,17 @@
-"""Play and build levels in a notebook: ``Player`` (the live canvas, buttons, keys) and ``Editor``.
+"""Play Baby Robot and build levels in a Jupyter notebook (needs the ``notebook`` extra).
 
-Needs the ``notebook`` extra (ipycanvas, ipywidgets); ``babyrobot_marl.notebook.play`` and
-``.edit`` import this module only when called. Both objects display themselves in a cell, and
-can be driven from Python too (``player.press("ArrowUp")``, ``editor.click_cell((1, 2))``),
-which is what a test without a browser does.
+::
+
+    from babyrobot_marl.play import notebook
+    notebook.play("walls")                    # one robot: buttons, or click the grid and use the arrow keys
+    notebook.play("race-4", policies="shortest")  # a race: you drive robot_0, TAB drives the next one
+    editor = notebook.edit((6, 4))            # click cells and edges; editor.level, editor.text
+
+``play`` returns a ``Player`` (the live canvas, buttons, keys), ``edit`` an ``Editor``.
+ipycanvas and ipywidgets are imported when ``play`` or ``edit`` is called, not before. Both
+objects display themselves in a cell, and can be driven from Python too
+(``player.press("ArrowUp")``, ``editor.click_cell((1, 2))``), which is what a test without a
+browser does.
 
 Keys reach the canvas once it has the focus (click it): arrows or WASD move, space stays,
 ``r`` restarts, TAB drives the next robot of a race.
@@ -18,14 +26,35 @@ from typing import Any
 from .. import policies as policy_lib
 from ..core.actions import Action
 from ..core.level import Level
-from ..envs.common import resolve_level
+from ..envs.keys import BROWSER_KEYS, RESTART, SWITCH, Command
 from ..envs.race import RaceEnv
 from ..envs.single import BabyRobotEnv
+from ..levels.resolve import resolve_level
 from ..render.canvas import LiveCanvas
 from ..render.rgb import RgbRenderer
 from . import editor as ed
+from .checks import check_keywords, check_robots
 from .game import RaceGame, SingleGame
-from .keys import BROWSER_KEYS, RESTART, SWITCH, Command
+
+PLAY_ARGS = ("robots", "policies", "seed", "cell_size", "theme")
+EDIT_ARGS = ("race", "cell_size")
+
+
+def play(env_or_level: Any = "default", **kwargs: Any) -> Player:
+    """Play a level (a name, a level text or a ``Level``) or an env (``BabyRobotEnv``, ``RaceEnv``):
+    the live canvas with move, stay and reset buttons, keys when the canvas has the focus, and a panel
+    of steps and returns. Keywords: ``robots`` (a race of that many; default: the level's starts),
+    ``policies`` of the robots you do not drive (``"random"`` or ``"shortest"``, one or one per robot),
+    ``seed``, ``cell_size``, ``theme``."""
+    check_keywords("play", kwargs, PLAY_ARGS)
+    return Player(env_or_level, **kwargs)
+
+
+def edit(level_or_size: Any = (5, 5), **kwargs: Any) -> Editor:
+    """The level editor, on a blank ``(width, height)`` grid or on a level to change. Keywords: ``race``
+    (numbered starts), ``cell_size``. ``.level`` and ``.text`` give the result; "play it" plays it."""
+    check_keywords("edit", kwargs, EDIT_ARGS)
+    return Editor(level_or_size, **kwargs)
 
 BUTTONS = (  # (label, command, css class): the class names stable selectors for tests
     ("\u2190", Action.WEST, "west"), ("\u2191", Action.NORTH, "north"), ("\u2193", Action.SOUTH, "south"),
@@ -38,8 +67,7 @@ def make_game(
 ) -> SingleGame | RaceGame:
     """A game from an env (``BabyRobotEnv``, ``RaceEnv``, or a wrapper of one) or a level (name, text,
     ``Level``): one robot, or a race of ``robots`` (default: the level's starts, when it has several)."""
-    if robots is not None and (isinstance(robots, bool) or not isinstance(robots, int) or robots < 1):
-        raise ValueError(f"robots: must be None (the level's starts) or an integer >= 1, got {robots!r}")
+    robots = check_robots(robots)
     env = getattr(env_or_level, "unwrapped", env_or_level)
     if getattr(env, "render_mode", None) == "human":
         raise ValueError("env: render_mode='human' draws a canvas of its own at every step; "

@@ -17,15 +17,15 @@ import sys
 from collections.abc import Callable, Sequence
 from typing import Any, TextIO
 
+from ..core.checks import check_int
+from ..envs.keys import HELP, QUIT, RESTART, Command, decode
 from ..envs.race import RaceEnv
 from ..envs.single import BabyRobotEnv
 from ..render.ansi import frame
 from .game import RaceGame, SingleGame
-from .keys import HELP, QUIT, RESTART, Command, decode
+from .screen import CLEAR_SCREEN, HIDE_CURSOR, SHOW_CURSOR, draw
 from .watch import schedule, settled_step
 
-CURSOR_HOME, CLEAR_TO_EOL, CLEAR_BELOW = "\x1b[H", "\x1b[K", "\x1b[J"
-CLEAR_SCREEN, HIDE_CURSOR, SHOW_CURSOR = "\x1b[2J", "\x1b[?25l", "\x1b[?25h"
 ESC_WAIT = 0.05  # seconds to wait for the rest of an escape sequence cut between two reads
 
 
@@ -139,12 +139,6 @@ def _exit_on_signal(signum: int, _frame: object) -> None:
     raise SystemExit(128 + signum)  # unwinds through every finally: the terminal is restored
 
 
-def draw(out: TextIO, text: str) -> None:
-    """Redraw the screen in place: cursor home, each line cleared to its end, the rest cleared."""
-    out.write(CURSOR_HOME + text.replace("\n", CLEAR_TO_EOL + "\n") + CLEAR_TO_EOL + "\n" + CLEAR_BELOW)
-    out.flush()
-
-
 # ------------------------------------------------------------------------ one robot
 def single_screen(game: SingleGame, title: str, colour: bool) -> str:
     status = "\n".join([*game.status(), HELP])
@@ -196,8 +190,8 @@ def race_keys(
     policies. Once you finish (or the race ends) the rest is played out, paced as ``race`` paces it,
     until every place is known. ``results`` (rank, steps, ret, collisions per robot) are filled in."""
     n = env.n_robots
-    if isinstance(human, bool) or not isinstance(human, int) or not 0 <= human < n:
-        raise ValueError(f"--human: must be a robot number in 0..{n - 1} (robot_0 ... robot_{n - 1}), got {human!r}")
+    wording = "{name}: must be a robot number in 0..{hi} (robot_0 ... robot_{hi}), got {value}"
+    human = check_int(human, "--human", 0, n - 1, message=wording)
     fd = require_terminal(stdin or sys.stdin, out, "race --human")
     pols = [None if i == human else p for i, p in enumerate(robot_policies)]
     game = RaceGame(env, pols, driven=human, seed=seed, switchable=False)

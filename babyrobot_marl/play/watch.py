@@ -21,6 +21,7 @@ from collections.abc import Callable, Iterable, Sequence
 from typing import Any, TextIO
 
 from ..render.ansi import ROBOT_COLOURS, robot_glyph
+from .screen import CLEAR_SCREEN, HIDE_CURSOR, SHOW_CURSOR, draw
 
 OPENING = 6  # the first steps at full speed: everyone leaves the start
 LEAD = 4  # full speed for this many steps up to each podium finish
@@ -114,7 +115,6 @@ def watch_race(
 
     ``env``, ``robot_policies`` and ``seed`` must be what ``frames`` will play: the race is played
     ahead on copies of them, before the first frame is drawn."""
-    from .terminal import CLEAR_SCREEN, HIDE_CURSOR, SHOW_CURSOR, draw
 
     finish, n_steps = play_ahead(env, robot_policies, seed)
     plan = schedule(finish, n_steps, delay)

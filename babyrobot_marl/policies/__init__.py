@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..checks import check_int
+from ..core.checks import check_int
 from ..core.table import Table
 from .random import RandomPolicy
 from .shortest import ShortestPathPolicy, distances, shortest_path_actions

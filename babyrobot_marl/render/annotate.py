@@ -20,9 +20,9 @@ import numpy as np
 from ..core.actions import Action
 from .glyphs import cap_height, fit, text_width
 from .overlay import Overlay, format_value
-from .paint import Fill, Op, Points, Text, rect, round_rect
 from .palette import Theme, colour_map
 from .picture import wall_width
+from .shapes import Fill, Op, Points, Text, rect, round_rect
 
 DIRECTIONS = {Action.NORTH: (0.0, -1.0), Action.EAST: (1.0, 0.0), Action.SOUTH: (0.0, 1.0), Action.WEST: (-1.0, 0.0)}
 _TRIANGLES = {  # centre-to-corner triangles, cell units

@@ -34,16 +34,15 @@ from typing import Any
 
 import numpy as np
 
-from ..checks import check_int
 from ..core.level import Cell
+from .checks import MAX_ANIMATION_FRAMES, check_animation_frames, check_fps  # noqa: F401
 from .glyphs import baseline_y, css_font, origin
 from .overlay import Overlay
-from .paint import Fill, Op, Text
+from .paint import Stamp
 from .rgb import RgbRenderer
 from .scene import Scene, as_scene, glide, robot_sprites
-from .sprites import Stamp
+from .shapes import Fill, Op, Text
 
-MAX_ANIMATION_FRAMES = 60
 PIXEL_RATIO = 2
 REDRAW_AFTER = 1.0  # seconds after a browser (re)connects: everything drawn once more
 MAX_TRACKED = 16  # canvases whose saved PNG is refreshed after each cell (the most recent ones)
@@ -88,16 +87,6 @@ def notebook_available() -> bool:
     except ImportError:
         return False
     return True
-
-
-def check_animation_frames(n: object) -> int:
-    return check_int(n, "animation_frames (0: no animation)", 0, MAX_ANIMATION_FRAMES)  # the package's integer rule
-
-
-def check_fps(fps: object, name: str = "render_fps") -> float:
-    if isinstance(fps, bool) or not isinstance(fps, (int, float, np.integer, np.floating)) or not 0 <= fps < float("inf"):
-        raise ValueError(f"{name}: must be a finite number >= 0 (steps per second; 0: no pacing), got {fps!r}")
-    return float(fps)
 
 
 def png_bytes(img: np.ndarray) -> bytes:
@@ -352,7 +341,7 @@ class _Styles:
 
 
 def _rect(x0: float, y0: float, x1: float, y1: float) -> np.ndarray:
-    from .paint import rect
+    from .shapes import rect
 
     return rect(x0, y0, x1, y1)
 

@@ -12,7 +12,7 @@ from functools import cache, lru_cache
 
 import numpy as np
 
-from .paint import Text
+from .shapes import Text
 
 CSS_FAMILY = "'Liberation Sans', Arial, Helvetica, sans-serif"
 

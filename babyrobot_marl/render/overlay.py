@@ -25,6 +25,7 @@ from typing import Any
 import numpy as np
 
 from ..core.actions import N_ACTIONS
+from ..core.checks import as_int
 from ..core.level import Level, as_cell
 
 KEEP: Any = object()  # "not given": the overlay keeps what it has
@@ -165,7 +166,8 @@ def _names(arg: Any, n_robots: int) -> dict[int, str]:
     out = {}
     for key, s in arg.items():
         i = int(key.rsplit("_", 1)[1]) if isinstance(key, str) and key.startswith("robot_") and key[6:].isdigit() else key
-        if isinstance(i, bool) or not isinstance(i, (int, np.integer)) or not 0 <= i < n_robots:
+        i = as_int(i)
+        if i is None or not 0 <= i < n_robots:
             raise ValueError(f"names: keys are robot numbers 0..{n_robots - 1} or agent names robot_0.., got {key!r}")
         if not isinstance(s, str):
             raise ValueError(f"names: the name of robot {i} must be a str, got {type(s).__name__}")

@@ -6,110 +6,71 @@ same list here, anti-aliased: each pixel is covered by the fraction ``0.5 - d`` 
 0..1) where ``d`` is the signed distance in pixels from its centre to the polygon's outline.
 Circles and curves are polygons with enough points to look round at their size, so one code
 path (and one geometry) serves both renderers.
+
+The shapes themselves are in ``shapes``. Sprites (``Sprite``, ``Stamp``: shapes drawn many times,
+made once) are rasterised here too: ``paint`` stamps a sprite with ``patch``, and ``patch``
+rasterises it with ``paint``, once per quarter-pixel offset (bounded cache).
 """
 
 from __future__ import annotations
 
-import math
+from collections import OrderedDict
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
-Colour = tuple[int, int, int]
-Points = np.ndarray  # float64[n, 2]: x, y in pixels (y down)
+from .glyphs import text_coverage
+from .shapes import Colour, Fill, Op, Points, Text
+
+__all__ = [
+    "MAX_PATCHES", "Colour", "Fill", "Op", "Patch", "Points", "Sprite", "Stamp", "Text",
+    "blend", "coverage", "flatten", "paint", "patch", "raster", "to_uint8",
+]
 
 
 @dataclass(frozen=True, eq=False)
-class Fill:
-    """A filled polygon (even-odd rule) in one colour, ``alpha`` 0..1."""
+class Sprite:
+    """Operations about ``(0, 0)``: ``points`` float64[N, 2], ``counts`` (points per polygon),
+    ``colours`` uint8[P, 3], ``alphas`` float64[P], and ``texts`` (drawn after the polygons)."""
 
-    points: Points
-    colour: Colour
-    alpha: float = 1.0
+    points: np.ndarray
+    counts: np.ndarray
+    colours: np.ndarray
+    alphas: np.ndarray
+    texts: tuple[Text, ...]
+
+    def ops(self, cx: float, cy: float) -> list[Op]:
+        """The operations centred on ``(cx, cy)`` (pixels), in drawing order."""
+        out: list[Op] = []
+        start = 0
+        for k, n in enumerate(self.counts.tolist()):
+            out.append(Fill(self.points[start : start + n] + (cx, cy), tuple(self.colours[k].tolist()), float(self.alphas[k])))
+            start += n
+        out += [Text(t.x + cx, t.y + cy, t.text, t.size, t.colour, t.align, t.baseline, t.alpha) for t in self.texts]
+        return out
 
 
 @dataclass(frozen=True, eq=False)
-class Text:
-    """One line of text in the package's font (``render.glyphs``) at a size it holds.
+class Stamp:
+    """A sprite placed at ``(x, y)``: an operation both renderers draw from their caches."""
 
-    ``(x, y)`` is the anchor: ``align`` left/center/right, ``baseline`` "top" (the cap height's
-    top at ``y``) or "middle" (the cap height centred on ``y``).
-    """
-
+    sprite: Sprite
     x: float
     y: float
-    text: str
-    size: int
-    colour: Colour
-    align: str = "center"
-    baseline: str = "middle"
-    alpha: float = 1.0
 
 
-Op = Fill | Text
+def flatten(ops: Sequence[Op]) -> Sprite:
+    fills = [op for op in ops if isinstance(op, Fill)]
+    return Sprite(
+        np.concatenate([f.points for f in fills]) if fills else np.zeros((0, 2)),
+        np.array([len(f.points) for f in fills], dtype=np.int64),
+        np.array([f.colour for f in fills], dtype=np.uint8).reshape(-1, 3),
+        np.array([f.alpha for f in fills], dtype=np.float64),
+        tuple(op for op in ops if isinstance(op, Text)),
+    )
 
 
-# ---------------------------------------------------------------------- shapes (pixels)
-def rect(x0: float, y0: float, x1: float, y1: float) -> Points:
-    return np.array([(x0, y0), (x1, y0), (x1, y1), (x0, y1)], dtype=np.float64)
-
-
-def ellipse(cx: float, cy: float, rx: float, ry: float, n: int = 0) -> Points:
-    """An ellipse as a polygon; ``n`` points (0: enough for its size)."""
-    n = n or max(12, min(64, int(2.2 * math.pi * max(rx, ry) ** 0.75 + 8)))
-    t = np.linspace(0.0, 2.0 * math.pi, n, endpoint=False)
-    return np.column_stack([cx + rx * np.cos(t), cy + ry * np.sin(t)])
-
-
-def circle(cx: float, cy: float, r: float, n: int = 0) -> Points:
-    return ellipse(cx, cy, r, r, n)
-
-
-def round_rect(x0: float, y0: float, x1: float, y1: float, r: float) -> Points:
-    """A rectangle with quarter-circle corners of radius ``r`` (clipped to fit)."""
-    r = max(0.0, min(r, (x1 - x0) / 2, (y1 - y0) / 2))
-    if r < 0.5:
-        return rect(x0, y0, x1, y1)
-    k = max(3, min(10, int(r)))
-    pts = []
-    for cx, cy, a0 in ((x1 - r, y0 + r, -90), (x1 - r, y1 - r, 0), (x0 + r, y1 - r, 90), (x0 + r, y0 + r, 180)):
-        t = np.radians(np.linspace(a0, a0 + 90, k + 1))
-        pts.append(np.column_stack([cx + r * np.cos(t), cy + r * np.sin(t)]))
-    return np.concatenate(pts)
-
-
-def blob(cx: float, cy: float, rx: float, ry: float, phase: float, wobble: float = 0.09) -> Points:
-    """A puddle-like closed curve: an ellipse whose radius wobbles smoothly."""
-    n = max(24, min(72, int(2.5 * math.pi * max(rx, ry) ** 0.75 + 12)))
-    t = np.linspace(0.0, 2.0 * math.pi, n, endpoint=False)
-    k = 1.0 + wobble * np.sin(3 * t + phase) + 0.6 * wobble * np.sin(5 * t + 2.1 * phase)
-    return np.column_stack([cx + rx * k * np.cos(t), cy + ry * k * np.sin(t)])
-
-
-def segment(x0: float, y0: float, x1: float, y1: float, width: float) -> Points:
-    """A straight stroke of ``width`` pixels from one point to the other, as a quad."""
-    dx, dy = x1 - x0, y1 - y0
-    length = math.hypot(dx, dy) or 1.0
-    nx, ny = -dy / length * width / 2, dx / length * width / 2
-    return np.array([(x0 + nx, y0 + ny), (x1 + nx, y1 + ny), (x1 - nx, y1 - ny), (x0 - nx, y0 - ny)])
-
-
-def star(cx: float, cy: float, r_out: float, r_in: float, points: int = 5, turn: float = -90.0) -> Points:
-    t = np.radians(turn + np.arange(2 * points) * 180.0 / points)
-    r = np.where(np.arange(2 * points) % 2 == 0, r_out, r_in)
-    return np.column_stack([cx + r * np.cos(t), cy + r * np.sin(t)])
-
-
-def turned(points: Points, degrees: float, cx: float, cy: float) -> Points:
-    """``points`` turned clockwise (y down) by ``degrees`` about ``(cx, cy)``."""
-    a = math.radians(degrees)
-    c, s = math.cos(a), math.sin(a)
-    x, y = points[:, 0] - cx, points[:, 1] - cy
-    return np.column_stack([cx + c * x - s * y, cy + s * x + c * y])
-
-
-# ---------------------------------------------------------------------- rasteriser
 def coverage(points: Points, x0: int, y0: int, w: int, h: int) -> np.ndarray:
     """``float32[h, w]``: how much of each pixel of the box at ``(x0, y0)`` the polygon covers."""
     if len(points) == 4 and _axis_aligned(points):  # rectangles (walls, lines, bars): exact, separable
@@ -152,9 +113,6 @@ def paint(img: np.ndarray, ops: Iterable[Op], alpha: np.ndarray | None = None) -
     With ``alpha`` (``float32[H, W]``) the image is a layer with its own transparency: colours
     are kept premultiplied and ``alpha`` accumulates, so the layer can be composited later.
     """
-    from .glyphs import text_coverage
-    from .sprites import Stamp, blend, patch
-
     h, w = img.shape[:2]
     for op in ops:
         if isinstance(op, Stamp):
@@ -211,13 +169,65 @@ def to_uint8(img: np.ndarray) -> np.ndarray:
     return np.clip(img + 0.5, 0, 255).astype(np.uint8)
 
 
-def shade(colour: Colour, k: float) -> Colour:
-    """``colour`` darker (``k`` < 1) or lighter towards white (``k`` > 1)."""
-    if k <= 1:
-        return tuple(int(round(c * k)) for c in colour)  # type: ignore[return-value]
-    t = min(1.0, k - 1)
-    return tuple(int(round(c + (255 - c) * t)) for c in colour)  # type: ignore[return-value]
+# ---------------------------------------------------------------------- rasterised, for rgb_array
+@dataclass(frozen=True, eq=False)
+class Patch:
+    """A rasterised sprite: premultiplied colour and coverage, and its top-left corner relative
+    to the whole pixel its centre falls in; ``inv`` and ``rgb16`` are the same in 8.8 fixed
+    point for blending onto uint8 frames."""
+
+    rgb: np.ndarray  # float32[h, w, 3]
+    alpha: np.ndarray  # float32[h, w, 1]
+    dx: int
+    dy: int
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "inv", np.rint((1.0 - self.alpha) * 256).astype(np.uint16))
+        object.__setattr__(self, "rgb16", np.rint(self.rgb * 256).astype(np.uint16))
 
 
-def mix(a: Colour, b: Colour, t: float) -> Colour:
-    return tuple(int(round(x + (y - x) * t)) for x, y in zip(a, b))  # type: ignore[return-value]
+_PATCHES: OrderedDict[tuple[int, int, int], tuple[Sprite, Patch]] = OrderedDict()
+MAX_PATCHES = 1024
+
+
+def patch(sprite: Sprite, cx: float, cy: float) -> Patch:
+    """``sprite`` rasterised at the sub-pixel offset of ``(cx, cy)`` (to a quarter pixel), cached."""
+    fx, fy = int(round((cx % 1) * 4)) % 4, int(round((cy % 1) * 4)) % 4
+    key = (id(sprite), fx, fy)
+    hit = _PATCHES.get(key)
+    if hit is not None and hit[0] is sprite:
+        _PATCHES.move_to_end(key)
+        return hit[1]
+    m = 3 + max((t.size for t in sprite.texts), default=0) // 2
+    pts = sprite.points if len(sprite.points) else np.zeros((1, 2))
+    lo = np.floor(pts.min(axis=0)).astype(int) - m
+    hi = np.ceil(pts.max(axis=0)).astype(int) + m
+    w, h = int(hi[0] - lo[0]), int(hi[1] - lo[1])
+    rgb = np.zeros((h, w, 3), dtype=np.float32)
+    alpha = np.zeros((h, w), dtype=np.float32)
+    paint(rgb, sprite.ops(-lo[0] + fx / 4, -lo[1] + fy / 4), alpha)
+    ys, xs = np.nonzero(alpha > 0)  # trim to the inked pixels
+    if len(xs):
+        y0, y1, x0, x1 = int(ys.min()), int(ys.max()) + 1, int(xs.min()), int(xs.max()) + 1
+        rgb, alpha, lo = rgb[y0:y1, x0:x1], alpha[y0:y1, x0:x1], lo + (x0, y0)
+    out = Patch(np.ascontiguousarray(rgb), np.ascontiguousarray(alpha)[..., None], int(lo[0]), int(lo[1]))
+    _PATCHES[key] = (sprite, out)  # the sprite kept alive with it: its id stays its own
+    if len(_PATCHES) > MAX_PATCHES:
+        _PATCHES.popitem(last=False)
+    return out
+
+
+def blend(img: np.ndarray, p: Patch, cx: float, cy: float) -> None:
+    """Composite patch ``p`` centred on ``(cx, cy)`` onto ``img`` (uint8 or float32, in place)."""
+    x0, y0 = int(np.floor(cx + 1e-9)) + p.dx, int(np.floor(cy + 1e-9)) + p.dy
+    h, w = p.rgb.shape[:2]
+    gx0, gy0 = max(0, x0), max(0, y0)
+    gx1, gy1 = min(img.shape[1], x0 + w), min(img.shape[0], y0 + h)
+    if gx1 <= gx0 or gy1 <= gy0:
+        return
+    sl = (slice(gy0 - y0, gy1 - y0), slice(gx0 - x0, gx1 - x0))
+    region = img[gy0:gy1, gx0:gx1]
+    if img.dtype == np.uint8:  # fixed point: (under * (1 - a) + premultiplied colour), rounded
+        region[:] = ((region * p.inv[sl] + p.rgb16[sl] + 128) >> 8).astype(np.uint8)
+    else:
+        region[:] = region * (1.0 - p.alpha[sl]) + p.rgb[sl]

@@ -20,9 +20,10 @@ from functools import lru_cache
 import numpy as np
 
 from .glyphs import advances, cap_height, fit, text_width
-from .paint import Colour, Fill, Op, Text, rect, round_rect
+from .paint import Sprite, Stamp, flatten
 from .palette import Theme, colour_map
-from .sprites import MEDALS, OTHER_RANK, Sprite, Stamp, flatten, robot_sprite
+from .shapes import Colour, Fill, Op, Text, rect, round_rect
+from .sprites import MEDALS, OTHER_RANK, robot_sprite
 
 
 @dataclass(frozen=True)

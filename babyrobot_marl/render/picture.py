@@ -10,8 +10,8 @@ from __future__ import annotations
 
 from ..core.level import Cell, Level
 from .glyphs import cap_height, fit, text_width
-from .paint import Colour, Fill, Op, Text, blob, ellipse, rect, round_rect, segment, shade
 from .palette import Theme, robot_colour
+from .shapes import Colour, Fill, Op, Text, blob, ellipse, rect, round_rect, segment, shade
 
 
 def wall_width(cs: int) -> float:

@@ -23,94 +23,25 @@ import numpy as np
 
 from ..core.level import Cell, Level
 from . import annotate
+from .checks import (  # noqa: F401  (the limits and checks are read from here too)
+    MAX_CELL_SIZE,
+    MAX_FRAME_PIXELS,
+    MIN_CELL_SIZE,
+    auto_cell_size,
+    check_cell_size,
+    check_frame_size,
+    check_overlay_frame,
+)
 from .overlay import Overlay
-from .paint import Op, Text, paint, to_uint8
+from .paint import Patch, blend, paint, patch, to_uint8
 from .palette import THEMES, Theme, resolve_theme
-from .panel import metrics, panel_height, panel_sections
+from .panel import panel_sections
 from .picture import feature_ops, floor_ops, label_band, label_ops, level_ops
 from .scene import Scene, as_scene, glide, robot_sprites
-from .sprites import Patch, blend, patch
+from .shapes import Op, Text
 
 __all__ = ["MAX_CELL_SIZE", "MAX_FRAME_PIXELS", "MIN_CELL_SIZE", "THEMES", "RgbRenderer", "Theme", "resolve_theme"]
 
-MIN_CELL_SIZE, MAX_CELL_SIZE = 8, 256
-MAX_FRAME_PIXELS = 4096 * 4096  # a 256x256 maze at 16-pixel cells; larger frames ask for a smaller cell_size
-DEFAULT_MAX_CELL, COLUMN_WIDTH, COLUMN_HEIGHT = 64, 896, 768  # a notebook column
-
-
-def auto_cell_size(level: Level) -> int:
-    """About 64-pixel cells, smaller for large levels so the grid fits a notebook column."""
-    return int(np.clip(min(COLUMN_WIDTH // level.width, COLUMN_HEIGHT // level.height), MIN_CELL_SIZE, DEFAULT_MAX_CELL))
-
-
-def check_cell_size(cell_size: object, level: Level | None = None) -> int | None:
-    """``cell_size`` as an int in ``MIN_CELL_SIZE..MAX_CELL_SIZE`` (None: chosen for the level)."""
-    if cell_size is None:
-        return auto_cell_size(level) if level is not None else None
-    try:
-        cs = None if isinstance(cell_size, (bool, float)) else int(cell_size.__index__())  # type: ignore[attr-defined]
-    except (AttributeError, TypeError):
-        cs = None
-    if cs is None or not MIN_CELL_SIZE <= cs <= MAX_CELL_SIZE:
-        raise ValueError(
-            f"cell_size: must be None (about 64, fitted to the level) or an integer in {MIN_CELL_SIZE}..{MAX_CELL_SIZE} "
-            f"(pixels), got {cell_size!r}"
-        )
-    if level is not None:
-        check_frame_size(level, cs)
-    return cs
-
-
-def check_frame_size(level: Level, cs: int, lines: Sequence[str] = (), bar: bool = False, robots: int = 0) -> None:
-    """The whole frame, the grid and the panel under it (``lines`` of text, the colour ``bar``, the
-    legend of ``robots``), is within ``MAX_FRAME_PIXELS``; else a ``ValueError`` naming what to
-    change: the panel's lines when the frame fits without them, else ``cell_size``. Checked from
-    the sizes alone, before anything is drawn."""
-    width, grid = level.width * cs, level.height * cs
-    height = grid + panel_height(width, cs, lines, bar, robots)
-    if width * height <= MAX_FRAME_PIXELS:
-        return
-    rest = grid + panel_height(width, cs, (), bar, robots)
-    if lines and width * rest <= MAX_FRAME_PIXELS:
-        line_h = metrics(cs).line_h
-        room = (MAX_FRAME_PIXELS // width - rest) // line_h
-        raise ValueError(
-            f"panel: {len(lines):,} lines ({_wrapped_count(width, cs, lines):,} wrapped to the frame's width) make a "
-            f"{width}x{height:,} frame, over the limit of {MAX_FRAME_PIXELS:,} pixels; at cell_size {cs} at most "
-            f"{room:,} wrapped lines fit: show fewer or shorter lines"
-        )
-    below = [what for what, on in (("the colour bar", bar), (f"the legend of {robots:,} robots", robots)) if on]
-    fit = _largest_fit(level, cs, bar, robots)
-    way = f"use cell_size <= {fit} (or None)" if fit >= MIN_CELL_SIZE else (
-        "no cell_size fits it (the legend is too wide a strip): use render_mode='ansi' or None")  # fmt: skip
-    raise ValueError(
-        f"cell_size: a {level.width}x{level.height} level at {cs} pixels a cell"
-        + (f" with {' and '.join(below)} below" if below else "")
-        + f" is a {width}x{height} frame, over the limit of {MAX_FRAME_PIXELS:,} pixels; {way}"
-    )
-
-
-def _largest_fit(level: Level, cs: int, bar: bool, robots: int) -> int:
-    """The largest cell size below ``cs`` whose grid, bar and legend fit the limit (< MIN_CELL_SIZE: none)."""
-    c = min(cs - 1, math.isqrt(MAX_FRAME_PIXELS // (level.width * level.height)))
-    while c >= MIN_CELL_SIZE:
-        w = level.width * c
-        if w * (level.height * c + panel_height(w, c, (), bar, robots)) <= MAX_FRAME_PIXELS:
-            break
-        c -= 1
-    return c
-
-
-def _wrapped_count(width: int, cs: int, lines: Sequence[str]) -> int:
-    from .panel import _wrapped
-
-    m = metrics(cs)
-    return len(_wrapped(tuple(lines), width - 2 * m.pad, m.size))
-
-
-def check_overlay_frame(level: Level, cs: int, overlay: Overlay, robots: int = 0) -> None:
-    """``check_frame_size`` for the frame of ``overlay`` (``robots``: a race's legend)."""
-    check_frame_size(level, cs, overlay.panel, annotate.value_range(overlay) is not None, robots)
 
 
 class RgbRenderer:
@@ -304,8 +235,8 @@ def shifted_x(op: Op, dx: float) -> Op:
 def _moved(op: Op, dx: float, dy: float) -> Op:
     from dataclasses import replace
 
-    from .paint import Fill
-    from .sprites import Stamp
+    from .paint import Stamp
+    from .shapes import Fill
 
     if isinstance(op, Fill):
         return Fill(op.points + (dx, dy), op.colour, op.alpha)

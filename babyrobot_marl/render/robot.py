@@ -24,8 +24,8 @@ import math
 import numpy as np
 
 from .glyphs import fit
-from .paint import Colour, Fill, Op, Points, Text, circle, ellipse, round_rect, segment, shade, star, turned
 from .palette import Theme
+from .shapes import Colour, Fill, Op, Points, Text, circle, ellipse, round_rect, segment, shade, star, turned
 
 POSES = ("idle", "moving", "bumped", "skidding", "glass", "finished")
 HEADINGS = {0: (0.0, 0.0), 1: (0.0, -1.0), 2: (1.0, 0.0), 3: (0.0, 1.0), 4: (-1.0, 0.0)}  # by Action

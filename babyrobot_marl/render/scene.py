@@ -18,11 +18,12 @@ from dataclasses import dataclass
 from functools import lru_cache
 
 from ..core.level import Cell
-from .paint import Colour
+from .paint import Sprite
 from .palette import Theme, robot_colour
 from .panel import LegendRow
 from .robot import icon_scale
-from .sprites import Sprite, badge, burst, robot_sprite
+from .shapes import Colour
+from .sprites import badge, burst, robot_sprite
 
 POSE_OF_OUTCOME = ("moving", "idle", "bumped", "skidding", "glass")  # by core.engine outcome code
 

@@ -20,10 +20,13 @@ from pathlib import Path
 import gymnasium as gym
 import numpy as np
 
-import babyrobot_marl  # noqa: F401  (registers the envs)
-from babyrobot_marl import Action, race_v0
-from babyrobot_marl.policies import make as make_policy
-from babyrobot_marl.render.video import episode_frames, save_gif
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # architecture.py, beside this file
+import architecture  # noqa: E402
+
+import babyrobot_marl  # noqa: E402, F401  (registers the envs)
+from babyrobot_marl import Action, race_v0  # noqa: E402
+from babyrobot_marl.policies import make as make_policy  # noqa: E402
+from babyrobot_marl.render.video import episode_frames, save_gif  # noqa: E402
 
 # One open corridor of 5 x 3 cells, the exit far from the robots: the collision set-ups.
 COLLISION_LEVEL = """
@@ -143,6 +146,7 @@ FIGURES: dict[str, Callable[[], bytes]] = {
     "assets/envs/babyrobot-v0.gif": single_robot_gif,
     "assets/envs/babyrobotrace-v0.gif": race_gym_gif,
     "assets/envs/race_v0.gif": race_gif,
+    "assets/architecture.svg": lambda: architecture.svg(architecture.import_graph()).encode(),
     **{f"assets/collisions/{name}.png": (lambda name=name: png_bytes(collision_picture(name))) for name in COLLISIONS},
 }
 

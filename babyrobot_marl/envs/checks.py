@@ -1,0 +1,156 @@
+"""The envs' argument checks: render modes, reset options, encodings, start cells, and the vector
+envs' counts, actions, seeds and reset masks.
+
+The rules for integers, seeds, actions and enums are the core's (``core.checks``); the sentences
+here are the envs' own. Pure functions, so every env shell (single, race, vector, SB3) shares them.
+"""
+
+from __future__ import annotations
+
+import warnings
+from collections.abc import Collection, Mapping, Sequence
+from typing import Any
+
+import numpy as np
+
+from ..core.actions import N_ACTIONS
+from ..core.checks import ACTION_HELP, check_batch, check_choice, check_int, check_seed
+from ..core.level import as_cell
+from ..core.table import Table
+from .autoreset import SAME_STEP, resolve_autoreset_mode
+from .encodings import ENCODINGS
+
+
+def check_render_mode(render_mode: str | None, modes: list[str]) -> str | None:
+    return check_choice(render_mode, "render_mode", modes, none=True)
+
+
+def check_options(options: object, known: Collection[str] = ()) -> Mapping[str, Any]:
+    """``reset(options=...)``: None or a dict; only the ``known`` keys are returned.
+
+    An unknown key is a ``UserWarning`` naming the known ones, not an error: PettingZoo's and
+    Gymnasium's own tests reset with arbitrary options (``{"options": 1}``). A known key's value
+    is checked by the env.
+    """
+    if options is None:
+        return {}
+    if not isinstance(options, Mapping):
+        raise ValueError(f"options: expected a dict or None, got {type(options).__name__}")
+    unknown = [k for k in options if k not in known]
+    if not unknown:
+        return options
+    allowed = ", ".join(map(repr, known)) if known else "none"
+    names = ", ".join(map(repr, unknown))
+    # stacklevel 3: the line that called reset()
+    warnings.warn(f"options: unknown option {names} ignored; known options are {allowed}", UserWarning, stacklevel=3)
+    return {k: v for k, v in options.items() if k in known}
+
+
+def check_encoding(encoding: object, what: str = "obs_encoding") -> str:
+    return check_choice(encoding, what, ENCODINGS)
+
+
+def check_start(table: Table, start: object) -> int:
+    """The single-robot env's ``options["start"]``: an open cell ``(x, y)`` of ``table``, as its id."""
+    try:
+        x, y = as_cell(start, "options['start']")  # integers only: (1.5, 0) is not a cell
+    except ValueError:
+        raise ValueError(f"options['start']: expected a cell (x, y) of integers, got {start!r}") from None
+    if not (0 <= x < table.width and 0 <= y < table.height):
+        raise ValueError(f"options['start']: cell {(x, y)} is outside the {table.width}x{table.height} grid")
+    c = table.cell_id((x, y))
+    if table.blocked[c] or table.is_exit[c]:
+        raise ValueError(f"options['start']: cell {(x, y)} is blocked or an exit; start on an open cell")
+    return c
+
+
+def check_envs(n_envs: object, what: str, n_robots: object = 1, observe: object = "global") -> int:
+    """A vector env's env count, checked against the batch limits (``checks.check_batch``) before
+    any env exists: the "global" rows' size follows from ``n_robots`` alone (the batch engine
+    checks the other modes' once their observer is built)."""
+    n = check_int(n_envs, what, lo=1)
+    try:
+        robots = check_int(n_robots, "n_robots", lo=1)
+    except ValueError:
+        robots = 1  # the race env names a bad n_robots itself
+    check_batch(n, robots, 3 * robots - 1 if observe == "global" and robots > 1 else 2, what)
+    return n
+
+
+def check_actions(actions: Any, n_envs: int, n_robots: int) -> np.ndarray:
+    """``(n_envs, n_robots)`` actions, or a ``ValueError`` naming ``actions`` (nothing changes)."""
+    a = np.asarray(actions)
+    if a.shape != (n_envs * n_robots,):
+        raise ValueError(f"actions: expected an array of shape ({n_envs * n_robots},), one action per env, got shape {a.shape}")
+    if a.dtype.kind not in "iu":
+        raise ValueError(f"actions: expected integer actions ({ACTION_HELP}), got dtype {a.dtype}")
+    # one comparison: as unsigned, negative actions are huge
+    if np.count_nonzero(a.view(np.uint64) >= N_ACTIONS if a.dtype == np.int64 else (a < 0) | (a >= N_ACTIONS)):
+        k = int(np.flatnonzero((a < 0) | (a >= N_ACTIONS))[0])
+        raise ValueError(f"actions: must be integers in 0..{N_ACTIONS - 1} ({ACTION_HELP}), got {a[k]} at index {k}")
+    return a.astype(np.intp, copy=False).reshape(n_envs, n_robots)
+
+
+def seed_list(seed: object, n: int) -> list[int | None]:
+    """One seed (or None) per env from ``reset``'s ``seed`` argument."""
+    if seed is None or isinstance(seed, (bool, np.bool_, float, int, np.integer, np.floating)):
+        s = check_seed(seed)
+        return [None if s is None else s + i for i in range(n)]
+    if isinstance(seed, (str, bytes)) or not isinstance(seed, Sequence):
+        raise ValueError(f"seed: expected None, an int or a list of {n} ints, got {type(seed).__name__}")
+    if len(seed) != n:
+        raise ValueError(f"seed: a list of seeds needs one per env ({n}), got {len(seed)}")
+    return [check_seed(s, "seed: each seed") for s in seed]
+
+
+def mask_envs(reset_mask: object, n_envs: int, n_robots: int) -> np.ndarray:
+    """The envs to reset: all, or those of ``options["reset_mask"]`` (checked as ``SyncVectorEnv`` does)."""
+    if reset_mask is None:
+        return np.arange(n_envs)
+    if not isinstance(reset_mask, np.ndarray):
+        raise TypeError(f"options['reset_mask']: must be a numpy array, got {type(reset_mask).__name__}")
+    if reset_mask.shape != (n_envs * n_robots,):
+        raise ValueError(f"options['reset_mask']: must have shape ({n_envs * n_robots},), got {reset_mask.shape}")
+    if reset_mask.dtype != np.bool_:
+        raise TypeError(f"options['reset_mask']: must have dtype bool, got {reset_mask.dtype}")
+    if not reset_mask.any():
+        raise ValueError("options['reset_mask']: must contain at least one True value")
+    per_env = reset_mask.reshape(n_envs, n_robots)
+    if not (per_env == per_env[:, :1]).all():
+        raise ValueError("options['reset_mask']: the slots of one race are reset together; mask all or none of them")
+    return np.flatnonzero(per_env[:, 0])
+
+
+def check_cells(table: Table, cells: object, n: int, what: str, distinct: bool = True) -> list[int]:
+    """``n`` cells ``(x, y)`` as cell ids: each inside the grid, neither blocked nor an exit, and
+    (``distinct``) no two the same; else a ``ValueError`` naming ``what`` and what is allowed."""
+    allowed = f"{n} distinct open cells (x, y), one per robot, not blocked and not an exit"
+    if not isinstance(cells, Sequence) or isinstance(cells, (str, bytes)):
+        raise ValueError(f"{what}: expected a list of {allowed}, got {cells!r}")
+    if len(cells) != n:
+        raise ValueError(f"{what}: expected {allowed}; got {len(cells)} cells")
+    ids = []
+    for cell in cells:
+        try:
+            x, y = as_cell(cell, what)
+        except ValueError:
+            raise ValueError(f"{what}: expected {allowed}; {cell!r} is not a cell (x, y) of integers") from None
+        if not (0 <= x < table.width and 0 <= y < table.height):
+            raise ValueError(f"{what}: {(x, y)} is outside the {table.width}x{table.height} grid; expected {allowed}")
+        c = table.cell_id((x, y))
+        if table.blocked[c] or table.is_exit[c]:
+            raise ValueError(f"{what}: {(x, y)} is blocked or an exit; expected {allowed}")
+        ids.append(c)
+    if distinct and len(set(ids)) < len(ids):
+        raise ValueError(f"{what}: two robots share a cell; expected {allowed}")
+    return ids
+
+
+def check_sb3_autoreset(mode: object) -> None:
+    """``mode`` is Gymnasium's same-step auto-reset, the only one an SB3 ``VecEnv`` has; else a ``ValueError``."""
+    _, name = resolve_autoreset_mode(mode)
+    if name != SAME_STEP:
+        raise ValueError(
+            f"autoreset_mode: a Stable-Baselines3 VecEnv always resets an env in the step it ends (its last "
+            f"observation in infos[k]['terminal_observation']), which is 'same-step'; got {mode!r}"
+        )

@@ -1,0 +1,73 @@
+"""What an env's last step looks like: the ``Scene`` the renderers draw (``render.scene``).
+
+An env records its last step (``_last_step``); these functions turn that into each robot's cell,
+heading and pose, the marks of collisions, and for a race the legend. Pure functions of the env's
+state: the envs call them from ``_scene()``.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from ..core.engine import move
+from ..core.outcomes import BUMPED, MOVED
+from ..core.rng import SLOTS
+from ..render.panel import LegendRow
+from ..render.scene import POSE_OF_OUTCOME, RobotView, Scene
+
+
+def single_scene(env: Any) -> Scene:
+    """The single-robot env's scene: the robot, turned and posed by its last step."""
+    if env._cell < 0:
+        return Scene()
+    cell = env._xy[env._cell]
+    last = env._last_step
+    if last is None:
+        return Scene((RobotView(0, cell, numbered=False),), done=env._done)
+    prev, action, outcome = last
+    finished = bool(env._lists.is_exit[env._cell])
+    pose = "finished" if finished else ("idle" if outcome == MOVED and action == 0 else POSE_OF_OUTCOME[outcome])
+    view = RobotView(0, cell, action, pose, env._xy[prev], numbered=False)
+    return Scene((view,), done=env._done)
+
+
+def race_scene(env: Any) -> Scene:
+    """The race's scene: racing robots posed by their last step, finished robots at their exits
+    with their ranks, bursts where robots stopped each other, and the legend."""
+    if not env._rank:  # before the first reset
+        return Scene()
+    xy, cells, racing, n = env._xy, env._cells, env._racing, env.n_robots
+    heading, pose, came, marks = [0] * n, ["idle"] * n, [None] * n, []
+    if env._last_step is not None:
+        live, prev, acts, outcome, blocked, finishing, t = env._last_step
+        for k, i in enumerate(live):
+            heading[i], came[i] = acts[k], xy[prev[k]]
+            if finishing[k]:
+                pose[i] = "finished"
+            elif blocked[k]:
+                pose[i] = "bumped"
+                want = _desired(env._lists, prev[k], acts[k], env._key, t * n * SLOTS + i * SLOTS)
+                marks.append((xy[prev[k]], xy[want]))
+            else:
+                o = outcome[k]
+                pose[i] = "idle" if o == MOVED and acts[k] == 0 else POSE_OF_OUTCOME[o]
+    views = []
+    for i in range(n):
+        if not racing[i]:
+            pose[i] = "finished"
+        views.append(RobotView(i, xy[cells[i]], heading[i], pose[i], came[i], env._rank[i]))
+    live_returns = dict(zip(env._live, env._live_returns))
+    names = env.drawing.overlay.names
+    legend = tuple(
+        LegendRow(i, names.get(i, ""), live_returns.get(i, env._returns[i]), env._rank[i], racing[i]) for i in range(n)
+    )
+    return Scene(tuple(views), tuple(marks), legend, done=not env.agents)
+
+
+def _desired(lists: Any, cell: int, action: int, key: int, counter: int) -> int:
+    """Where a robot's move would have taken it before the collision rules (the same draw as the step)."""
+    sure = lists.sure[cell][action]
+    if sure is not None:
+        return sure[0]
+    to, outcome = move(lists, cell, action, key, counter)
+    return to if outcome != BUMPED else cell
