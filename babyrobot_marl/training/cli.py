@@ -35,6 +35,7 @@ from ..checks import check_batch
 from ..cli_args import int_in, non_negative_float, output_path, positive_float, unit_real
 from ..core.level import Level
 from ..envs.single import BabyRobotEnv
+from .checks import check_finite_sb3
 from .deps import INSTALL_HINT
 from .ppo import MAX_NEAR_RADIUS
 
@@ -354,7 +355,7 @@ def _sb3(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> dict
                                threads=args.threads or None, **({"n_envs": n_envs} if n_envs else {}), **ppo_kwargs)
             seconds, cpu = time.perf_counter() - t0, time.process_time() - c0
             timesteps, reached, points, target, score_name = int(agent.num_timesteps), None, [], RACE_TARGET, "win rate vs random"
-    _check_finite_sb3(agent, args)
+    check_finite_sb3(agent, args.lr)
     figures = _speed(args, level, timesteps, seconds, cpu, out)
     if single:
         figures.update(finish(agent, out, args, reached))
@@ -379,14 +380,3 @@ def _sb3(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> dict
 
     _outputs(args, level, policy, out, points, score_name, target, save, "model")
     return figures
-
-
-def _check_finite_sb3(agent: Any, args: argparse.Namespace) -> None:
-    """An SB3 model whose weights are no longer finite numbers is refused before it is evaluated or saved."""
-    from .ppo import _torch
-
-    torch = _torch()
-    if not all(bool(torch.isfinite(p).all()) for p in agent.policy.parameters()):
-        lr = f"--lr {args.lr:g}" if args.lr is not None else "--lr"
-        raise ValueError(f"{lr}: training diverged (the weights are no longer finite numbers); nothing was saved: "
-                         "try a smaller --lr")
