@@ -20,7 +20,7 @@ import pytest
 torch = pytest.importorskip("torch", reason="the train extra is not installed")  # CI installs it (test extra)
 
 from babyrobot_marl import BabyRobotEnv, cli, race_v0  # noqa: E402
-from babyrobot_marl.encodings import Encoder  # noqa: E402
+from babyrobot_marl.envs.encodings import Encoder  # noqa: E402
 from babyrobot_marl.training.deps import TORCH_CPU  # noqa: E402
 from babyrobot_marl.training.policy import load_checkpoint, load_policy  # noqa: E402
 from babyrobot_marl.training.ppo import PPOConfig, TrainingDivergedError, train_ppo  # noqa: E402
