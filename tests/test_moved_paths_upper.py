@@ -50,7 +50,7 @@ def test_nothing_in_the_package_imports_the_upper_shims():
 # What README, docs, examples, benchmarks and tests imported from training.ppo before it became a package
 PPO_NAMES = {
     "config": ["PPOConfig", "START_CHOICES"],
-    "inputs": ["Inputs", "make_inputs", "near_offsets", "MAX_NEAR_RADIUS"],
+    "inputs": ["Inputs", "make_inputs", "near_offsets"],
     "net": ["make_net", "log_softmax", "dense_input", "DENSE_LIMIT"],
     "sampler": ["PerKey", "Sampler", "distinct_rows", "TABLE_LIMIT"],
     "update": ["Samples", "ppo_gradients", "grads_of", "clip_grad_norm"],
@@ -67,6 +67,7 @@ def test_training_ppo_keeps_every_name_and_each_is_its_modules_object():
             assert getattr(ppo, name) is getattr(sub, name), name
     checks = importlib.import_module("babyrobot_marl.training.checks")
     assert ppo.TrainingDivergedError is checks.TrainingDivergedError and ppo.check_finite is checks.check_finite
+    assert ppo.MAX_NEAR_RADIUS is checks.MAX_NEAR_RADIUS == 4
     assert issubclass(ppo.TrainingDivergedError, ValueError)
 
 

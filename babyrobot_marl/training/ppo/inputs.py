@@ -9,9 +9,6 @@ from typing import Any
 import numpy as np
 
 from ...core.level import Level
-from ..checks import MAX_NEAR_RADIUS
-
-__all__ = ["MAX_NEAR_RADIUS", "Inputs", "make_inputs", "near_offsets"]
 
 
 def near_offsets(radius: int) -> tuple[tuple[int, int], ...]:
