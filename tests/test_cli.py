@@ -10,7 +10,9 @@ from pathlib import Path
 
 import pytest
 
-from babyrobot_marl import animation, cli, levels
+from babyrobot_marl import cli, levels
+from babyrobot_marl.cli import common
+from babyrobot_marl.play import screen
 from tests.streams import TextSink
 
 REPO = Path(__file__).resolve().parents[1]
@@ -118,10 +120,10 @@ def test_play_on_a_terminal_redraws_in_place_with_a_coloured_robot(capsys, monke
     monkeypatch.delenv("NO_COLOR", raising=False)
     assert run(["play", "--level", "default", "--policy", "shortest", "--seed", "0", "--no-delay"]) == 0
     out = capsys.readouterr().out
-    assert out.count(animation.CURSOR_HOME) == DEFAULT_SHORTEST_STEPS + 1
+    assert out.count(screen.CURSOR_HOME) == DEFAULT_SHORTEST_STEPS + 1
     assert "\x1b[1;31mR\x1b[0m" in out  # robot 0's colour in render.ansi
     assert out.endswith(f"{DEFAULT_SHORTEST_STEPS} steps, return {DEFAULT_SHORTEST_RETURN}, reached the exit\n")
-    assert animation.SHOW_CURSOR in out  # the cursor hidden for the animation comes back
+    assert screen.SHOW_CURSOR in out  # the cursor hidden for the animation comes back
 
 
 @pytest.mark.parametrize("how", ["flag", "env"])
@@ -135,26 +137,28 @@ def test_play_on_a_terminal_has_no_colour_with_no_color(capsys, monkeypatch, how
     assert run(argv) == 0
     out = capsys.readouterr().out
     assert "\x1b[1;" not in out
-    assert out.count(animation.CURSOR_HOME) == DEFAULT_SHORTEST_STEPS + 1  # still redrawn in place
+    assert out.count(screen.CURSOR_HOME) == DEFAULT_SHORTEST_STEPS + 1  # still redrawn in place
 
 
 def test_animate_pauses_between_frames_but_not_before_the_first():
     pauses: list[float] = []
-    shown = cli._animate(["a", "b", "c"], cli.Display(colour=False, clear=False, delay=0.25), TextSink(), pauses.append)
+    shown = screen.animate(["a", "b", "c"], screen.Display(colour=False, clear=False, delay=0.25), TextSink(), pauses.append)
     assert shown == 3
     assert pauses == [0.25, 0.25]
 
 
 def test_animate_off_a_terminal_separates_frames_with_a_blank_line():
     out = TextSink()
-    cli._animate(["a\nb", "c"], cli.Display(colour=False, clear=False, delay=0.0), out)
+    screen.animate(["a\nb", "c"], screen.Display(colour=False, clear=False, delay=0.0), out)
     assert out.text == "a\nb\n\nc\n"
 
 
-@pytest.mark.parametrize(("tty", "delay", "expected"), [(True, None, cli.DEFAULT_DELAY), (False, None, 0.0), (False, 0.5, 0.5)])
+@pytest.mark.parametrize(
+    ("tty", "delay", "expected"), [(True, None, screen.DEFAULT_DELAY), (False, None, 0.0), (False, 0.5, 0.5)]
+)
 def test_default_delay_applies_on_a_terminal_only_and_an_explicit_delay_always(tty, delay, expected):
     args = cli.build_parser().parse_args(["play"] + ([] if delay is None else ["--delay", str(delay)]))
-    assert cli._display(args, TextSink(tty=tty)).delay == expected
+    assert common.display_of(args, TextSink(tty=tty)).delay == expected
 
 
 # ------------------------------------------------------------------------ the command itself

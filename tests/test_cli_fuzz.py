@@ -20,7 +20,7 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from babyrobot_marl.checks import MAX_LEVEL_TEXT_CHARS
+from babyrobot_marl.core.checks import MAX_LEVEL_TEXT_CHARS
 
 REPO = Path(__file__).resolve().parents[1]
 TIME_LIMIT = 60  # seconds per run: generous on a loaded machine; a hang (a FIFO read, /dev/zero) exceeds it

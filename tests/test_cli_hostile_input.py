@@ -12,7 +12,8 @@ from pathlib import Path
 import pytest
 
 from babyrobot_marl import cli, levels
-from babyrobot_marl.checks import MAX_LEVEL_TEXT_CHARS
+from babyrobot_marl.cli import levels as levels_command
+from babyrobot_marl.core.checks import MAX_LEVEL_TEXT_CHARS
 
 REPO = Path(__file__).resolve().parents[1]
 TINY = "+-+-+\n|S E|\n+-+-+\n"
@@ -141,7 +142,7 @@ def test_an_unwritable_output_path_is_one_error_line_not_a_traceback(capsys, mon
     def fail(args, out):
         raise PermissionError(13, "Permission denied", "/root/x.zip")
 
-    monkeypatch.setattr(cli, "_cmd_levels", fail)
+    monkeypatch.setattr(levels_command, "run", fail)
     assert run(["levels"]) == 2
     assert "Permission denied" in one_error_line(capsys.readouterr().err)
 
@@ -150,7 +151,7 @@ def test_running_out_of_memory_is_one_error_line_not_a_traceback(capsys, monkeyp
     def fail(args, out):
         raise MemoryError
 
-    monkeypatch.setattr(cli, "_cmd_levels", fail)
+    monkeypatch.setattr(levels_command, "run", fail)
     assert run(["levels"]) == 2
     assert "out of memory" in one_error_line(capsys.readouterr().err)
 
@@ -171,7 +172,6 @@ def test_races_past_the_limit_or_not_a_count_are_one_error_line_naming_the_limit
 
 
 def test_races_at_the_limit_are_accepted_by_the_argument_parser():
-    from babyrobot_marl.checks import MAX_RACES
-    from babyrobot_marl.cli_args import race_count
+    from babyrobot_marl.cli.checks import MAX_RACES, race_count
 
     assert race_count(str(MAX_RACES)) == MAX_RACES == 100_000

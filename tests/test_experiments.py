@@ -123,7 +123,7 @@ def test_summary_is_plain_numbers():
 
 
 def test_named_policies_act_on_the_level_drawn_for_each_race():
-    from babyrobot_marl.level_sources import maze_family
+    from babyrobot_marl.levels.sources import maze_family
 
     stats = run_races(maze_family(6, 6, seeds=range(20)), ["shortest"], n_races=10, seed=0, start="random")
     assert stats.level == "maze-6x6-*"

@@ -1,4 +1,4 @@
-"""The fast PPO trainer (training/ppo.py): it learns, its gradient is PPO's, its input is the env's
+"""The fast PPO trainer (the training/ppo/ package): it learns, its gradient is PPO's, its input is the env's
 observation as a one-hot, it is deterministic, and a saved policy acts as the trained one."""
 
 from __future__ import annotations

@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import functools
 import importlib
 from types import ModuleType
+from typing import Any
 
 TRAIN_EXTRA = ("stable_baselines3", "supersuit", "imageio")
 # torch first, from PyTorch's CPU index: '[train]' alone pulls torch's CUDA build from PyPI (about 3 GB)
@@ -28,3 +30,10 @@ def require_train(*modules: str) -> list[ModuleType]:
     if missing:
         raise MissingTrainExtraError(f"this needs {', '.join(missing)} (the 'train' extra): {INSTALL_HINT}")
     return found
+
+
+@functools.cache
+def torch_module() -> Any:
+    """torch, imported once (``MissingTrainExtraError`` without it): the trainer's and the policies' one way to it."""
+    (torch,) = require_train("torch")
+    return torch

@@ -15,7 +15,8 @@ import numpy as np
 
 from ..core.level import Level
 from ..policies import POLICY_NAMES, shortest_path_actions
-from .ppo import _torch, make_batch, torch_threads
+from .deps import torch_module
+from .ppo.loop import make_batch, torch_threads
 
 
 @dataclass(frozen=True)
@@ -40,7 +41,7 @@ def race_rates(
 
 
 def _race_rates(policy: Any, level: Level, n_robots: int, opponent: str, races: int, seed: int, start: str) -> RaceRates:
-    torch = _torch()
+    torch = torch_module()
     batch = make_batch(level, n_robots, races, start, seed)
     rng = np.random.default_rng(seed)
     shortest = shortest_path_actions(batch.table) if "shortest" in (opponent, policy) else None

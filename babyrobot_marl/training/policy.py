@@ -22,24 +22,26 @@ from __future__ import annotations
 
 import os
 import warnings
-from dataclasses import asdict, fields
+from dataclasses import asdict
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from ..checks import MAX_LEVEL_CELLS, MAX_LEVEL_TEXT_CHARS, shown
-from ..core.actions import N_ACTIONS
+from ..core.checks import shown
 from ..core.table import Table
-from .ppo import Inputs, PerKey, PPOConfig, _torch, make_net, near_offsets
+from .checks import TRAINED_ON, check_fields, check_weights
+from .deps import torch_module
+from .ppo.config import PPOConfig
+from .ppo.inputs import Inputs, near_offsets
+from .ppo.net import make_net, weight_shapes
+from .ppo.sampler import PerKey
 
 FORMAT = "babyrobot_marl.ppo"
 # 3: the file records the observation form the policy reads; 2: a race policy sees the robots near
 # it (version 1 read every robot's cell)
 VERSION = 3
-# the observation form the fast trainer's policies read: the global MultiDiscrete rows (robot's [x, y],
-# then [x, y, finished] of every other robot)
-TRAINED_ON = {"observe": "global", "obs_encoding": "multidiscrete"}
+# a file's fields (checks.FIELDS) and the observation form it records (checks.TRAINED_ON) are checked in checks
 
 
 class Decoder:
@@ -149,7 +151,7 @@ class TrainedPolicy:
         self.deterministic = deterministic
         self.rng = np.random.default_rng(seed)
         self.decoder = decoder or Decoder(inputs)
-        torch = _torch()
+        torch = torch_module()
         # the probabilities per input: a table over every input when there are few (one forward pass)
         self.probs = PerKey(inputs, lambda rows: torch.softmax(net.actor(rows), 1).double())
         if self.probs.table is not None:
@@ -196,7 +198,7 @@ class TrainedPolicy:
 
 def save_policy(result: Any, path: str | os.PathLike) -> str:
     """Write a ``TrainResult``'s network and what it was trained on to ``path`` exactly; returns ``path``."""
-    torch = _torch()
+    torch = torch_module()
     level = result.level
     data = {
         "format": FORMAT,
@@ -220,7 +222,7 @@ def save_policy(result: Any, path: str | os.PathLike) -> str:
 def load_checkpoint(path: str | os.PathLike) -> dict[str, Any]:
     """The saved data, every field checked: a ``ValueError`` naming ``policy``, the file and the field
     for anything that is not a policy this version reads."""
-    torch = _torch()
+    torch = torch_module()
     p = Path(path)
     if not p.is_file():
         raise ValueError(f"policy: no such policy file {str(path)!r}")
@@ -240,81 +242,12 @@ def load_checkpoint(path: str | os.PathLike) -> dict[str, Any]:
     if version not in (1, 2, VERSION):
         raise ValueError(f"policy: {str(path)!r} has format version {version!r}; this version reads {VERSION}")
     try:
-        _check_fields(data, version)
+        check_fields(data, version, PPOConfig)
+        arch = tuple(data["net_arch"])
+        check_weights(data["state_dict"], weight_shapes(inputs_of(data).n_in, arch), arch)
     except ValueError as err:
         raise ValueError(f"policy: {str(path)!r} is a broken policy file: {err}") from None
     return data
-
-
-FIELDS = ("format", "version", "width", "height", "level", "level_name", "n_robots", "net_arch", "config", "timesteps",
-          "state_dict")
-
-
-def _check_fields(data: dict[str, Any], version: int) -> None:
-    """Each field of saved data as ``save_policy`` writes it (its ``ValueError`` names the field)."""
-    expected = FIELDS + (("observation",) if version >= 3 else ())
-    missing, unknown = [k for k in expected if k not in data], [k for k in data if k not in expected]
-    if missing or unknown:
-        raise ValueError(f"{'missing' if missing else 'unknown'} field {shown((missing or unknown)[0])}")
-    w, h, n = (_int_field(data, k, 1, hi) for k, hi in (("width", MAX_LEVEL_CELLS), ("height", MAX_LEVEL_CELLS),
-                                                         ("n_robots", None)))
-    if w * h > MAX_LEVEL_CELLS:
-        raise ValueError(f"width, height: a level has at most {MAX_LEVEL_CELLS:,} cells, got {w}x{h}")
-    _int_field(data, "timesteps", 0, None)
-    for key in ("level", "level_name"):
-        if not isinstance(data[key], str) or len(data[key]) > MAX_LEVEL_TEXT_CHARS:
-            raise ValueError(f"{key}: must be a text, got {shown(data[key])}")
-    if version >= 3 and data["observation"] != TRAINED_ON:
-        raise ValueError(f"observation: this version reads policies of {TRAINED_ON}, got {shown(data['observation'])}")
-    arch = data["net_arch"]
-    if not isinstance(arch, (list, tuple)) or not all(type(x) is int and x >= 1 for x in arch):
-        raise ValueError(f"net_arch: must be a list of layer sizes >= 1, got {shown(arch)}")
-    config = data["config"]
-    if not isinstance(config, dict) or not set(config) <= {f.name for f in fields(PPOConfig)}:
-        raise ValueError(f"config: must be the PPO settings the policy was trained with, got {shown(config)}")
-    if n > 1 and "near_radius" not in config:
-        raise ValueError("config: a race policy's settings name its near_radius")
-    try:
-        PPOConfig(**{k: tuple(v) if k == "net_arch" and isinstance(v, list) else v for k, v in config.items()})
-    except (TypeError, ValueError) as err:
-        raise ValueError(f"config: {err}") from None
-    near = near_offsets(config.get("near_radius", 0)) if n > 1 else ()
-    _check_weights(data["state_dict"], Inputs(w, h, near).n_in, tuple(arch))
-
-
-def _int_field(data: dict[str, Any], key: str, lo: int, hi: int | None) -> int:
-    value = data[key]
-    if type(value) is not int or value < lo or (hi is not None and value > hi):
-        raise ValueError(f"{key}: must be an integer >= {lo}{'' if hi is None else f' and <= {hi:,}'}, got {shown(value)}")
-    return value
-
-
-def weight_shapes(n_in: int, net_arch: tuple[int, ...]) -> dict[str, tuple[int, ...]]:
-    """The name and shape of every tensor of ``make_net(n_in, net_arch)``'s state dict (without building it)."""
-    shapes = {}
-    for part, out in (("actor", N_ACTIONS), ("critic", 1)):
-        sizes = [*net_arch, out]
-        shapes[f"{part}.first"], shapes[f"{part}.first_bias"] = (n_in + 1, sizes[0]), (sizes[0],)
-        for i, (a, b) in enumerate(zip(sizes[:-1], sizes[1:])):
-            shapes[f"{part}.layers.{i}.weight"], shapes[f"{part}.layers.{i}.bias"] = (b, a), (b,)
-    return shapes
-
-
-def _check_weights(state: Any, n_in: int, net_arch: tuple[int, ...]) -> None:
-    torch = _torch()
-    shapes = weight_shapes(n_in, net_arch)
-    if not isinstance(state, dict) or set(state) != set(shapes):
-        got = sorted(state)[:8] if isinstance(state, dict) else type(state).__name__
-        raise ValueError(f"state_dict: must hold the tensors {sorted(shapes)} of layers {list(net_arch)}, got {shown(got, 200)}")
-    for name, shape in shapes.items():
-        t = state[name]
-        if not isinstance(t, torch.Tensor) or t.dtype != torch.float32 or tuple(t.shape) != shape:
-            got = f"{t.dtype} {tuple(t.shape)}" if isinstance(t, torch.Tensor) else type(t).__name__
-            raise ValueError(f"state_dict: {name} must be a float32 tensor of shape {shape}, got {got}")
-        if not bool(torch.isfinite(t).all()):
-            raise ValueError(f"state_dict: {name} holds non-finite weights (NaN or infinity: a training that diverged)")
-    if bool((state["actor.first"][n_in] != 0).any() or (state["critic.first"][n_in] != 0).any()):
-        raise ValueError("state_dict: the padding row of the first layer must be zero")
 
 
 def inputs_of(data: dict[str, Any]) -> Inputs:

@@ -31,7 +31,7 @@ from typing import Any
 import numpy as np
 
 from .. import policies
-from ..checks import check_int
+from ..core.checks import check_int
 from ..core.level import Level
 from ..envs.race import RaceEnv
 from .deps import require_train
@@ -126,7 +126,7 @@ def train_race(
     """Train one PPO policy shared by all robots; returns the SB3 model. Robots start on random
     free cells (``start="random"``) unless ``race_kwargs`` say otherwise. ``threads``: torch threads
     while training (default 1: more stall for minutes on a busy machine; None: torch's setting)."""
-    from .ppo import torch_threads
+    from .ppo.loop import torch_threads
 
     check_int(steps, "steps", 1)
     venv = make_race_vec_env(level, n_robots, n_envs, seed, backend, **{"start": "random", **(race_kwargs or {})})

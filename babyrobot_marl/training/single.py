@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from ..checks import check_int
+from ..core.checks import check_int
 from ..core.level import Level
 from ..envs.single import BabyRobotEnv
 from ..planning import model, value_iteration
@@ -111,7 +111,7 @@ def train_single(
     own one-hots of ``x`` and ``y``). ``threads``: torch threads while training (default 1: more
     stall for minutes on a busy machine; None: torch's setting), restored afterwards."""
     from ..envs.vector import sb3_vec_env
-    from .ppo import torch_threads
+    from .ppo.loop import torch_threads
 
     check_int(steps, "steps", 1)
     if features not in FEATURES:

@@ -16,8 +16,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..checks import check_int
 from ..core.actions import N_ACTIONS
+from ..core.checks import check_int
 from ..envs.single import BabyRobotEnv
 
 

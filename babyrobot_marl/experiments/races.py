@@ -1,92 +1,20 @@
-"""Experiments: N seeded races of given policies, with per-robot and per-race metrics and 95% intervals.
-
-    from babyrobot_marl import experiments
-    stats = experiments.run_races("race-4", ["shortest", "shortest", "random", "random"], n_races=200, seed=0)
-    print(stats.table())
-    stats.plot()  # matplotlib (the "plot" extra), imported only here
-
-Per robot, over the races: win rate (first to finish, alone), tie rate (first together with
-others), finish rate, mean rank (a robot that did not finish ranks after every robot that did),
-mean steps to finish (finishers only), mean return, and mean steps blocked by other robots.
-Per race: makespan (steps until the last robot finished; the race's length when some did not),
-sum of costs (each robot's steps until it finished, or the race's length), collisions (steps in
-which some robot was stopped by another), and the rate of races every robot finished.
-
-Intervals are 95%: Wilson score intervals for rates, mean +- 1.96 standard errors for means
-(normal approximation: read them as rough below some 30 races), truncated at the range the
-figure can take (counts of steps and collisions >= 0, steps to finish >= 1, ranks 1..robots):
-a mean near a bound gets a one-sided interval, never one that reaches past it. Race ``i`` resets the env with
-seed ``seed + i``; a ``"random"`` robot ``k`` of race ``i`` draws from ``default_rng([seed, i, k])``,
-so every figure is reproducible.
-"""
+"""N seeded races of given policies: per-robot and per-race metrics (``RaceStats``), as a table or a plot."""
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
-from . import policies as policy_module
-from .core.level import Level
-from .envs.race import RaceEnv
-
-Z95 = 1.959963984540054  # the two-sided 95% normal quantile
+from .. import policies as policy_module
+from ..core.checks import check_int
+from ..core.level import Level
+from ..envs.race import RaceEnv
+from .stats import Metric, mean_metric, rate_metric
 
 Policy = Callable[[np.ndarray], int]
-
-
-def wilson(successes: int, n: int, z: float = Z95) -> tuple[float, float]:
-    """The Wilson score interval of a rate ``successes / n`` (``(nan, nan)`` for ``n = 0``)."""
-    if n == 0:
-        return (math.nan, math.nan)
-    p = successes / n
-    centre = (p + z * z / (2 * n)) / (1 + z * z / n)
-    half = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
-    low, high = centre - half, centre + half
-    return (0.0 if successes == 0 else max(0.0, low), 1.0 if successes == n else min(1.0, high))  # exact at the ends
-
-
-def mean_interval(
-    values: Sequence[float], z: float = Z95, lo: float = -math.inf, hi: float = math.inf
-) -> tuple[float, float, float]:
-    """``(mean, low, high)``: the mean +- ``z`` standard errors (``nan`` where undefined), truncated
-    at ``lo`` and ``hi``, the range the values (and so their mean) can take."""
-    x = np.asarray(values, dtype=np.float64)
-    if x.size == 0:
-        return (math.nan, math.nan, math.nan)
-    m = float(x.mean())
-    if x.size == 1:
-        return (m, math.nan, math.nan)
-    half = z * float(x.std(ddof=1)) / math.sqrt(x.size)
-    return (m, max(lo, m - half), min(hi, m + half))
-
-
-@dataclass(frozen=True)
-class Metric:
-    """A figure with its 95% interval."""
-
-    value: float
-    low: float
-    high: float
-
-    def __str__(self) -> str:
-        if math.isnan(self.value):
-            return "-"
-        if math.isnan(self.low):
-            return f"{self.value:.3g}"
-        return f"{self.value:.3g} [{self.low:.3g}, {self.high:.3g}]"
-
-
-def _rate(successes: int, n: int) -> Metric:
-    low, high = wilson(successes, n)
-    return Metric(successes / n if n else math.nan, low, high)
-
-
-def _mean(values: Sequence[float], lo: float = -math.inf, hi: float = math.inf) -> Metric:
-    return Metric(*mean_interval(values, lo=lo, hi=hi))
 
 
 @dataclass
@@ -129,13 +57,13 @@ class RaceStats:
         return {
             "robot": f"robot_{k}",
             "policy": self.policies[k],
-            "win rate": _rate(len(firsts) - tied, n),
-            "tie rate": _rate(tied, n),
-            "finish rate": _rate(len(finished), n),
-            "mean rank": _mean(ranks, 1, len(self.policies)),
-            "steps to finish": _mean([r.finish_steps[k] for r in finished], 1),
-            "return": _mean([r.returns[k] for r in recs]),  # any sign: the rules set the rewards
-            "blocked steps": _mean([r.blocked[k] for r in recs], 0),
+            "win rate": rate_metric(len(firsts) - tied, n),
+            "tie rate": rate_metric(tied, n),
+            "finish rate": rate_metric(len(finished), n),
+            "mean rank": mean_metric(ranks, 1, len(self.policies)),
+            "steps to finish": mean_metric([r.finish_steps[k] for r in finished], 1),
+            "return": mean_metric([r.returns[k] for r in recs]),  # any sign: the rules set the rewards
+            "blocked steps": mean_metric([r.blocked[k] for r in recs], 0),
         }
 
     def _race(self) -> dict[str, Metric]:
@@ -143,10 +71,10 @@ class RaceStats:
         costs = [sum(f or r.steps for f in r.finish_steps) for r in recs]
         makespans = [max(r.finish_steps) if all(r.finish_steps) else r.steps for r in recs]
         return {
-            "makespan": _mean(makespans, 0),
-            "sum of costs": _mean(costs, 0),
-            "collisions": _mean([r.collisions for r in recs], 0),
-            "all finished": _rate(sum(1 for r in recs if all(r.finish_steps)), len(recs)),
+            "makespan": mean_metric(makespans, 0),
+            "sum of costs": mean_metric(costs, 0),
+            "collisions": mean_metric([r.collisions for r in recs], 0),
+            "all finished": rate_metric(sum(1 for r in recs if all(r.finish_steps)), len(recs)),
         }
 
     def table(self) -> str:
@@ -197,10 +125,7 @@ def run_races(
     for p in policies:
         if not callable(p) and p not in policy_module.POLICY_NAMES:
             raise ValueError(f"policies: {p!r} is neither a policy name ({', '.join(policy_module.POLICY_NAMES)}) nor callable")
-    if isinstance(n_races, bool) or not isinstance(n_races, int) or n_races < 1:
-        raise ValueError(f"n_races: must be an integer >= 1, got {n_races!r}")
-    if isinstance(seed, bool) or not isinstance(seed, int) or seed < 0:
-        raise ValueError(f"seed: must be an integer >= 0, got {seed!r}")
+    n_races, seed = check_int(n_races, "n_races", 1), check_int(seed, "seed", 0)
     if "n_robots" in env_kwargs:
         raise ValueError("n_robots: given by the number of policies")
     env = RaceEnv(level=level, n_robots=len(policies), **env_kwargs)

@@ -1,0 +1,168 @@
+"""The command line's checks. Argument types: each turns one command-line string into a checked
+value or raises ``argparse.ArgumentTypeError`` with a one-line reason (argparse then exits with
+status 2). Bad text of any length or digit count gets this reason, never a traceback. Then the
+checks across arguments (``check_train_args``): a ``ValueError`` naming the flag, before any long work.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+from collections.abc import Callable
+
+from .. import policies
+from ..core.checks import check_batch, shown
+from ..training.policy import is_policy_spec
+
+MAX_RACES = 100_000  # races of one `race --races N`: run one after another, each kept for the table
+
+
+def int_at_least(minimum: int) -> Callable[[str], int]:
+    """An argparse type: an integer >= ``minimum``."""
+
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:  # not an integer, or more than Python's 4,300 digits
+            value = minimum - 1
+        if value < minimum:
+            raise argparse.ArgumentTypeError(f"must be an integer >= {minimum}, got {shown(text)}")
+        return value
+
+    return parse
+
+
+non_negative_int = int_at_least(0)
+positive_int = int_at_least(1)
+
+
+def int_in(minimum: int, maximum: int, why: str = "") -> Callable[[str], int]:
+    """An argparse type: an integer in ``minimum..maximum``; ``why`` says where the maximum comes from."""
+
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:  # not an integer, or more than Python's 4,300 digits
+            value = minimum - 1
+        if not minimum <= value <= maximum:
+            raise argparse.ArgumentTypeError(f"must be an integer in {minimum}..{maximum:,}{why}, got {shown(text)}")
+        return value
+
+    return parse
+
+
+# `race --races N`: every race is kept for the metrics table, one after another
+race_count = int_in(1, MAX_RACES, " (races run one after another: split a larger experiment into seeded runs)")
+
+
+def _number(text: str) -> float:
+    try:
+        return float(text)
+    except ValueError:
+        return math.nan
+
+
+def seconds(text: str) -> float:
+    value = _number(text)
+    if not math.isfinite(value) or value < 0:  # nan, inf and negative delays make no animation
+        raise argparse.ArgumentTypeError(f"must be a number of seconds >= 0, got {shown(text)}")
+    return value
+
+
+def probability(text: str) -> float:
+    value = _number(text)
+    if not 0.0 < value <= 1.0:
+        raise argparse.ArgumentTypeError(f"must be a number in (0, 1], got {shown(text)}")
+    return value
+
+
+def positive_float(text: str) -> float:
+    value = _number(text)
+    if not 0.0 < value < math.inf:
+        raise argparse.ArgumentTypeError(f"must be a number > 0, got {shown(text)}")
+    return value
+
+
+def non_negative_float(text: str) -> float:
+    value = _number(text)
+    if not 0.0 <= value < math.inf:
+        raise argparse.ArgumentTypeError(f"must be a number >= 0, got {shown(text)}")
+    return value
+
+
+def unit_real(text: str) -> float:
+    """A number in [0, 1] (a discount, GAE's lambda)."""
+    value = _number(text)
+    if not 0.0 <= value <= 1.0:
+        raise argparse.ArgumentTypeError(f"must be a number in [0, 1], got {shown(text)}")
+    return value
+
+
+def output_path(text: str) -> str:
+    """A file to write after a long run (``train --save``, ``--gif``, ``--curve``): its folder must exist
+    and be writable now, and the path must not be a folder, so that nothing is lost at the end."""
+    folder = os.path.dirname(text) or "."
+    try:
+        is_dir, folder_ok, writable = os.path.isdir(text), os.path.isdir(folder), os.access(folder, os.W_OK)
+    except (OSError, ValueError):  # a NUL byte, a name too long
+        is_dir, folder_ok, writable = False, False, False
+    if not text or is_dir:
+        raise argparse.ArgumentTypeError(f"must be a file's path, got {shown(text)}" + (" (a folder)" if is_dir else ""))
+    if not folder_ok:
+        raise argparse.ArgumentTypeError(f"no such folder {shown(folder)} for {shown(text)}; create it first")
+    if not writable:
+        raise argparse.ArgumentTypeError(f"the folder {shown(folder)} is not writable")
+    return text
+
+
+def policy_spec(text: str) -> str:
+    """``--policy``: a scripted policy, ``keys`` (you drive), or the path of a saved policy."""
+    if text != "keys" and not is_policy_spec(text):
+        raise argparse.ArgumentTypeError(
+            f"invalid choice: {shown(text)} (choose from {', '.join(policies.POLICY_NAMES)}, keys, or the path of a saved policy)"
+        )
+    return text
+
+
+def policy_list(text: str) -> list[str]:
+    """``random,shortest,...``: scripted policy names or saved policies' paths, comma-separated."""
+    names = [p.strip() for p in text.split(",")]
+    bad = [p for p in names if not is_policy_spec(p)]
+    if bad:
+        raise argparse.ArgumentTypeError(
+            f"unknown policy {shown(bad[0])}; give a comma-separated list of {', '.join(policies.POLICY_NAMES)} "
+            "or paths of saved policies"
+        )
+    return names
+
+
+def layer_sizes(text: str) -> tuple[int, ...]:
+    """``--net-arch``: hidden layer sizes such as ``64,64``."""
+    try:
+        sizes = tuple(int(s) for s in text.split(",") if s.strip())
+    except ValueError:
+        sizes = (0,)
+    if not sizes or min(sizes) < 1:
+        raise argparse.ArgumentTypeError(f"must be layer sizes such as 64,64, got {text!r}")
+    return sizes
+
+
+def check_train_args(args: argparse.Namespace, n_envs: int) -> None:
+    """What ``train``'s argument types cannot check alone, before any training (errors name the flags);
+    ``n_envs``: the envs of one rollout of the chosen backend."""
+    if args.algo == "dqn" and (args.backend != "sb3" or args.robots > 1):
+        raise ValueError("--algo dqn: only for one robot with --backend sb3")
+    if args.robots > 1 and args.gif:
+        raise ValueError("--gif: a GIF is written for one robot only; drop --gif for a race")
+    if args.load and args.backend != "fast":
+        raise ValueError("--load: starting from a saved policy needs --backend fast")
+    if args.near_radius is not None and args.backend != "fast":
+        raise ValueError("--near-radius: only the fast backend's race input has it; drop it or use --backend fast")
+    if args.near_radius is not None and args.robots == 1:
+        raise ValueError(f"--near-radius: a lone robot (--robots 1) sees no other robot; drop --near-radius or race "
+                         f"--robots 2 or more (--near-radius {args.near_radius})")
+    n, obs = args.robots, 3 * args.robots - 1 if args.robots > 1 else 2  # the envs' global rows
+    check_batch(n_envs, n, obs, what="--n-envs")
+    if n > 1:  # the final evaluation races every race at once in one batch
+        check_batch(args.episodes or 100, n, obs, what="--episodes")

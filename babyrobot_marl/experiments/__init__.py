@@ -1,0 +1,26 @@
+"""Experiments: N seeded races of given policies, with per-robot and per-race metrics and 95% intervals.
+
+    from babyrobot_marl import experiments
+    stats = experiments.run_races("race-4", ["shortest", "shortest", "random", "random"], n_races=200, seed=0)
+    print(stats.table())
+    stats.plot()  # matplotlib (the "plot" extra), imported only here
+
+Per robot, over the races: win rate (first to finish, alone), tie rate (first together with
+others), finish rate, mean rank (a robot that did not finish ranks after every robot that did),
+mean steps to finish (finishers only), mean return, and mean steps blocked by other robots.
+Per race: makespan (steps until the last robot finished; the race's length when some did not),
+sum of costs (each robot's steps until it finished, or the race's length), collisions (steps in
+which some robot was stopped by another), and the rate of races every robot finished.
+
+Intervals are 95%: Wilson score intervals for rates, mean +- 1.96 standard errors for means
+(normal approximation: read them as rough below some 30 races), truncated at the range the
+figure can take (counts of steps and collisions >= 0, steps to finish >= 1, ranks 1..robots):
+a mean near a bound gets a one-sided interval, never one that reaches past it. Race ``i`` resets the env with
+seed ``seed + i``; a ``"random"`` robot ``k`` of race ``i`` draws from ``default_rng([seed, i, k])``,
+so every figure is reproducible.
+"""
+
+from .races import Policy, RaceRecord, RaceStats, run_races, summary
+from .stats import Z95, Metric, mean_interval, wilson
+
+__all__ = ["Z95", "Metric", "Policy", "RaceRecord", "RaceStats", "mean_interval", "run_races", "summary", "wilson"]

@@ -1,0 +1,231 @@
+"""``train_ppo``: one loop, read top to bottom as CleanRL's ``ppo.py``: set-up, then per rollout: the rollout
+(``Sampler``), advantages (``gae``), the update (``ppo_gradients`` over minibatches), evaluation.
+
+The pieces it calls are the modules beside it: ``config`` (``PPOConfig``), ``inputs`` (``Inputs``: a
+robot-step's key), ``net`` (the actor-critic), ``sampler`` (the policy as a table while the weights stay
+fixed), ``update`` (GAE and the PPO gradient), ``result`` (``TrainResult``, ``EvalPoint``).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import math
+import time
+from collections import deque
+from collections.abc import Callable, Iterator
+from typing import Any
+
+import numpy as np
+
+from ...core.batch import BatchRace
+from ...core.checks import check_int
+from ...core.level import Level
+from ...levels.resolve import resolve_level
+from ..checks import check_finite
+from ..deps import torch_module
+from .config import PPOConfig, known_settings
+from .inputs import make_inputs
+from .net import log_softmax, make_net
+from .result import EvalPoint, TrainResult
+from .sampler import PerKey, Sampler, distinct_rows
+from .update import Samples, clip_grad_norm, gae, grads_of, ppo_gradients
+
+
+@contextlib.contextmanager
+def torch_threads(threads: int | None) -> Iterator[None]:
+    """Run with ``threads`` torch threads (None: leave torch's setting), restored afterwards."""
+    torch = torch_module()
+    before = torch.get_num_threads()
+    if threads is not None:
+        torch.set_num_threads(threads)
+    try:
+        yield
+    finally:
+        torch.set_num_threads(before)
+
+
+@contextlib.contextmanager
+def _deterministic(seed: int) -> Iterator[None]:
+    torch = torch_module()
+    # torch's CPU kernels used here are deterministic at a fixed thread count; only the generator
+    # needs seeding (torch.use_deterministic_algorithms would import torch's compiler: 3 s)
+    torch.manual_seed(seed)
+    yield
+
+
+def make_batch(level: Level, n_robots: int, n_envs: int, start: str, seed: int, **env_kwargs: Any) -> BatchRace:
+    """``n_envs`` envs of ``level`` on the batch engine (one robot: ``BabyRobot-v0``; more: ``race_v0``
+    with ``finished="freeze"``), env ``i`` seeded ``seed + i``, every episode started."""
+    from ...envs.race import RaceEnv
+    from ...envs.single import BabyRobotEnv
+
+    if n_robots == 1:
+        batch = BabyRobotEnv(level=level, start="random" if start == "random" else None, **env_kwargs).batch(n_envs)
+    else:
+        batch = RaceEnv(level=level, n_robots=n_robots, start=start, finished="freeze", **env_kwargs).batch(n_envs)
+    batch.seed([seed + i for i in range(n_envs)])
+    batch.reset_envs(np.arange(n_envs))
+    return batch
+
+
+def train_ppo(
+    level: str | Level = "maze-8x8",
+    n_robots: int = 1,
+    timesteps: int = 100_000,
+    seed: int = 0,
+    config: PPOConfig | None = None,
+    evaluate: Callable[[TrainResult], float] | None = None,
+    target: float | None = None,
+    stop_at_target: bool = False,
+    max_seconds: float | None = None,
+    on_update: Callable[[int, float, float], None] | None = None,
+    on_eval: Callable[[EvalPoint], None] | None = None,
+    init: Any = None,
+    env_kwargs: dict[str, Any] | None = None,
+    **overrides: Any,
+) -> TrainResult:
+    """Train PPO for ``timesteps`` robot-steps (SB3's ``num_timesteps``: one per robot per step).
+
+    ``config`` (default ``PPOConfig()``) with keyword ``overrides`` (``n_envs=16, ...``).
+    ``evaluate(result) -> score`` runs every ``config.eval_every`` timesteps and at the end (its
+    time is not training time); ``target``: the score to reach (``result.reached``), training
+    stops there if ``stop_at_target``; ``max_seconds``: stop after this much training time.
+    ``on_update(timesteps, seconds, mean_return)`` after each update, ``on_eval(point)`` after
+    each evaluation. ``init``: a network (``make_net`` layout) to start from, e.g. a loaded policy's.
+    ``env_kwargs`` go to the env (``max_steps``/``max_cycles``, rules, ``collisions``).
+    """
+    torch = torch_module()
+    cfg = config or PPOConfig()
+    if overrides:
+        cfg = cfg.replace(**known_settings(overrides, "train_ppo"))
+    level = resolve_level(level)
+    n = check_int(n_robots, "n_robots", 1)
+    total = check_int(timesteps, "timesteps", 1)
+    check_int(seed, "seed", 0)
+    batch = make_batch(level, n, cfg.n_envs, cfg.start, seed, **(env_kwargs or {}))
+    inputs = make_inputs(level, n, cfg.near_radius)
+    E, T = cfg.n_envs, cfg.n_steps
+    rng = np.random.default_rng(seed)  # actions
+
+    with torch_threads(cfg.threads), _deterministic(seed):
+        net = make_net(inputs.n_in, cfg.net_arch)
+        if init is not None:
+            if init.n_in != net.n_in or tuple(init.net_arch) != cfg.net_arch:
+                raise ValueError(
+                    f"init: the network has {init.n_in} inputs and layers {init.net_arch}; this run needs "
+                    f"{net.n_in} inputs ({level.width}x{level.height}, {n} robot(s), near_radius "
+                    f"{cfg.near_radius}) and layers {cfg.net_arch}"
+                )
+            net.load_state_dict(init.state_dict())
+        params = list(net.parameters())
+        optim = torch.optim.Adam(params, lr=cfg.learning_rate, eps=1e-5, fused=True)  # one kernel for all
+        result = TrainResult(net, level, n, cfg, seed)
+        order_gen = torch.Generator().manual_seed(seed)  # minibatch order
+
+        # rollout storage: (T, E, R) per robot-step; an observation is its key (Inputs)
+        key_buf = np.zeros((T, E, n), dtype=np.int64)
+        act_buf = np.zeros((T, E, n), dtype=np.int64)
+        rew_buf = np.zeros((T, E, n), dtype=np.float32)
+        valid_buf = np.zeros((T, E, n), dtype=bool)  # a decision: the robot was racing
+        done_buf = np.zeros((T, E, n), dtype=bool)  # the robot's episode ended at this step
+        trunc_buf = np.zeros((T, E, n), dtype=bool)  # ... by the time limit: bootstrap from final_buf
+        final_buf = np.zeros((T, E, n), dtype=np.int64)
+        ep_return = np.zeros((E, n))
+        recent: deque[float] = deque(maxlen=100)
+        next_eval = cfg.eval_every if cfg.eval_every else math.inf
+        t_train, c_train = time.perf_counter(), time.process_time()
+
+        def run_evaluation() -> bool:
+            nonlocal t_train, c_train
+            result.seconds += time.perf_counter() - t_train
+            result.cpu_seconds += time.process_time() - c_train
+            t0 = time.perf_counter()
+            net.eval()
+            score = float(evaluate(result)) if evaluate is not None else float("nan")
+            point = EvalPoint(result.timesteps, result.seconds, float(np.mean(recent)) if recent else float("nan"), score)
+            result.history.append(point)
+            if target is not None and result.reached is None and score >= target:
+                result.reached = (result.timesteps, result.seconds)
+            result.eval_seconds += time.perf_counter() - t0
+            if on_eval is not None:
+                on_eval(point)
+            t_train, c_train = time.perf_counter(), time.process_time()
+            return stop_at_target and result.reached is not None
+
+        while result.timesteps < total:
+            # ---- rollout: n_steps steps of every env, actions sampled from the current policy
+            with torch.no_grad():
+                actor = Sampler(inputs, net)  # weights fixed: the net runs once per distinct input
+                for t in range(T):
+                    keys = inputs.keys(batch.cells, batch.racing).reshape(-1)
+                    actions = actor.sample(keys, rng)
+                    racing = batch.racing.copy()
+                    rewards, finishing, _, _, over = batch.step(actions.reshape(E, n))
+                    key_buf[t], act_buf[t], valid_buf[t] = keys.reshape(E, n), actions.reshape(E, n), racing
+                    rew_buf[t] = rewards
+                    ended = racing & (finishing | over[:, None])
+                    done_buf[t] = ended | ~racing  # parked steps end nothing: isolated, masked out
+                    trunc_buf[t] = racing & over[:, None] & ~finishing
+                    ep_return += rewards
+                    if np.count_nonzero(ended):
+                        recent.extend(ep_return[ended].tolist())
+                        ep_return[ended] = 0.0
+                    if np.count_nonzero(over):
+                        envs = np.flatnonzero(over)
+                        if np.count_nonzero(trunc_buf[t]):
+                            final_buf[t] = inputs.keys(batch.cells, batch.racing)
+                        batch.reset_envs(envs)
+
+                # ---- advantages (GAE), truncated episodes bootstrapped from their last observation
+                critic = PerKey(inputs, lambda rows: net.critic(rows)[:, 0])
+                values = critic(key_buf)
+                rewards_b = rew_buf.copy()
+                if np.count_nonzero(trunc_buf):
+                    rewards_b[trunc_buf] += cfg.gamma * critic(final_buf[trunc_buf])
+                next_value = critic(inputs.keys(batch.cells, batch.racing))
+                adv, returns = gae(rewards_b, values, next_value, done_buf, cfg.gamma, cfg.gae_lambda)
+
+            # ---- update: n_epochs passes over the decisions of the rollout, in minibatches; the net
+            # runs once per distinct input of the rollout (rows), sample i being row b_inv[i]
+            net.train()
+            keep = slice(None) if n == 1 else valid_buf  # one robot: every step is a decision
+            rows, b_inv = distinct_rows(inputs, key_buf[keep].reshape(-1))
+            b_act = torch.from_numpy(act_buf[keep].reshape(-1))
+            b_adv = torch.from_numpy(adv[keep].reshape(-1))
+            b_ret = torch.from_numpy(returns[keep].reshape(-1).astype(np.float32))
+            with torch.no_grad():  # the rollout's policy, per row (the weights have not changed yet)
+                old_logp = log_softmax(net.actor(rows))
+            samples = Samples.of(b_inv, b_act, b_adv, b_ret)
+            size = b_act.shape[0]
+            for _ in range(cfg.n_epochs):
+                # shuffled once per epoch, minibatches are then slices; one minibatch: order changes nothing
+                shuffled = samples.part(torch.randperm(size, generator=order_gen)) if size > cfg.batch_size else samples
+                for start in range(0, size, cfg.batch_size):
+                    mb = shuffled.part(slice(start, start + cfg.batch_size))
+                    mb_rows, mb_old = rows, old_logp
+                    if rows.shape[0] > mb.inv.shape[0]:  # more inputs than samples: only the minibatch's
+                        present, inv = torch.unique(mb.inv, return_inverse=True)
+                        mb_rows, mb_old = rows[present], old_logp[present]
+                        mb = Samples.of(inv, mb.actions(), mb.adv, mb.ret_one[:, 0])
+                    ppo_gradients(net, mb_rows, mb_old, mb, cfg)
+                    clip_grad_norm(grads_of(params), cfg.max_grad_norm)
+                    optim.step()
+            check_finite(params, result.timesteps + T * E * n, cfg)
+
+            result.timesteps += T * E * n
+            elapsed = result.seconds + time.perf_counter() - t_train
+            if on_update is not None:
+                on_update(result.timesteps, elapsed, float(np.mean(recent)) if recent else float("nan"))
+            if max_seconds is not None and elapsed >= max_seconds:
+                break
+            if result.timesteps >= next_eval and result.timesteps < total:
+                next_eval += cfg.eval_every
+                if run_evaluation():
+                    break
+        if not result.history or result.history[-1].timesteps != result.timesteps:
+            run_evaluation()
+        else:
+            result.seconds += time.perf_counter() - t_train
+            result.cpu_seconds += time.process_time() - c_train
+        net.eval()
+    return result

@@ -1,0 +1,67 @@
+"""What training gives: the evaluations along the way (``EvalPoint``), the trained network and its totals (``TrainResult``)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+from ...core.level import Level
+from .config import PPOConfig
+from .inputs import make_inputs
+
+
+@dataclass
+class EvalPoint:
+    """One evaluation: timesteps and training seconds so far, the mean training return of recent
+    episodes, and the evaluation's score (one robot: mean greedy return; race: win rate)."""
+
+    timesteps: int
+    seconds: float
+    train_return: float
+    score: float
+
+
+@dataclass
+class TrainResult:
+    """What ``train_ppo`` returns: the network, where it was trained, the curve and the totals.
+
+    ``seconds`` is training time (rollouts and updates, evaluations excluded), wall-clock;
+    ``cpu_seconds`` the process's CPU time over the same spans (on a busy machine wall time also
+    counts the others); ``reached`` the first ``(timesteps, seconds)`` whose evaluation met
+    ``target`` (None if never or no target).
+    """
+
+    net: Any
+    level: Level
+    n_robots: int
+    config: PPOConfig
+    seed: int
+    timesteps: int = 0
+    seconds: float = 0.0
+    eval_seconds: float = 0.0
+    cpu_seconds: float = 0.0
+    history: list[EvalPoint] = field(default_factory=list)
+    reached: tuple[int, float] | None = None
+
+    @property
+    def steps_per_second(self) -> float:
+        """Timesteps per second of wall-clock training time."""
+        return self.timesteps / self.seconds if self.seconds > 0 else float("nan")
+
+    @property
+    def steps_per_cpu_second(self) -> float:
+        """Timesteps per second of the process's CPU time while training."""
+        return self.timesteps / self.cpu_seconds if self.cpu_seconds > 0 else float("nan")
+
+    def policy(self, deterministic: bool = True, seed: int | None = None) -> Any:
+        """The trained policy with the scripted policies' interface (``policy(obs) -> action``)."""
+        from ..policy import TrainedPolicy
+
+        inputs = make_inputs(self.level, self.n_robots, self.config.near_radius)
+        return TrainedPolicy(self.net, inputs, self.n_robots, deterministic, seed)
+
+    def save(self, path: str) -> str:
+        """Write the network and what it was trained on to ``path`` exactly (a torch file); returns it."""
+        from ..policy import save_policy
+
+        return save_policy(self, path)

@@ -1,0 +1,68 @@
+"""The policy and the critic as tables over the inputs while the weights stay fixed: actions sampled per key in a rollout."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+from ...core.actions import N_ACTIONS
+from ..deps import torch_module
+from .inputs import Inputs
+from .net import log_softmax
+
+TABLE_LIMIT = 4096  # inputs up to which the net runs on every possible key instead of searching for the distinct ones
+
+
+class PerKey:
+    """``fn`` (the critic's values, or a policy's probabilities, on rows of input indices) per key, the
+    net run once per distinct key: while the weights stay fixed, inputs that repeat cost nothing."""
+
+    def __init__(self, inputs: Inputs, fn: Callable[[Any], Any]):
+        self.inputs, self.fn = inputs, fn
+        self.table = None
+        if inputs.n_keys <= TABLE_LIMIT:
+            self.table = self.run(np.arange(inputs.n_keys))
+
+    def run(self, keys: np.ndarray) -> np.ndarray:
+        torch = torch_module()
+        with torch.no_grad():
+            return self.fn(torch.from_numpy(self.inputs.rows(keys))).numpy()
+
+    def __call__(self, keys: np.ndarray) -> np.ndarray:
+        if self.table is not None:
+            return self.table[keys]
+        uniq, inv = np.unique(keys.reshape(-1), return_inverse=True)
+        return self.run(uniq)[inv.reshape(keys.shape)]
+
+
+class Sampler(PerKey):
+    """Actions sampled from the actor's probabilities per key (a rollout)."""
+
+    def __init__(self, inputs: Inputs, net: Any):
+        super().__init__(inputs, lambda rows: log_softmax(net.actor(rows)))
+        self.cdf = None if self.table is None else np.cumsum(np.exp(self.table), axis=1)
+
+    def sample(self, keys: np.ndarray, rng: np.random.Generator) -> np.ndarray:
+        """One action per key by inverse-CDF sampling (one uniform number each)."""
+        if self.table is not None:
+            cdf, at = self.cdf, keys
+        else:
+            uniq, at = np.unique(keys, return_inverse=True)
+            cdf = np.cumsum(np.exp(self.run(uniq)), axis=1)
+        u = rng.random((keys.size, 1))
+        return np.minimum((u >= cdf[at]).sum(axis=1), N_ACTIONS - 1)
+
+
+def distinct_rows(inputs: Inputs, keys: np.ndarray) -> tuple[Any, Any]:
+    """The distinct inputs among ``keys`` as the net's rows, and each key's row."""
+    torch = torch_module()
+    if inputs.n_keys <= 4 * keys.size + 65536:  # a map over every possible key: no sort
+        present = np.zeros(inputs.n_keys, dtype=bool)
+        present[keys] = True
+        uniq = np.flatnonzero(present)
+        inv = (np.cumsum(present) - 1)[keys]
+    else:
+        uniq, inv = np.unique(keys, return_inverse=True)
+    return torch.from_numpy(inputs.rows(uniq)), torch.from_numpy(inv.reshape(-1))
