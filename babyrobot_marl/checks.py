@@ -12,7 +12,6 @@ from .core.checks import (  # noqa: F401
     MAX_LEVEL_CELLS,
     MAX_LEVEL_TEXT_CHARS,
     MAX_NEAREST_K,
-    MAX_RACES,
     as_int,
     check_action,
     check_batch,
@@ -30,6 +29,7 @@ from .core.checks import (  # noqa: F401
     real_array,
     shown,
 )
+from .cli.checks import MAX_RACES  # noqa: F401
 from .render.checks import MAX_FRAME_PIXELS, check_frame_pixels, max_cell_size  # noqa: F401
 
 warnings.warn(

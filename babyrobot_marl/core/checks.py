@@ -29,7 +29,6 @@ The limits below are checked before anything large is allocated; README "Limits"
 ``check_view_radius``    "local"'s ``view_radius``: at most the radius that sees the whole level
 ``check_nearest_k``      "nearest"'s ``k``: at most ``MAX_NEAREST_K``
 ``check_view_numbers``   one race's "local" or "nearest" observations within ``MAX_BATCH_OBS``
-``MAX_RACES``            races of one ``babyrobot-marl race --races N`` run
 ``shown``                a short ``repr`` for error messages (never a huge input in full)
 =======================  ==================================================================
 """
@@ -53,7 +52,6 @@ MAX_BATCH_ENVS = 65_536  # envs of one batch engine / vector env: each has its o
 MAX_BATCH_ROBOTS = 1 << 20  # n_envs * n_robots: about 100 bytes of arrays per robot and step
 MAX_BATCH_OBS = 1 << 28  # numbers in one step's observations of a batch: 2 GiB of int64
 MAX_NEAREST_K = 1024  # "nearest": other robots in a row (2 numbers each); fewer racing: the rest marked missing
-MAX_RACES = 100_000  # races of one `race --races N` (moves to cli/checks.py with the cli package)
 
 ACTION_HELP = ", ".join(f"{a.value}={a.name}" for a in Action)
 
