@@ -3,6 +3,7 @@
 
 import warnings
 
+from .cli.checks import MAX_RACES  # noqa: F401
 from .core.checks import (  # noqa: F401
     ACTION_HELP,
     MAX_BATCH_ENVS,
@@ -29,7 +30,6 @@ from .core.checks import (  # noqa: F401
     real_array,
     shown,
 )
-from .cli.checks import MAX_RACES  # noqa: F401
 from .render.checks import MAX_FRAME_PIXELS, check_frame_pixels, max_cell_size  # noqa: F401
 
 warnings.warn(

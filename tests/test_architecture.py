@@ -50,7 +50,8 @@ def test_the_rules_find_each_kind_of_break(tmp_path):
         (pkg / folder / "__init__.py").write_text("")
     (pkg / "__init__.py").write_text("")
     (pkg / "core" / "a.py").write_text("from ..envs import b\n")  # upward
-    (pkg / "envs" / "b.py").write_text("def f():\n    from ..core import a\n\n\ndef check_x():\n    pass\n")  # circle, check outside
+    # a deferred import back down: a circle; and a check_* outside a checks.py
+    (pkg / "envs" / "b.py").write_text("def f():\n    from ..core import a\n\n\ndef check_x():\n    pass\n")
     (pkg / "render" / "c.py").write_text("from ..checks import shown\n" + "x = 1\n" * 501)  # a shim, too long
     (pkg / "checks.py").write_text("shown = repr\n")
     (pkg / "stray.py").write_text("")  # a root module in no layer
