@@ -50,18 +50,27 @@ def check_encoding(encoding: object, what: str = "obs_encoding") -> str:
     return check_choice(encoding, what, ENCODINGS)
 
 
-def check_start(table: Table, start: object) -> int:
-    """The single-robot env's ``options["start"]``: an open cell ``(x, y)`` of ``table``, as its id."""
+def _open_cell(table: Table, cell: object, what: str, not_a_cell: str, outside: str, closed: str) -> int:
+    """``cell`` as the id of an open cell of ``table`` (inside the grid, neither blocked nor an exit); else a
+    ``ValueError`` from the caller's wording (``{cell}``: the value given, ``{xy}``: the cell, ``{size}``: the grid)."""
     try:
-        x, y = as_cell(start, "options['start']")  # integers only: (1.5, 0) is not a cell
+        x, y = as_cell(cell, what)  # integers only: (1.5, 0) is not a cell
     except ValueError:
-        raise ValueError(f"options['start']: expected a cell (x, y) of integers, got {start!r}") from None
+        raise ValueError(not_a_cell.format(cell=repr(cell))) from None
     if not (0 <= x < table.width and 0 <= y < table.height):
-        raise ValueError(f"options['start']: cell {(x, y)} is outside the {table.width}x{table.height} grid")
+        raise ValueError(outside.format(xy=(x, y), size=f"{table.width}x{table.height}"))
     c = table.cell_id((x, y))
     if table.blocked[c] or table.is_exit[c]:
-        raise ValueError(f"options['start']: cell {(x, y)} is blocked or an exit; start on an open cell")
+        raise ValueError(closed.format(xy=(x, y)))
     return c
+
+
+def check_start(table: Table, start: object) -> int:
+    """The single-robot env's ``options["start"]``: an open cell ``(x, y)`` of ``table``, as its id."""
+    what = "options['start']"
+    return _open_cell(table, start, what, f"{what}: expected a cell (x, y) of integers, got {{cell}}",
+                      f"{what}: cell {{xy}} is outside the {{size}} grid",
+                      f"{what}: cell {{xy}} is blocked or an exit; start on an open cell")
 
 
 def check_envs(n_envs: object, what: str, n_robots: object = 1, observe: object = "global") -> int:
@@ -129,18 +138,9 @@ def check_cells(table: Table, cells: object, n: int, what: str, distinct: bool =
         raise ValueError(f"{what}: expected a list of {allowed}, got {cells!r}")
     if len(cells) != n:
         raise ValueError(f"{what}: expected {allowed}; got {len(cells)} cells")
-    ids = []
-    for cell in cells:
-        try:
-            x, y = as_cell(cell, what)
-        except ValueError:
-            raise ValueError(f"{what}: expected {allowed}; {cell!r} is not a cell (x, y) of integers") from None
-        if not (0 <= x < table.width and 0 <= y < table.height):
-            raise ValueError(f"{what}: {(x, y)} is outside the {table.width}x{table.height} grid; expected {allowed}")
-        c = table.cell_id((x, y))
-        if table.blocked[c] or table.is_exit[c]:
-            raise ValueError(f"{what}: {(x, y)} is blocked or an exit; expected {allowed}")
-        ids.append(c)
+    ids = [_open_cell(table, cell, what, f"{what}: expected {allowed}; {{cell}} is not a cell (x, y) of integers",
+                      f"{what}: {{xy}} is outside the {{size}} grid; expected {allowed}",
+                      f"{what}: {{xy}} is blocked or an exit; expected {allowed}") for cell in cells]
     if distinct and len(set(ids)) < len(ids):
         raise ValueError(f"{what}: two robots share a cell; expected {allowed}")
     return ids
