@@ -10,9 +10,10 @@ from pathlib import Path
 
 import pytest
 
-from babyrobot_marl import cli, levels
+from babyrobot_marl import cli
 from babyrobot_marl.cli import common
 from babyrobot_marl.play import screen
+from tests.cli_run import levels, run
 from tests.streams import TextSink
 
 REPO = Path(__file__).resolve().parents[1]
@@ -22,14 +23,6 @@ SUMMARY = re.compile(r"seed (\d+): (\d+) steps, return (\S+), (.*)$", re.M)
 # 4 moves (2 east, 2 south); each of the first 3 enters a floor cell (-1), the 4th the exit (0).
 DEFAULT_SHORTEST_STEPS = 4
 DEFAULT_SHORTEST_RETURN = -3.0
-
-
-def run(argv: list[str]) -> int:
-    """``cli.main``'s exit status, whether it returns it or argparse raises SystemExit."""
-    try:
-        return cli.main(argv)
-    except SystemExit as exit_:
-        return exit_.code if isinstance(exit_.code, int) else 1
 
 
 def summary(out: str) -> tuple[int, int, float, str]:

@@ -11,19 +11,12 @@ from pathlib import Path
 
 import pytest
 
-from babyrobot_marl import cli, levels
 from babyrobot_marl.cli import levels as levels_command
 from babyrobot_marl.core.checks import MAX_LEVEL_TEXT_CHARS
+from tests.cli_run import levels, run
 
 REPO = Path(__file__).resolve().parents[1]
 TINY = "+-+-+\n|S E|\n+-+-+\n"
-
-
-def run(argv: list[str]) -> int:
-    try:
-        return cli.main(argv)
-    except SystemExit as exit_:
-        return exit_.code if isinstance(exit_.code, int) else 1
 
 
 def one_error_line(err: str) -> str:

@@ -6,14 +6,7 @@ import json
 
 import pytest
 
-from babyrobot_marl import cli
-
-
-def run(argv: list[str]) -> int:
-    try:
-        return cli.main(argv)
-    except SystemExit as exit_:
-        return exit_.code if isinstance(exit_.code, int) else 1
+from tests.cli_run import run
 
 
 def test_solve_prints_the_value_grid_and_the_policy_arrows(capsys):

@@ -24,17 +24,11 @@ from babyrobot_marl.envs.encodings import Encoder  # noqa: E402
 from babyrobot_marl.training.deps import TORCH_CPU  # noqa: E402
 from babyrobot_marl.training.policy import load_checkpoint, load_policy  # noqa: E402
 from babyrobot_marl.training.ppo import PPOConfig, TrainingDivergedError, train_ppo  # noqa: E402
+from tests.cli_run import run  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
 TINY = PPOConfig(n_envs=8, n_steps=16, batch_size=128, eval_every=0)
 SMALL = ["--n-envs", "16", "--n-steps", "16", "--batch-size", "128", "--eval-every", "512"]
-
-
-def run(argv: list[str]) -> int:
-    try:
-        return cli.main(argv)
-    except SystemExit as exit_:
-        return exit_.code if isinstance(exit_.code, int) else 1
 
 
 def one_error_line(err: str) -> str:

@@ -8,18 +8,11 @@ import pytest
 
 pytest.importorskip("torch", reason="needs the train extra")  # CI installs it (test extra)
 
-from babyrobot_marl import cli  # noqa: E402
 from babyrobot_marl.training.policy import load_policy  # noqa: E402
 from babyrobot_marl.training.ppo import near_offsets  # noqa: E402
+from tests.cli_run import run  # noqa: E402
 
 SMALL = ["--n-envs", "16", "--n-steps", "16", "--batch-size", "128", "--eval-every", "512"]
-
-
-def run(argv: list[str]) -> int:
-    try:
-        return cli.main(argv)
-    except SystemExit as exit_:
-        return exit_.code if isinstance(exit_.code, int) else 1
 
 
 def last_json(out: str) -> dict:
