@@ -295,3 +295,22 @@ def test_readme_picture_is_what_its_command_draws():
     stored = iio.imread(ROOT / "docs" / "assets" / "readme" / "baby-robot.png")
     assert stored.dtype == "uint8" and stored.shape == figures.readme_picture().shape
     assert (stored[..., :3] == figures.readme_picture()).all()
+
+
+def _docstring_markers() -> list[tuple[str, str | None]]:
+    marker = re.compile(r"^<!-- docstring: ([\w.]+)(?::(\w+))? -->$", re.MULTILINE)
+    return sorted({m.groups() for path in DOC_FILES for m in marker.finditer(path.read_text(encoding="utf-8"))},
+                  key=str)
+
+
+@pytest.mark.parametrize(("module", "attr"), _docstring_markers())
+def test_every_docstring_a_page_includes_has_its_sections(module, attr):
+    """The site's env pages include an env's docstring from its first ``## `` heading
+    (docs/_scripts/hooks.py); a line indented less than the rest hides every heading from it."""
+    sys.path.insert(0, str(ROOT / "docs" / "_scripts"))
+    try:
+        import hooks
+    finally:
+        sys.path.remove(str(ROOT / "docs" / "_scripts"))
+    sections = hooks.docstring_sections(module, attr)
+    assert sections.startswith("## ") and sections.count("\n## ") >= 2

@@ -40,7 +40,7 @@ class BabyRobotRaceEnv(gym.Env):
 
     ``obs_encoding``: ``"multidiscrete"`` (default), ``"box"`` or ``"onehot"``
     (``babyrobot_marl.encodings``). ``reset(options={"starts": [(x, y), ...]})`` places every robot
-(other option keys are ignored with a ``UserWarning``).
+    (other option keys are ignored with a ``UserWarning``).
 
     Registered as ``babyrobot_marl/BabyRobotRace-v0``: ``gymnasium.make(
     "babyrobot_marl/BabyRobotRace-v0", level="race-4", opponents=["shortest", "random", "random"])``;

@@ -98,7 +98,7 @@ class BabyRobotEnv(OverlayMethods, gym.Env):
     be given as a keyword (``glass_pass_prob=0.9``). ``max_steps``. ``start``: ``None`` (the
     level's start, or a random free cell if it has none) or ``"random"`` (a random free cell
     each episode). ``reset(options={"start": (x, y)})`` starts one episode at a given cell (a bad
-cell is a ``ValueError``; any other option key is ignored with a ``UserWarning``).
+    cell is a ``ValueError``; any other option key is ignored with a ``UserWarning``).
     ``obs_encoding``: ``"multidiscrete"`` (default), ``"box"`` or ``"onehot"`` (above).
     ``render_mode``: ``"ansi"`` (text frame), ``"rgb_array"`` (``uint8[H * cell_size, W * cell_size, 3]``,
     pure numpy) or ``"human"`` (in Jupyter with the ``notebook`` extra: a live ipycanvas canvas in
