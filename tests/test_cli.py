@@ -10,10 +10,10 @@ from pathlib import Path
 
 import pytest
 
-from babyrobot_marl import cli
+from babyrobot_marl import cli, levels
 from babyrobot_marl.cli import common
 from babyrobot_marl.play import screen
-from tests.cli_run import levels, run
+from tests.cli_run import run
 from tests.streams import TextSink
 
 REPO = Path(__file__).resolve().parents[1]

@@ -11,9 +11,10 @@ from pathlib import Path
 
 import pytest
 
+from babyrobot_marl import levels
 from babyrobot_marl.cli import levels as levels_command
 from babyrobot_marl.core.checks import MAX_LEVEL_TEXT_CHARS
-from tests.cli_run import levels, run
+from tests.cli_run import run
 
 REPO = Path(__file__).resolve().parents[1]
 TINY = "+-+-+\n|S E|\n+-+-+\n"

@@ -7,7 +7,7 @@ import pytest
 
 import babyrobot_marl  # noqa: F401  (registers the env)
 from babyrobot_marl.core.actions import Action
-from babyrobot_marl.play import keys
+from babyrobot_marl.envs import keys
 
 
 def test_the_key_map_is_arrows_wasd_and_space_for_stay():
