@@ -58,5 +58,19 @@ class Encoder:
         out[rows, flat + self._offsets] = 1.0
         return out.reshape(*lead, self._width)
 
+    def decode(self, obs: np.ndarray) -> np.ndarray:
+        """One encoded observation (1-d, of this encoding's length) back to its ``MultiDiscrete``
+        integers: ``__call__`` undone; a ``ValueError`` for what no observation encodes to."""
+        if self.encoding == "onehot":
+            ones = np.flatnonzero(obs > 0.5)
+            entry = np.searchsorted(self._offsets, ones, side="right") - 1  # the entry of each 1
+            if len(ones) != len(self.nvec) or np.any(entry != np.arange(len(ones))):
+                raise ValueError("obs: not an obs_encoding='onehot' observation (one 1 per entry)")
+            return ones - self._offsets
+        ints = np.rint(obs).astype(np.int64)
+        if np.any(ints != obs) or np.any(ints < 0) or np.any(ints >= self.nvec):
+            raise ValueError(f"obs: not an observation of this env (obs_encoding={self.encoding!r}): values off its space")
+        return ints
+
     def __repr__(self) -> str:
         return f"Encoder({self.nvec.tolist()}, {self.encoding!r})"

@@ -30,6 +30,7 @@ import numpy as np
 
 from ..core.checks import shown
 from ..core.table import Table
+from ..envs.encodings import Encoder
 from .checks import TRAINED_ON, check_fields, check_weights
 from .deps import torch_module
 from .ppo.config import PPOConfig
@@ -54,13 +55,8 @@ class Decoder:
     (fewer could leave out a robot the policy sees); a policy of one robot reads only ``[x, y]``.
     """
 
-    def __init__(self, inputs: Inputs, observe: str = "global", encoding: str = "multidiscrete",
-                 nvec: np.ndarray | None = None, view_radius: int = 0):
-        self.inputs, self.observe, self.encoding = inputs, observe, encoding
-        self.nvec = None if nvec is None else np.asarray(nvec, dtype=np.int64)
-        if self.nvec is not None:
-            self.offsets = np.concatenate([[0], np.cumsum(self.nvec)[:-1]])
-            self.length = int(self.nvec.sum()) if encoding == "onehot" else len(self.nvec)
+    def __init__(self, inputs: Inputs, observe: str = "global", encoder: Encoder | None = None, view_radius: int = 0):
+        self.inputs, self.observe, self.encoder = inputs, observe, encoder  # encoder None: the form trained on
         side = 2 * view_radius + 1  # "local": the window cell of each near offset, row by row
         self.window_at = np.array([(dy + view_radius) * side + dx + view_radius for dx, dy in inputs.near], dtype=np.int64)
 
@@ -82,7 +78,7 @@ class Decoder:
         if m and observe == "nearest" and observer.k < e.n_robots - 1:
             raise ValueError(f"policy: trained to see every robot near it; this env's observe='nearest' k={observer.k} "
                              f"of {e.n_robots - 1} other robots can leave one out: use k >= {e.n_robots - 1} (n_robots - 1)")
-        return cls(inputs, observe, encoder.encoding, encoder.nvec, radius)
+        return cls(inputs, observe, encoder, radius)
 
     def __call__(self, obs: Any) -> int:
         o = self._integers(obs)
@@ -113,7 +109,7 @@ class Decoder:
     def _integers(self, obs: Any) -> np.ndarray:
         """The observation's ``MultiDiscrete`` integers, its encoding undone and its form checked."""
         o = np.asarray(obs).reshape(-1)
-        if self.nvec is None:  # the form trained on: global MultiDiscrete rows
+        if self.encoder is None:  # the form trained on: global MultiDiscrete rows
             if not np.issubdtype(o.dtype, np.integer) or (len(o) - 2) % 3 or len(o) < 2:
                 kind = o.dtype.name if o.dtype.kind in "biuf" else type(obs).__name__
                 raise ValueError(
@@ -122,19 +118,11 @@ class Decoder:
                     "policy.for_env(env) (other encodings and observe modes), or make the env with those settings"
                 )
             return o.astype(np.int64)
-        if len(o) != self.length:
-            raise ValueError(f"obs: this env's observations (observe={self.observe!r}, obs_encoding={self.encoding!r}) have "
-                             f"{self.length} numbers, got {len(o)}")
-        if self.encoding == "onehot":
-            ones = np.flatnonzero(o > 0.5)
-            entry = np.searchsorted(self.offsets, ones, side="right") - 1  # the entry of each 1
-            if len(ones) != len(self.nvec) or np.any(entry != np.arange(len(ones))):
-                raise ValueError("obs: not an obs_encoding='onehot' observation (one 1 per entry)")
-            return ones - self.offsets
-        ints = np.rint(o).astype(np.int64)
-        if np.any(ints != o) or np.any(ints < 0) or np.any(ints >= self.nvec):
-            raise ValueError(f"obs: not an observation of this env (obs_encoding={self.encoding!r}): values off its space")
-        return ints
+        length = self.encoder.space.shape[0]
+        if len(o) != length:
+            raise ValueError(f"obs: this env's observations (observe={self.observe!r}, "
+                             f"obs_encoding={self.encoder.encoding!r}) have {length} numbers, got {len(o)}")
+        return self.encoder.decode(o)
 
 
 class TrainedPolicy:
