@@ -72,17 +72,20 @@ class LevelPicker:
 
     def __init__(self, level: Any) -> None:
         self.source = level_source(level)
-        self.fixed = self.source is None
-        self.first: Level = resolve_level(level if self.source is None else self.source(np.random.default_rng(0)))
+        self.first: Level = resolve_level(level if self.fixed else self.source(np.random.default_rng(0)))
+
+    @property
+    def fixed(self) -> bool:
+        return self.source is None
 
     def check_one_level(self, what: str) -> None:
         """A ``ValueError`` naming ``what`` (which runs one level in all its envs) if levels are drawn."""
-        if self.source is not None:
+        if not self.fixed:
             raise ValueError(f"level: {what} runs one level in all its envs; drawn levels are for parallel_env and env")
 
     def draw(self, rng: np.random.Generator, current: Level) -> Level | None:
         """A new level from ``rng`` (the env's generator), the size of ``current``; None for a fixed level."""
-        if self.source is None:
+        if self.fixed:
             return None
         level = self.source(rng)
         if (level.width, level.height) != (current.width, current.height):
