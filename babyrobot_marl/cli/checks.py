@@ -18,85 +18,55 @@ from ..training.policy import is_policy_spec
 MAX_RACES = 100_000  # races of one `race --races N`: run one after another, each kept for the table
 
 
-def int_at_least(minimum: int) -> Callable[[str], int]:
-    """An argparse type: an integer >= ``minimum``."""
+def int_in(minimum: int, maximum: int | None = None, why: str = "") -> Callable[[str], int]:
+    """An argparse type: an integer in ``minimum..maximum`` (no maximum: ``>= minimum``); ``why`` says
+    where the maximum comes from."""
+    allowed = f"an integer >= {minimum}" if maximum is None else f"an integer in {minimum}..{maximum:,}{why}"
 
     def parse(text: str) -> int:
         try:
             value = int(text)
         except ValueError:  # not an integer, or more than Python's 4,300 digits
             value = minimum - 1
-        if value < minimum:
-            raise argparse.ArgumentTypeError(f"must be an integer >= {minimum}, got {shown(text)}")
+        if value < minimum or (maximum is not None and value > maximum):
+            raise argparse.ArgumentTypeError(f"must be {allowed}, got {shown(text)}")
         return value
 
     return parse
+
+
+def int_at_least(minimum: int) -> Callable[[str], int]:
+    """An argparse type: an integer >= ``minimum``."""
+    return int_in(minimum)
 
 
 non_negative_int = int_at_least(0)
 positive_int = int_at_least(1)
 
+# `race --races N`: every race is kept for the metrics table, one after another
+race_count = int_in(1, MAX_RACES, " (races run one after another: split a larger experiment into seeded runs)")
 
-def int_in(minimum: int, maximum: int, why: str = "") -> Callable[[str], int]:
-    """An argparse type: an integer in ``minimum..maximum``; ``why`` says where the maximum comes from."""
 
-    def parse(text: str) -> int:
+def real_in(ok: Callable[[float], bool], allowed: str) -> Callable[[str], float]:
+    """An argparse type: a number for which ``ok`` holds (``nan`` never does); else "must be ``allowed``"."""
+
+    def parse(text: str) -> float:
         try:
-            value = int(text)
-        except ValueError:  # not an integer, or more than Python's 4,300 digits
-            value = minimum - 1
-        if not minimum <= value <= maximum:
-            raise argparse.ArgumentTypeError(f"must be an integer in {minimum}..{maximum:,}{why}, got {shown(text)}")
+            value = float(text)
+        except ValueError:
+            value = math.nan
+        if not ok(value):
+            raise argparse.ArgumentTypeError(f"must be {allowed}, got {shown(text)}")
         return value
 
     return parse
 
 
-# `race --races N`: every race is kept for the metrics table, one after another
-race_count = int_in(1, MAX_RACES, " (races run one after another: split a larger experiment into seeded runs)")
-
-
-def _number(text: str) -> float:
-    try:
-        return float(text)
-    except ValueError:
-        return math.nan
-
-
-def seconds(text: str) -> float:
-    value = _number(text)
-    if not math.isfinite(value) or value < 0:  # nan, inf and negative delays make no animation
-        raise argparse.ArgumentTypeError(f"must be a number of seconds >= 0, got {shown(text)}")
-    return value
-
-
-def probability(text: str) -> float:
-    value = _number(text)
-    if not 0.0 < value <= 1.0:
-        raise argparse.ArgumentTypeError(f"must be a number in (0, 1], got {shown(text)}")
-    return value
-
-
-def positive_float(text: str) -> float:
-    value = _number(text)
-    if not 0.0 < value < math.inf:
-        raise argparse.ArgumentTypeError(f"must be a number > 0, got {shown(text)}")
-    return value
-
-
-def non_negative_float(text: str) -> float:
-    value = _number(text)
-    if not 0.0 <= value < math.inf:
-        raise argparse.ArgumentTypeError(f"must be a number >= 0, got {shown(text)}")
-    return value
-
-
-def unit_real(text: str) -> float:
-    """A number in [0, 1] (a discount, GAE's lambda)."""
-    value = _number(text)
-    if not 0.0 <= value <= 1.0:
-        raise argparse.ArgumentTypeError(f"must be a number in [0, 1], got {shown(text)}")
-    return value
+seconds = real_in(lambda v: 0.0 <= v < math.inf, "a number of seconds >= 0")  # nan, inf, negative delays: no animation
+probability = real_in(lambda v: 0.0 < v <= 1.0, "a number in (0, 1]")
+positive_float = real_in(lambda v: 0.0 < v < math.inf, "a number > 0")
+non_negative_float = real_in(lambda v: 0.0 <= v < math.inf, "a number >= 0")
+unit_real = real_in(lambda v: 0.0 <= v <= 1.0, "a number in [0, 1]")  # a discount, GAE's lambda
 
 
 def output_path(text: str) -> str:
