@@ -53,11 +53,16 @@ class TrainingDivergedError(ValueError):
     """The loss or the weights became NaN or infinite (a learning rate too large, most often)."""
 
 
+def weights_finite(params: Any) -> bool:
+    """Whether every weight of ``params`` (torch tensors) is a finite number: one norm per parameter."""
+    torch = torch_module()
+    return bool(torch.isfinite(torch.stack(torch._foreach_norm(list(params)))).all())
+
+
 def check_finite(params: list[Any], timesteps: int, cfg: Any) -> None:
     """Raise ``TrainingDivergedError`` if any weight is not finite (a NaN or infinite loss or gradient
-    makes the weights so at the optimizer's step). One norm per parameter: cheap once per update."""
-    torch = torch_module()
-    if not bool(torch.isfinite(torch.stack(torch._foreach_norm(params))).all()):
+    makes the weights so at the optimizer's step); cheap once per update."""
+    if not weights_finite(params):
         raise TrainingDivergedError(f"learning_rate: training diverged within {timesteps:,} timesteps (the loss or the weights "
                                     f"are no longer finite numbers) at learning_rate {cfg.learning_rate:g}; try a smaller one")
 
@@ -65,8 +70,7 @@ def check_finite(params: list[Any], timesteps: int, cfg: Any) -> None:
 def check_finite_sb3(agent: Any, lr: float | None) -> None:
     """An SB3 model whose weights are no longer finite numbers is refused before it is evaluated or saved
     (``lr``: the CLI's ``--lr``, None when not given)."""
-    torch = torch_module()
-    if not all(bool(torch.isfinite(p).all()) for p in agent.policy.parameters()):
+    if not weights_finite(agent.policy.parameters()):
         flag = f"--lr {lr:g}" if lr is not None else "--lr"
         raise ValueError(f"{flag}: training diverged (the weights are no longer finite numbers); nothing was saved: "
                          "try a smaller --lr")
