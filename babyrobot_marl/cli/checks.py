@@ -13,6 +13,7 @@ from collections.abc import Callable
 
 from .. import policies
 from ..core.checks import check_batch, shown
+from ..levels.sources import parse_level_family
 from ..training.policy import is_policy_spec
 
 MAX_RACES = 100_000  # races of one `race --races N`: run one after another, each kept for the table
@@ -83,6 +84,16 @@ def output_path(text: str) -> str:
         raise argparse.ArgumentTypeError(f"no such folder {shown(folder)} for {shown(text)}; create it first")
     if not writable:
         raise argparse.ArgumentTypeError(f"the folder {shown(folder)} is not writable")
+    return text
+
+
+def level_spec(text: str) -> str:
+    """``--level``: a name, a file or a family spec ``maze:A..B``; a malformed family spec is refused
+    here, before any work (the level itself is read by the command)."""
+    try:
+        parse_level_family(text)
+    except ValueError as err:
+        raise argparse.ArgumentTypeError(str(err).removeprefix("level: ")) from None
     return text
 
 
