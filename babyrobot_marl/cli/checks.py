@@ -147,3 +147,17 @@ def check_train_args(args: argparse.Namespace, n_envs: int) -> None:
     check_batch(n_envs, n, obs, what="--n-envs")
     if n > 1:  # the final evaluation races every race at once in one batch
         check_batch(args.episodes or 100, n, obs, what="--episodes")
+
+
+_RACE_FLAGS = {"n_robots": "--robots", "level": "--level", "collisions": "--collisions"}
+
+
+def check_race_flags(level: str, robots: int, collisions: str) -> None:
+    """The race's own checks (robots that fit on the level, the level itself) before any episode, naming the flags."""
+    from ..envs.race import RaceEnv
+
+    try:
+        RaceEnv(level=level, n_robots=robots, collisions=collisions, start="random", observe="nearest", k=1)
+    except ValueError as err:
+        name, _, rest = str(err).partition(":")
+        raise ValueError(f"{_RACE_FLAGS[name]}:{rest}" if name in _RACE_FLAGS else str(err)) from None
