@@ -19,7 +19,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
         help="a saved policy beside the shortest-path and random robots: success rate, sum of costs, makespan",
         description="Run a policy's crowd, the shortest-path robots and random robots on the same seeded episodes "
         "(same levels, from mazes never trained on, same random starts) and print success_rate, all_reached_rate, "
-        "sum_of_costs and makespan with 95%% intervals; the last line is one JSON object "
+        "sum_of_costs and makespan with 95% intervals; the last line is one JSON object "
         '{"policy": M, "shortest": M, "random": M}.',
     )
     p.add_argument("policy", type=policy_spec, metavar="POLICY",
