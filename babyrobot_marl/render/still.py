@@ -50,7 +50,9 @@ def still_style(uid: str) -> str:
         f".jp-OutputArea:has(.{live}) .jp-OutputArea-child:has(.{still}) {{display: none}}\n"
         # the output just before the still, when it holds no live widget (a box saying the model was
         # not found, or nothing): not shown, the still stands in for it
-        f".jp-OutputArea-child:has(+ .jp-OutputArea-child .{still}):not(:has(.{live})) {{display: none}}"
+        f".jp-OutputArea-child:has(+ .jp-OutputArea-child .{still}):not(:has(.{live})) {{display: none}}\n"
+        # the still as wide as the live widget was: in the output's whole width, as a widget is
+        f".jp-OutputArea-output:has(> .{still}) {{padding: 0; overflow: visible}}"
     )
 
 
