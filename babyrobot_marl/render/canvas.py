@@ -149,6 +149,7 @@ class LiveCanvas:
         self.history: deque[tuple[Scene, Overlay]] = deque(maxlen=MAX_REPLAY)  # this episode's scenes
         self._styles = _Styles()
         self._snapped: tuple[Scene, Overlay] | None = None  # what the still shows
+        self.marked: int | None = None  # the robot whose cell is framed in its colour (the one a player drives)
         # each layer is its own canvas in the browser, ready in its own time: each redraws itself,
         # and everything is drawn once more a moment later (a reloading page may drop the first
         # commands: the widget that carries them to the layers is not always ready before them)
@@ -174,7 +175,9 @@ class LiveCanvas:
         and a replay bar (shown when an episode ends)."""
         from ipywidgets import VBox
 
-        self._replay = _ReplayBar(self)
+        from .replay import ReplayBar
+
+        self._replay = ReplayBar(self)
         self.view = VBox([self.widget, self._replay.widget])
         self._still = Still(self.view, self.picture, self.css, self.ratio)
         self._snapped = (self.scene, self.overlay)
@@ -198,6 +201,9 @@ class LiveCanvas:
     def picture(self) -> np.ndarray:
         """What the canvas shows, at its backing store's resolution (the panel's reserved strip included)."""
         img = self.hi.frame(self.scene, self.overlay)
+        for f in self._marks(self.scene):  # axis-aligned bars: painted as they are
+            (x0, y0), (x1, y1) = f.points.min(axis=0).astype(int), f.points.max(axis=0).astype(int)
+            img[y0:y1, x0:x1] = f.colour
         if img.shape[0] < self.widget.height:
             pad = np.empty((self.widget.height - img.shape[0], *img.shape[1:]), dtype=np.uint8)
             pad[:] = self.hi.theme.panel
@@ -320,6 +326,18 @@ class LiveCanvas:
         self.frames_sent += 1
         return hold_canvas()
 
+    def _marks(self, scene: Scene) -> list[Fill]:
+        """The frame round the ``marked`` robot's cell, in its colour (under the robots)."""
+        from .palette import robot_colour
+
+        view = next((v for v in scene.robots if v.number == self.marked), None)
+        if view is None:
+            return []
+        cs = self.hi.cell_size
+        x0, y0, t = view.cell[0] * cs, view.cell[1] * cs, max(2, cs // 16)
+        colour = robot_colour(self.hi.theme, view.number)
+        return [Fill(p, colour) for p in _frame_bars(x0 + t, y0 + t, x0 + cs - t, y0 + cs - t, t)]
+
     def _sync_static(self) -> None:
         """Layer 0 again if it does not show the overlay's cells."""
         if self._static is None or self.hi.static(self.overlay) is not self._static:
@@ -380,8 +398,11 @@ class LiveCanvas:
                      poses: dict[int, str] | None = None) -> None:  # fmt: skip
         layer = self.widget[1]
         sprites = robot_sprites(scene, self.hi.cell_size, self.hi.theme, poses, at, self.hi.labelled)
+        marks = self._marks(scene)
         with self._hold():
             layer.clear()
+            if marks:
+                _send(layer, marks, self._styles)
             if not sprites:
                 return
             # the polygons of all robots in one call (drawn in order), then their numbers
@@ -396,40 +417,11 @@ class LiveCanvas:
             _send(layer, texts, self._styles)
 
 
-class _ReplayBar:
-    """A play button and a slider under the canvas, shown when an episode ends: the slider shows
-    the episode's ``index``-th scene (the play button moves it along in the browser)."""
+def _frame_bars(x0: int, y0: int, x1: int, y1: int, t: int) -> list[np.ndarray]:
+    from .shapes import rect
 
-    def __init__(self, canvas: LiveCanvas):
-        from ipywidgets import HTML, HBox, IntSlider, Layout, Play, jslink
-
-        self.canvas = canvas
-        interval = int(1000 / canvas.fps) if canvas.fps > 0 else 250
-        self.play = Play(min=0, max=0, step=1, interval=interval, description="replay")
-        self.slider = IntSlider(min=0, max=0, description="step", continuous_update=True, layout=Layout(width="60%"))
-        self.label = HTML("<small>replay of the episode</small>")
-        jslink((self.play, "value"), (self.slider, "value"))
-        self.slider.observe(self._moved, "value")
-        self.widget = HBox([self.play, self.slider, self.label], layout=Layout(display="none"))
-        self.widget.add_class("babyrobot-replay")
-        self._offering = False
-
-    def offer(self, n: int) -> None:
-        """The episode has ended after ``n`` scenes: the bar at its last one, shown."""
-        self._offering = True  # setting the range and value draws nothing: the canvas shows the end
-        try:
-            self.play.max = self.slider.max = n - 1
-            self.play.value = self.slider.value = n - 1
-        finally:
-            self._offering = False
-        self.widget.layout.display = "flex"
-
-    def hide(self) -> None:
-        self.widget.layout.display = "none"
-
-    def _moved(self, change: dict) -> None:
-        if not self._offering and 0 <= change["new"] < len(self.canvas.history):
-            self.canvas.replay(change["new"])
+    return [rect(x0, y0, x1, y0 + t), rect(x0, y1 - t, x1, y1),
+            rect(x0, y0 + t, x0 + t, y1 - t), rect(x1 - t, y0 + t, x1, y1 - t)]  # fmt: skip
 
 
 class _Styles:
