@@ -57,10 +57,11 @@ _ERROR_BOXES = """() => Array.from(document.querySelectorAll('.jp-OutputArea-out
   .filter(o => o.offsetParent !== null && o.innerText.includes('Error displaying widget')).length"""
 
 
-def screen_pixels(page, box: dict) -> np.ndarray:
+def screen_pixels(page, k: int) -> np.ndarray:
+    """The ``k``-th still as the screen shows it (scrolled into view: a screenshot of the element)."""
     from PIL import Image
 
-    png = page.page.screenshot(clip={k: box[k] for k in ("x", "y", "width", "height")}, full_page=True)
+    png = page.page.locator(STILLS).nth(k).screenshot()
     return np.array(Image.open(io.BytesIO(png)).convert("RGB"))
 
 
@@ -100,7 +101,6 @@ def test_reopened_with_a_new_kernel_every_widget_shows_its_last_picture_and_no_e
     assert errors == 0, "an 'Error displaying widget' box shows in the reopened notebook"
     assert all(s["still"] and not s["live"] for s in shown), shown
     theme = THEMES["light"]
-    env_still, race_still, player_still, editor_still = shown
     # each still at two device pixels per CSS pixel, as wide as its live widget was
     for s, was in zip(shown, live):
         assert s["natural"][0] >= 2 * round(s["width"]) - 2, s
@@ -108,9 +108,9 @@ def test_reopened_with_a_new_kernel_every_widget_shows_its_last_picture_and_no_e
     for s, was in zip(shown, live):
         assert abs(s["width"] - was["live_width"]) <= 2, (s, was)
     # on the screen: the robot in the env's picture (its body, its eye), four racers, the player's robot, the editor's level
-    env_px = screen_pixels(page, env_still)
+    env_px = screen_pixels(page, 0)
     assert has(env_px, theme.robots[0]) and has(env_px, theme.eye)
-    race_px = screen_pixels(page, race_still)
+    race_px = screen_pixels(page, 1)
     assert all(has(race_px, theme.robots[i]) for i in range(4))
-    assert has(screen_pixels(page, player_still), theme.eye)
-    assert has(screen_pixels(page, editor_still), theme.wall)
+    assert has(screen_pixels(page, 2), theme.eye)
+    assert has(screen_pixels(page, 3), theme.wall)
