@@ -154,7 +154,7 @@ def race_step(
             if moves[k] is None:
                 moves[k] = move(t, cells[k], actions[k], key, base + robots[k] * SLOTS)
     desired, outcome = zip(*moves)
-    if mode == "pass":
+    if mode == "pass" or m == 1:  # a robot alone on the board meets nobody
         final = desired
     # resolve_collisions' own first test, inlined; without skids the robots that move are the MOVED ones
     elif len({*cells, *desired}) == m + (

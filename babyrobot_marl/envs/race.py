@@ -37,6 +37,8 @@ START_MODES = ("level", "fill", "random")
 FINISHED_MODES = ("remove", "freeze")
 # actions on the fast path: Python ints 0..4 (bools, numpy ints and the rest are checked one by one)
 _INT, _ACTIONS = frozenset({int}), frozenset(range(N_ACTIONS))
+_LAYOUTS, _LAYOUT_SIZE = 256, 4096  # gathers kept per env, and the largest kept (int indices)
+_RACING_INFO = {"cell": None, "outcome": 0, "blocked": False, "finished": False, "rank": 0}  # a racing robot's info, copied
 _ARGS = (
     "level", "n_robots", "collisions", "max_cycles", "start", "finished", "rules", "render_mode", "cell_size", "theme",
     "animation_frames", "render_fps", "observe", "view_radius", "k", "obs_encoding",
@@ -122,6 +124,7 @@ class RaceEnv(OverlayMethods, ParallelEnv):
         else:  # "local" or "nearest": rows of a bounded size, but n of them
             check_view_numbers(n, len(self._observer.nvec), "view_radius" if observe == "local" else "k")
         self._gather = global_gather(n if self._observer is None else 0)  # robot i sees i, i+1, ..., i-1: "global" only
+        self._layouts: dict[tuple, np.ndarray] = {}  # _set_layout's gathers by (agents, racing, finished) robot numbers
         self._lists = self.table.lists
         self._xy = [self.table.cell_xy(c) for c in range(self.table.n_cells)]
         self._xy_arrays = [np.array(xy, dtype=np.int64) for xy in self._xy]  # infos' "cell", copied per step
@@ -198,27 +201,37 @@ class RaceEnv(OverlayMethods, ParallelEnv):
             if actions:
                 raise ValueError("actions: the race is over (no agents left); call reset() before stepping again")
             return {}, {}, {}, {}, {}
-        acts = self._check_actions(actions)  # raises before anything changes
+        # The common case, checked in C: one int action 0..4 per racing robot, in `agents` order;
+        # anything else is checked one by one (raising before anything changes).
+        if type(actions) is dict and self._reported_live:
+            acts = list(actions.values())
+            if not (list(actions) == reported and _INT.issuperset(map(type, acts)) and _ACTIONS.issuperset(acts)):
+                acts = self._check_actions(actions)
+        else:
+            acts = self._check_actions(actions)
         live, t = self._live, self._t
         cells, outcome, blocked, finishing = race_step(
             self._lists, self.collisions, self._live_cells, acts, self._key, t, live, self.n_robots
         )
         self._last_step = (live, self._live_cells, acts, outcome, blocked, finishing, t)
-        self._live_cells, self._t = cells, t + 1
+        self._live_cells = cells
+        self._t = t = t + 1
         rewards = list(map(self._reward_at, cells))
         if True in blocked:
             bumps = self._bumps
             for i, b in zip(live, blocked):
                 bumps[i] += b
-        if True in finishing or t + 1 >= self.max_cycles or not self._reported_live:
+        if True in finishing or t >= self.max_cycles or not self._reported_live:
             out = self._step_general(cells, outcome, blocked, finishing, rewards)
         else:  # the common step: nobody finishes, the race goes on, the agents are the racing robots
             self._live_returns = list(map(operator.add, self._live_returns, rewards))
-            xy = self._xy_arrays
-            infos = {
-                a: {"cell": xy[c].copy(), "outcome": o, "blocked": b, "finished": False, "rank": 0}
-                for a, c, o, b in zip(reported, cells, outcome, blocked)
-            }
+            # fresh dicts and arrays (users keep and change them), each a copy of the common step's
+            infos, xy = {}, self._xy_arrays
+            for a, c, o, b in zip(reported, cells, outcome, blocked):
+                infos[a] = info = _RACING_INFO.copy()
+                info["cell"] = xy[c].copy()
+                info["outcome"] = o
+                info["blocked"] = b
             no = self._none_done
             out = dict(zip(reported, self._observations())), dict(zip(reported, rewards)), no.copy(), no.copy(), infos
         if self.render_mode == "human":
@@ -290,11 +303,20 @@ class RaceEnv(OverlayMethods, ParallelEnv):
         self._set_layout()
 
     def _set_layout(self) -> None:
-        """Observation rows of the reported agents, gathered from the rows of ``_live_cells + _parked``."""
-        place = np.empty(self.n_robots, dtype=np.intp)
-        place[self._live + self._done] = np.arange(len(self._live) + len(self._done))
-        g = self._gather[self._agent_ids] if self._observer is None else self._gather
-        self._gather_reported = 3 * place[g // 3] + g % 3 if len(self._done) else g
+        """Observation rows of the reported agents, gathered from the rows of ``_live_cells + _parked``
+        (small ones kept by robot numbers: races repeat their finishing orders, and finishing steps count)."""
+        key = (tuple(self._agent_ids), tuple(self._live), tuple(self._done))
+        g = self._layouts.get(key)
+        if g is None:
+            place = np.empty(self.n_robots, dtype=np.intp)
+            place[self._live + self._done] = np.arange(len(self._live) + len(self._done))
+            g = self._gather[self._agent_ids] if self._observer is None else self._gather
+            g = 3 * place[g // 3] + g % 3 if len(self._done) else g
+            if g.size <= _LAYOUT_SIZE:
+                if len(self._layouts) >= _LAYOUTS:
+                    self._layouts.clear()
+                self._layouts[key] = g
+        self._gather_reported = g
         self._reported_live = self._agent_ids == self._live
         self._live_set = frozenset(self._live)
 
@@ -409,12 +431,8 @@ class RaceEnv(OverlayMethods, ParallelEnv):
             raise ValueError(f"agent: unknown agent {agent!r}; agents are {', '.join(self.possible_agents)}") from None
 
     def _check_actions(self, actions: Mapping[str, Any]) -> list[int]:
-        """The racing robots' actions, in robot order; a ValueError (and nothing changed) if any is bad."""
-        if type(actions) is dict and self._reported_live:
-            # the common case, checked in C: one int action per racing robot, in `agents` order
-            acts = list(actions.values())
-            if list(actions) == self.agents and _INT.issuperset(map(type, acts)) and _ACTIONS.issuperset(acts):
-                return acts
+        """The racing robots' actions, in robot order; a ValueError (and nothing changed) if any is bad.
+        (``step`` takes the common case, a dict of int actions in ``agents`` order, itself.)"""
         if type(actions) is not dict and not isinstance(actions, Mapping):  # the ABC check is slow
             raise ValueError(f"actions: expected a dict agent -> action, got {type(actions).__name__}")
         given: dict[int, int] = {}
@@ -438,7 +456,8 @@ class RaceEnv(OverlayMethods, ParallelEnv):
         if self._observer is not None:
             return self.encoder(self._observer(np.array(self._cells), np.array(self._racing))[self._agent_ids])
         rows = [*self._live_cells, *self._parked] if self._parked else self._live_cells
-        return self.encoder(self._xyf.take(rows, axis=0).ravel()[self._gather_reported])
+        obs = self._xyf.take(rows, axis=0).ravel()[self._gather_reported]
+        return obs if self.encoder.identity else self.encoder(obs)
 
     def _check_started(self, what: str) -> None:
         if not self._started:
