@@ -287,7 +287,8 @@ class BatchRace:
             self.n_finished[finishing] = 1
             self.racing[finishing, 0] = False
         self.cells = nxt[:, None]
-        self.over = over = frozen | finishing | (self.t >= self._max_t)
+        over = finishing | (self.t >= self._max_t)
+        self.over = over = frozen | over if waiting else over
         return rewards[:, None], finishing[:, None], self._no_block, code[:, None], over
 
     def observations(self) -> np.ndarray:

@@ -147,7 +147,7 @@ class _BatchVectorEnv(gym.vector.VectorEnv):
                 "restart them with reset(options={'reset_mask': mask}) first"
             )
         reset = self._autoreset if mode == NEXT_STEP else self._no_envs
-        rewards, _, blocked, outcome, over = b.step(acts)
+        rewards, finishing, blocked, outcome, over = b.step(acts)
         n_reset = np.count_nonzero(reset)
         if n_reset:
             # the envs stepped above are restarted; their new episode starts from their own generators
@@ -155,10 +155,14 @@ class _BatchVectorEnv(gym.vector.VectorEnv):
             rewards[reset] = 0.0
             over = over & ~reset
         obs = self._observations()
-        ended = over[:, None]
-        truncated = ended & b.racing
-        terminated = (truncated ^ ended).reshape(-1)  # ended and not racing
-        truncated = truncated.reshape(-1)
+        if self.n_robots == 1:  # a lone robot's episode ends at the exit (terminated) or the step limit
+            terminated = finishing.reshape(-1)
+            truncated = over ^ terminated
+        else:
+            ended = over[:, None]
+            truncated = ended & b.racing
+            terminated = (truncated ^ ended).reshape(-1)  # ended and not racing
+            truncated = truncated.reshape(-1)
         values = self._info_values(obs, outcome.reshape(-1), blocked.reshape(-1))
         if n_reset:
             set_reset_values(values, reset if self.n_robots == 1 else np.repeat(reset, self.n_robots), START)
