@@ -142,6 +142,12 @@ def race_step(
     reward ``t.reward[new cell]`` of every robot, plus any finishing bonus.
     """
     m = len(cells)
+    if m == 1:  # a lone robot (the last one racing) meets nobody: one look-up, no collision rules
+        cell, action = cells[0], actions[0]
+        sure = t.sure[cell][action]
+        robot = 0 if robots is None else robots[0]
+        d, o = sure if sure is not None else move(t, cell, action, key, (step * (n or 1) + robot) * SLOTS)
+        return (d,), (o,), [False], [t.is_exit[d]]
     if not m:
         return [], [], [], []
     # Table look-ups in C (map): the `sure` table holds the outcome of every cell and action
@@ -154,7 +160,7 @@ def race_step(
             if moves[k] is None:
                 moves[k] = move(t, cells[k], actions[k], key, base + robots[k] * SLOTS)
     desired, outcome = zip(*moves)
-    if mode == "pass" or m == 1:  # a robot alone on the board meets nobody
+    if mode == "pass":
         final = desired
     # resolve_collisions' own first test, inlined; without skids the robots that move are the MOVED ones
     elif len({*cells, *desired}) == m + (
