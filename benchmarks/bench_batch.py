@@ -91,7 +91,8 @@ def engine_alone_rate(batch: BatchRace, steps: int, rng: np.random.Generator) ->
     return steps * batch.n_envs / (time.process_time() - t0)
 
 
-MAKE_VEC, SYNC, ENGINE = "BabyRobot-v0 make_vec (batch engine)", "BabyRobot-v0 SyncVectorEnv", "  the same steps, engine alone (no infos)"
+MAKE_VEC, SYNC = "BabyRobot-v0 make_vec (batch engine)", "BabyRobot-v0 SyncVectorEnv"
+ENGINE = "  the same steps, engine alone (no infos)"
 
 
 def vector_envs(n: int, level: str) -> dict[str, gymnasium.vector.VectorEnv]:
@@ -154,8 +155,8 @@ def main(argv: list[str] | None = None) -> int:
         if MAKE_VEC in rates:
             full, alone = statistics.median(rates[MAKE_VEC]), statistics.median(rates[ENGINE])
             extra = n / full - n / alone
-            print(f"infos, action checks and the Gymnasium API: {extra * 1e6:.1f} us of make_vec's {n / full * 1e6:.1f} us a step "
-                  f"({extra * full / n:.0%})")
+            print(f"infos, action checks and the Gymnasium API: {extra * 1e6:.1f} us of make_vec's "
+                  f"{n / full * 1e6:.1f} us a step ({extra * full / n:.0%})")
             if level == LEVEL:
                 judged = statistics.median(x / y for x, y in zip(rates[MAKE_VEC], base))
     status = 0
@@ -163,7 +164,8 @@ def main(argv: list[str] | None = None) -> int:
         print("no batch-engine vector env: no target")
     else:
         ok = judged >= VECTOR_TARGET
-        print(f"target: make_vec on {LEVEL} at least {VECTOR_TARGET:.0f}x SyncVectorEnv; {judged:.1f}x: {'met' if ok else 'MISSED'}")
+        verdict = "met" if ok else "MISSED"
+        print(f"target: make_vec on {LEVEL} at least {VECTOR_TARGET:.0f}x SyncVectorEnv; {judged:.1f}x: {verdict}")
         status = 0 if ok else 1
 
     if args.all:
