@@ -37,6 +37,7 @@ START_MODES = ("level", "fill", "random")
 FINISHED_MODES = ("remove", "freeze")
 # actions on the fast path: Python ints 0..4 (bools, numpy ints and the rest are checked one by one)
 _INT, _ACTIONS = frozenset({int}), frozenset(range(N_ACTIONS))
+_add = operator.add
 _LAYOUTS, _LAYOUT_SIZE = 256, 4096  # gathers kept per env, and the largest kept (int indices)
 _RACING_INFO = {"cell": None, "outcome": 0, "blocked": False, "finished": False, "rank": 0}  # a racing robot's info, copied
 _ARGS = (
@@ -128,7 +129,7 @@ class RaceEnv(OverlayMethods, ParallelEnv):
         self._lists = self.table.lists
         self._xy = [self.table.cell_xy(c) for c in range(self.table.n_cells)]
         self._xy_arrays = [np.array(xy, dtype=np.int64) for xy in self._xy]  # infos' "cell", copied per step
-        self._reward_at = self._lists.reward.__getitem__
+        self._reward_at = self._lists.reward  # by cell
         # [x, y, finished] of a robot: row c racing in cell c, row n_cells + c finished there
         self._xyf = np.array([(*xy, 0) for xy in self._xy] + [(*xy, 1) for xy in self._xy], dtype=np.int64)
         # The state: the racing robots (`_live`, robot numbers, ascending) and their cells, and the
@@ -216,24 +217,25 @@ class RaceEnv(OverlayMethods, ParallelEnv):
         self._last_step = (live, self._live_cells, acts, outcome, blocked, finishing, t)
         self._live_cells = cells
         self._t = t = t + 1
-        rewards = list(map(self._reward_at, cells))
         if True in blocked:
             bumps = self._bumps
             for i, b in zip(live, blocked):
                 bumps[i] += b
         if True in finishing or t >= self.max_cycles or not self._reported_live:
-            out = self._step_general(cells, outcome, blocked, finishing, rewards)
+            out = self._step_general(cells, outcome, blocked, finishing, list(map(self._reward_at.__getitem__, cells)))
         else:  # the common step: nobody finishes, the race goes on, the agents are the racing robots
-            self._live_returns = list(map(operator.add, self._live_returns, rewards))
-            # fresh dicts and arrays (users keep and change them), each a copy of the common step's
-            infos, xy = {}, self._xy_arrays
-            for a, c, o, b in zip(reported, cells, outcome, blocked):
+            # the five dicts in one pass; infos fresh dicts and arrays (users keep and change them)
+            obs, rewards, infos, xy, reward_at = {}, {}, {}, self._xy_arrays, self._reward_at
+            for a, row, c, o, b in zip(reported, self._observations(), cells, outcome, blocked):
+                obs[a] = row
+                rewards[a] = reward_at[c]
                 infos[a] = info = _RACING_INFO.copy()
                 info["cell"] = xy[c].copy()
                 info["outcome"] = o
                 info["blocked"] = b
+            self._live_returns = list(map(_add, self._live_returns, rewards.values()))
             no = self._none_done
-            out = dict(zip(reported, self._observations())), dict(zip(reported, rewards)), no.copy(), no.copy(), infos
+            out = obs, rewards, no.copy(), no.copy(), infos
         if self.render_mode == "human":
             self.render()
         return out
@@ -242,7 +244,7 @@ class RaceEnv(OverlayMethods, ParallelEnv):
         self, cells: Sequence[int], outcome: Sequence[int], blocked: list[bool], finishing: list[bool], rewards: list[float]
     ):
         """The outputs of any step: robots finishing, the race ending, parked robots reported (freeze)."""
-        n, live = self.n_robots, self._live
+        live = self._live
         was_live = dict(zip(live, range(len(live))))  # robot -> its place among the racing robots
         if True in finishing:  # ranks, and the bonus of the robots finishing first
             first = self._n_finished == 0
@@ -253,47 +255,49 @@ class RaceEnv(OverlayMethods, ParallelEnv):
                     self._n_finished += 1
                     if first:
                         rewards[k] += self.rules.win_bonus
-        returns = list(map(operator.add, self._live_returns, rewards))
+        returns = list(map(_add, self._live_returns, rewards))
         if True in finishing:  # the finishers leave the board for their parking rows
-            for i, r, f in zip(live, returns, finishing):
+            racing, racing_cells, racing_returns = [], [], []
+            done, parked, n_cells = list(self._done), list(self._parked), self.table.n_cells
+            for i, c, r, f in zip(live, cells, returns, finishing):
                 if f:
                     self._returns[i] = r
-            returns = [r for r, f in zip(returns, finishing) if not f]
-            self._live = [i for i, f in zip(live, finishing) if not f]
-            self._live_cells = [c for c, f in zip(cells, finishing) if not f]
-            self._done = self._done + [i for i, f in zip(live, finishing) if f]
-            self._parked = self._parked + [self.table.n_cells + c for c, f in zip(cells, finishing) if f]
+                    done.append(i)
+                    parked.append(n_cells + c)
+                else:
+                    racing.append(i)
+                    racing_cells.append(c)
+                    racing_returns.append(r)
+            self._live, self._live_cells, returns, self._done, self._parked = racing, racing_cells, racing_returns, done, parked
             self._set_layout()
         self._live_returns = returns
-        reward = [0.0] * n  # parked robots earn nothing
-        for i, r in zip(live, rewards):
-            reward[i] = r
-        racing_now = self._racing
+        racing_now = self._live_set
         over = self._t >= self.max_cycles or not self._live
-        obs = self._observations()
         reported, ids = self.agents, self._agent_ids
         all_cells, xy, ranks = self._cells, self._xy_arrays, self._rank
         # parked robots (freeze) are terminated only when the race ends: PettingZoo expects a
         # terminated agent to leave `agents` in the same step
         parked_done = over or self.finished_mode == "remove"
-        terms = {a: not racing_now[i] and parked_done for a, i in zip(reported, ids)}
-        truncs = {a: over and racing_now[i] for a, i in zip(reported, ids)}
-        rews = {a: reward[i] for a, i in zip(reported, ids)}
-        infos = {}
-        for a, i in zip(reported, ids):
-            k = was_live.get(i)
+        obs, rews, terms, truncs, infos = {}, {}, {}, {}, {}  # in one pass
+        for a, i, row in zip(reported, ids, self._observations()):
+            k = was_live.get(i)  # None: parked before this step (it earns nothing)
+            racing = i in racing_now
+            obs[a] = row
+            rews[a] = 0.0 if k is None else rewards[k]
+            terms[a] = not racing and parked_done
+            truncs[a] = over and racing
             infos[a] = {
                 "cell": xy[all_cells[i]].copy(),
                 "outcome": FINISHED if k is None else outcome[k],
                 "blocked": k is not None and blocked[k],
-                "finished": not racing_now[i],
+                "finished": not racing,
                 "rank": ranks[i],
             }
         if over:
             self._set_agents([])
         elif self.finished_mode == "remove":
             self._set_agents(self._live)
-        return dict(zip(reported, obs)), rews, terms, truncs, infos
+        return obs, rews, terms, truncs, infos
 
     def _set_agents(self, ids: list[int]) -> None:
         """The robots reported in ``agents``, by robot number, and what steps precompute for them."""
@@ -467,7 +471,7 @@ class RaceEnv(OverlayMethods, ParallelEnv):
         """Race on ``level`` (drawn at reset, the size of the last): everything that depends on it."""
         self.level, self.table = level, compile_level(level, self.rules)
         self._lists = self.table.lists
-        self._reward_at = self._lists.reward.__getitem__
+        self._reward_at = self._lists.reward  # by cell
         self._observer = self._observer_of(self.table)
         self._fixed_starts, self._free = self._placement(self.n_robots)
         self.drawing.new_level(level)
