@@ -89,3 +89,30 @@ def test_the_batch_engine_truncates_at_a_step_limit_set_after_it_was_built():
     batch.reset_envs([0, 1, 2])
     overs = [batch.step(np.zeros((3, 1), dtype=np.int64))[4].tolist() for _ in range(5)]
     assert overs == [[False] * 3] * 4 + [[True] * 3]
+
+
+def test_two_robots_step_as_the_general_collision_rules_say():
+    """Two racing robots take their own path (two comparisons instead of the general resolution):
+    every pair of cells and actions of an open level, in every mode, against ``resolve_collisions``."""
+    from babyrobot_marl.core.race import race_step, resolve_collisions
+
+    for mode in ("block", "bounce", "pass"):
+        env = race_v0.parallel_env(level=CORNERS, n_robots=2, collisions=mode)
+        env.reset(seed=0)
+        t = env._lists
+        cells = [c for c in range(env.table.n_cells) if not t.is_exit[c]][:20]
+        checked = stopped = 0
+        for c0 in cells:
+            for c1 in cells:
+                if c0 == c1:
+                    continue
+                for a0 in range(5):
+                    for a1 in range(5):
+                        desired = (t.sure[c0][a0][0], t.sure[c1][a1][0])
+                        want = resolve_collisions(mode, (c0, c1), desired, 7, 3, (0, 1), 2)
+                        final, _, blocked, _ = race_step(t, mode, (c0, c1), (a0, a1), 7, 3, (0, 1), 2)
+                        assert list(final) == list(want), (mode, c0, c1, a0, a1)
+                        assert blocked == [f != d for f, d in zip(want, desired)]
+                        checked += 1
+                        stopped += True in blocked
+        assert checked > 9000 and (stopped > 0) == (mode != "pass")
