@@ -129,7 +129,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"{n_envs:8d} {rate:15,.0f} {per_step:14.1f} {batch.nbytes / n_envs:16.0f}")
 
     n = 64
-    steps = 300 if args.quick else 1000  # past the maze's 256-step limit: every env's resets count
+    steps = 600 if args.quick else 1000  # past the maze's 256-step limit: every env's resets count
     vector_rounds = max(rounds, 5)  # judged on a median of per-round ratios: a few rounds even in quick mode
     judged = None
     # the maze has walls only (every step a table look-up); mixed-8x8 adds puddles and glass walls (draws)
