@@ -173,8 +173,20 @@ class BatchRace:
         ids = np.arange(table.n_cells)
         self._xyf = np.stack([ids % w, ids // w, np.zeros_like(ids)], axis=1).astype(np.int64)
         self._xy = np.ascontiguousarray(self._xyf[:, :2])
+        # _step_one's constants: whether some move draws (puddles, glass walls), c * N_ACTIONS by cell, the step limit
+        self._draws = bool(np.count_nonzero(table.sure_flat[0] < 0))
+        self._cell_base = np.arange(table.n_cells, dtype=np.int64) * N_ACTIONS
+        self._one_t = np.ones(e, dtype=np.int64)
         self._no_block = np.zeros((e, n), dtype=bool)
         self._no_block.setflags(write=False)  # one robot is never blocked by another
+
+    @property
+    def max_steps(self) -> int:
+        return self._max_steps
+
+    @max_steps.setter
+    def max_steps(self, value: int) -> None:
+        self._max_steps, self._max_t = value, np.full(self.n_envs, value, dtype=np.int64)  # _step_one compares with the array
 
     @property
     def nbytes(self) -> int:
@@ -249,10 +261,10 @@ class BatchRace:
         """``step`` for one robot per env (no collisions, finishing ends the episode): fewer numpy calls."""
         t, c, a = self.table, self.cells[:, 0], actions[:, 0]
         sure_next, sure_code = t.sure_flat  # move_array's look-up, inlined: counts only where drawn
-        idx = c * N_ACTIONS + a
+        idx = self._cell_base.take(c) + a  # c * N_ACTIONS + a: a look-up costs less than numpy's scalar handling
         nxt, code = sure_next.take(idx), sure_code.take(idx)
-        draw = nxt < 0
-        if np.count_nonzero(draw):  # puddles and glass walls
+        draw = nxt < 0 if self._draws else None
+        if draw is not None and np.count_nonzero(draw):  # puddles and glass walls
             k = np.flatnonzero(draw)
             counts = self.t[k].astype(np.uint64) * np.uint64(SLOTS)  # robot 0 of 1: (t * 1 + 0) * SLOTS
             nxt[k], code[k] = move_drawn(t, idx[k], c[k], self.keys[k], counts)
@@ -268,14 +280,15 @@ class BatchRace:
             finishing &= ~frozen
             self.t += ~frozen
         else:
-            self.t += 1
+            self.t += self._one_t
         if np.count_nonzero(finishing):  # a lone robot that finishes wins its race
             rewards[finishing] += self.win_bonus
             self.rank[finishing, 0] = 1
             self.n_finished[finishing] = 1
             self.racing[finishing, 0] = False
         self.cells = nxt[:, None]
-        self.over = over = frozen | finishing | (self.t >= self.max_steps)
+        over = finishing | (self.t >= self._max_t)
+        self.over = over = frozen | over if waiting else over
         return rewards[:, None], finishing[:, None], self._no_block, code[:, None], over
 
     def observations(self) -> np.ndarray:

@@ -142,6 +142,21 @@ def race_step(
     reward ``t.reward[new cell]`` of every robot, plus any finishing bonus.
     """
     m = len(cells)
+    if m == 1:  # a lone robot (the last one racing) meets nobody: one look-up, no collision rules
+        cell, action = cells[0], actions[0]
+        sure = t.sure[cell][action]
+        robot = 0 if robots is None else robots[0]
+        d, o = sure if sure is not None else move(t, cell, action, key, (step * (n or 1) + robot) * SLOTS)
+        return (d,), (o,), [False], [t.is_exit[d]]
+    if m == 2:  # two robots: their look-ups, and the collision rules in two comparisons
+        (c0, c1), (a0, a1), sure = cells, actions, t.sure
+        m0, m1 = sure[c0][a0], sure[c1][a1]
+        if m0 is not None and m1 is not None:  # else (puddles, glass walls) the general way below
+            (d0, o0), (d1, o1) = m0, m1
+            # nobody stopped: no contest for a cell (nor a move into the cell of a robot that stays,
+            # whose cell is its destination too) and no swap; following a robot that leaves is allowed
+            if mode == "pass" or (d0 != d1 and (d0 != c1 or d1 != c0)):
+                return (d0, d1), (o0, o1), [False, False], [t.is_exit[d0], t.is_exit[d1]]
     if not m:
         return [], [], [], []
     # Table look-ups in C (map): the `sure` table holds the outcome of every cell and action

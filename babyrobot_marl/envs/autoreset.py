@@ -56,8 +56,12 @@ def with_masks(values: dict[str, np.ndarray], mask: np.ndarray) -> dict[str, np.
     """Gymnasium's vector info form: each key and ``"_key"``, the slots that have it."""
     out: dict[str, np.ndarray] = {}
     for key, value in values.items():
-        out[key], out[f"_{key}"] = value, mask.copy()
+        out[key] = value
+        out[_MASK_KEYS.get(key) or f"_{key}"] = mask.copy()
     return out
+
+
+_MASK_KEYS = {k: f"_{k}" for k in ("cell", "outcome", "intended", "blocked", "finished", "rank")}  # built once
 
 
 def final_infos(obs: np.ndarray, values: dict[str, np.ndarray], done: np.ndarray) -> dict[str, Any]:

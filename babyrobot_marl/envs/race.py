@@ -38,6 +38,9 @@ START_MODES = ("level", "fill", "random")
 FINISHED_MODES = ("remove", "freeze")
 # actions on the fast path: Python ints 0..4 (bools, numpy ints and the rest are checked one by one)
 _INT, _ACTIONS = frozenset({int}), frozenset(range(N_ACTIONS))
+_add = operator.add
+_LAYOUTS, _LAYOUT_SIZE = 256, 4096  # gathers kept per env, and the largest kept (int indices)
+_RACING_INFO = {"cell": None, "outcome": 0, "blocked": False, "finished": False, "rank": 0}  # a racing robot's info, copied
 _ARGS = (
     "level", "n_robots", "collisions", "max_cycles", "start", "finished", "rules", "render_mode", "cell_size", "theme",
     "animation_frames", "render_fps", "observe", "view_radius", "k", "obs_encoding", "hint",
@@ -127,10 +130,11 @@ class RaceEnv(OverlayMethods, ParallelEnv):
         else:  # "local" or "nearest": rows of a bounded size, but n of them
             check_view_numbers(n, len(self._observer.nvec), "view_radius" if observe == "local" else "k")
         self._gather = global_gather(n if self._observer is None else 0)  # robot i sees i, i+1, ..., i-1: "global" only
+        self._layouts: dict[tuple, np.ndarray] = {}  # _set_layout's gathers by (agents, racing, finished) robot numbers
         self._lists = self.table.lists
         self._xy = [self.table.cell_xy(c) for c in range(self.table.n_cells)]
         self._xy_arrays = [np.array(xy, dtype=np.int64) for xy in self._xy]  # infos' "cell", copied per step
-        self._reward_at = self._lists.reward.__getitem__
+        self._reward_at = self._lists.reward  # by cell
         # [x, y, finished] of a robot: row c racing in cell c, row n_cells + c finished there
         self._xyf = np.array([(*xy, 0) for xy in self._xy] + [(*xy, 1) for xy in self._xy], dtype=np.int64)
         # The state: the racing robots (`_live`, robot numbers, ascending) and their cells, and the
@@ -203,29 +207,40 @@ class RaceEnv(OverlayMethods, ParallelEnv):
             if actions:
                 raise ValueError("actions: the race is over (no agents left); call reset() before stepping again")
             return {}, {}, {}, {}, {}
-        acts = self._check_actions(actions)  # raises before anything changes
+        # The common case, checked in C: one int action 0..4 per racing robot, in `agents` order;
+        # anything else is checked one by one (raising before anything changes).
+        if type(actions) is dict and self._reported_live:
+            acts = list(actions.values())
+            if not (list(actions) == reported and _INT.issuperset(map(type, acts)) and _ACTIONS.issuperset(acts)):
+                acts = self._check_actions(actions)
+        else:
+            acts = self._check_actions(actions)
         live, t = self._live, self._t
         cells, outcome, blocked, finishing = race_step(
             self._lists, self.collisions, self._live_cells, acts, self._key, t, live, self.n_robots
         )
         self._last_step = (live, self._live_cells, acts, outcome, blocked, finishing, t)
-        self._live_cells, self._t = cells, t + 1
-        rewards = list(map(self._reward_at, cells))
+        self._live_cells = cells
+        self._t = t = t + 1
         if True in blocked:
             bumps = self._bumps
             for i, b in zip(live, blocked):
                 bumps[i] += b
-        if True in finishing or t + 1 >= self.max_cycles or not self._reported_live:
-            out = self._step_general(cells, outcome, blocked, finishing, rewards)
+        if True in finishing or t >= self.max_cycles or not self._reported_live:
+            out = self._step_general(cells, outcome, blocked, finishing, list(map(self._reward_at.__getitem__, cells)))
         else:  # the common step: nobody finishes, the race goes on, the agents are the racing robots
-            self._live_returns = list(map(operator.add, self._live_returns, rewards))
-            xy = self._xy_arrays
-            infos = {
-                a: {"cell": xy[c].copy(), "outcome": o, "blocked": b, "finished": False, "rank": 0}
-                for a, c, o, b in zip(reported, cells, outcome, blocked)
-            }
+            # the five dicts in one pass; infos fresh dicts and arrays (users keep and change them)
+            obs, rewards, infos, xy, reward_at = {}, {}, {}, self._xy_arrays, self._reward_at
+            for a, row, c, o, b in zip(reported, self._observations(), cells, outcome, blocked):
+                obs[a] = row
+                rewards[a] = reward_at[c]
+                infos[a] = info = _RACING_INFO.copy()
+                info["cell"] = xy[c].copy()
+                info["outcome"] = o
+                info["blocked"] = b
+            self._live_returns = list(map(_add, self._live_returns, rewards.values()))
             no = self._none_done
-            out = dict(zip(reported, self._observations())), dict(zip(reported, rewards)), no.copy(), no.copy(), infos
+            out = obs, rewards, no.copy(), no.copy(), infos
         if self.render_mode == "human":
             self.render()
         return out
@@ -234,7 +249,7 @@ class RaceEnv(OverlayMethods, ParallelEnv):
         self, cells: Sequence[int], outcome: Sequence[int], blocked: list[bool], finishing: list[bool], rewards: list[float]
     ):
         """The outputs of any step: robots finishing, the race ending, parked robots reported (freeze)."""
-        n, live = self.n_robots, self._live
+        live = self._live
         was_live = dict(zip(live, range(len(live))))  # robot -> its place among the racing robots
         if True in finishing:  # ranks, and the bonus of the robots finishing first
             first = self._n_finished == 0
@@ -245,47 +260,49 @@ class RaceEnv(OverlayMethods, ParallelEnv):
                     self._n_finished += 1
                     if first:
                         rewards[k] += self.rules.win_bonus
-        returns = list(map(operator.add, self._live_returns, rewards))
+        returns = list(map(_add, self._live_returns, rewards))
         if True in finishing:  # the finishers leave the board for their parking rows
-            for i, r, f in zip(live, returns, finishing):
+            racing, racing_cells, racing_returns = [], [], []
+            done, parked, n_cells = list(self._done), list(self._parked), self.table.n_cells
+            for i, c, r, f in zip(live, cells, returns, finishing):
                 if f:
                     self._returns[i] = r
-            returns = [r for r, f in zip(returns, finishing) if not f]
-            self._live = [i for i, f in zip(live, finishing) if not f]
-            self._live_cells = [c for c, f in zip(cells, finishing) if not f]
-            self._done = self._done + [i for i, f in zip(live, finishing) if f]
-            self._parked = self._parked + [self.table.n_cells + c for c, f in zip(cells, finishing) if f]
+                    done.append(i)
+                    parked.append(n_cells + c)
+                else:
+                    racing.append(i)
+                    racing_cells.append(c)
+                    racing_returns.append(r)
+            self._live, self._live_cells, returns, self._done, self._parked = racing, racing_cells, racing_returns, done, parked
             self._set_layout()
         self._live_returns = returns
-        reward = [0.0] * n  # parked robots earn nothing
-        for i, r in zip(live, rewards):
-            reward[i] = r
-        racing_now = self._racing
+        racing_now = self._live_set
         over = self._t >= self.max_cycles or not self._live
-        obs = self._observations()
         reported, ids = self.agents, self._agent_ids
         all_cells, xy, ranks = self._cells, self._xy_arrays, self._rank
         # parked robots (freeze) are terminated only when the race ends: PettingZoo expects a
         # terminated agent to leave `agents` in the same step
         parked_done = over or self.finished_mode == "remove"
-        terms = {a: not racing_now[i] and parked_done for a, i in zip(reported, ids)}
-        truncs = {a: over and racing_now[i] for a, i in zip(reported, ids)}
-        rews = {a: reward[i] for a, i in zip(reported, ids)}
-        infos = {}
-        for a, i in zip(reported, ids):
-            k = was_live.get(i)
+        obs, rews, terms, truncs, infos = {}, {}, {}, {}, {}  # in one pass
+        for a, i, row in zip(reported, ids, self._observations()):
+            k = was_live.get(i)  # None: parked before this step (it earns nothing)
+            racing = i in racing_now
+            obs[a] = row
+            rews[a] = 0.0 if k is None else rewards[k]
+            terms[a] = not racing and parked_done
+            truncs[a] = over and racing
             infos[a] = {
                 "cell": xy[all_cells[i]].copy(),
                 "outcome": FINISHED if k is None else outcome[k],
                 "blocked": k is not None and blocked[k],
-                "finished": not racing_now[i],
+                "finished": not racing,
                 "rank": ranks[i],
             }
         if over:
             self._set_agents([])
         elif self.finished_mode == "remove":
             self._set_agents(self._live)
-        return dict(zip(reported, obs)), rews, terms, truncs, infos
+        return obs, rews, terms, truncs, infos
 
     def _set_agents(self, ids: list[int]) -> None:
         """The robots reported in ``agents``, by robot number, and what steps precompute for them."""
@@ -295,11 +312,20 @@ class RaceEnv(OverlayMethods, ParallelEnv):
         self._set_layout()
 
     def _set_layout(self) -> None:
-        """Observation rows of the reported agents, gathered from the rows of ``_live_cells + _parked``."""
-        place = np.empty(self.n_robots, dtype=np.intp)
-        place[self._live + self._done] = np.arange(len(self._live) + len(self._done))
-        g = self._gather[self._agent_ids] if self._observer is None else self._gather
-        self._gather_reported = 3 * place[g // 3] + g % 3 if len(self._done) else g
+        """Observation rows of the reported agents, gathered from the rows of ``_live_cells + _parked``
+        (small ones kept by robot numbers: races repeat their finishing orders, and finishing steps count)."""
+        key = (tuple(self._agent_ids), tuple(self._live), tuple(self._done))
+        g = self._layouts.get(key)
+        if g is None:
+            place = np.empty(self.n_robots, dtype=np.intp)
+            place[self._live + self._done] = np.arange(len(self._live) + len(self._done))
+            g = self._gather[self._agent_ids] if self._observer is None else self._gather
+            g = 3 * place[g // 3] + g % 3 if len(self._done) else g
+            if g.size <= _LAYOUT_SIZE:
+                if len(self._layouts) >= _LAYOUTS:
+                    self._layouts.clear()
+                self._layouts[key] = g
+        self._gather_reported = g
         self._reported_live = self._agent_ids == self._live
         self._live_set = frozenset(self._live)
 
@@ -414,12 +440,8 @@ class RaceEnv(OverlayMethods, ParallelEnv):
             raise ValueError(f"agent: unknown agent {agent!r}; agents are {', '.join(self.possible_agents)}") from None
 
     def _check_actions(self, actions: Mapping[str, Any]) -> list[int]:
-        """The racing robots' actions, in robot order; a ValueError (and nothing changed) if any is bad."""
-        if type(actions) is dict and self._reported_live:
-            # the common case, checked in C: one int action per racing robot, in `agents` order
-            acts = list(actions.values())
-            if list(actions) == self.agents and _INT.issuperset(map(type, acts)) and _ACTIONS.issuperset(acts):
-                return acts
+        """The racing robots' actions, in robot order; a ValueError (and nothing changed) if any is bad.
+        (``step`` takes the common case, a dict of int actions in ``agents`` order, itself.)"""
         if type(actions) is not dict and not isinstance(actions, Mapping):  # the ABC check is slow
             raise ValueError(f"actions: expected a dict agent -> action, got {type(actions).__name__}")
         given: dict[int, int] = {}
@@ -443,7 +465,8 @@ class RaceEnv(OverlayMethods, ParallelEnv):
         if self._observer is not None:
             return self.encoder(self._observer(np.array(self._cells), np.array(self._racing))[self._agent_ids])
         rows = [*self._live_cells, *self._parked] if self._parked else self._live_cells
-        return self.encoder(self._xyf.take(rows, axis=0).ravel()[self._gather_reported])
+        obs = self._xyf.take(rows, axis=0).ravel()[self._gather_reported]
+        return obs if self.encoder.identity else self.encoder(obs)
 
     def _check_started(self, what: str) -> None:
         if not self._started:
@@ -453,7 +476,7 @@ class RaceEnv(OverlayMethods, ParallelEnv):
         """Race on ``level`` (drawn at reset, the size of the last): everything that depends on it."""
         self.level, self.table = level, compile_level(level, self.rules)
         self._lists = self.table.lists
-        self._reward_at = self._lists.reward.__getitem__
+        self._reward_at = self._lists.reward  # by cell
         self._observer = self._drawn_observer(self.table)
         self._fixed_starts, self._free = self._placement(self.n_robots)
         self.drawing.new_level(level)

@@ -93,6 +93,8 @@ class _BatchVectorEnv(gym.vector.VectorEnv):
         self.observation_space = batch_space(self.single_observation_space, self.num_envs)
         self._autoreset = np.zeros(self.n_envs, dtype=bool)  # envs whose episode ended on the last step
         self._all_slots = np.ones(self.num_envs, dtype=bool)
+        self._no_envs = np.zeros(self.n_envs, dtype=bool)  # no env to reset first (same-step, disabled)
+        self._no_envs.setflags(write=False)
         self._started = False
         self._level, self._xy = ref.level, [ref.table.cell_xy(c) for c in range(ref.table.n_cells)]
 
@@ -144,19 +146,26 @@ class _BatchVectorEnv(gym.vector.VectorEnv):
                 f"step: env(s) {ended} have ended and autoreset_mode is disabled; "
                 "restart them with reset(options={'reset_mask': mask}) first"
             )
-        reset = self._autoreset if mode == NEXT_STEP else np.zeros(self.n_envs, dtype=bool)
-        rewards, _, blocked, outcome, over = b.step(acts)
-        if np.count_nonzero(reset):
+        reset = self._autoreset if mode == NEXT_STEP else self._no_envs
+        rewards, finishing, blocked, outcome, over = b.step(acts)
+        n_reset = np.count_nonzero(reset)
+        if n_reset:
             # the envs stepped above are restarted; their new episode starts from their own generators
             restart(self._batch, np.flatnonzero(reset), None)
             rewards[reset] = 0.0
             over = over & ~reset
         obs = self._observations()
-        ended = over[:, None]
-        terminated = (ended & ~b.racing).reshape(-1)
-        truncated = (ended & b.racing).reshape(-1)
+        if self.n_robots == 1:  # a lone robot's episode ends at the exit (terminated) or the step limit
+            terminated = finishing.reshape(-1)
+            truncated = over ^ terminated
+        else:
+            ended = over[:, None]
+            truncated = ended & b.racing
+            terminated = (truncated ^ ended).reshape(-1)  # ended and not racing
+            truncated = truncated.reshape(-1)
         values = self._info_values(obs, outcome.reshape(-1), blocked.reshape(-1))
-        set_reset_values(values, np.repeat(reset, self.n_robots), START)
+        if n_reset:
+            set_reset_values(values, reset if self.n_robots == 1 else np.repeat(reset, self.n_robots), START)
         extra: dict[str, Any] = {}
         if mode == SAME_STEP and np.count_nonzero(over):
             done = np.repeat(over, self.n_robots)
@@ -169,7 +178,7 @@ class _BatchVectorEnv(gym.vector.VectorEnv):
         self._autoreset = over
         infos = with_masks(values, self._all_slots)
         infos.update(extra)
-        return self._encoded(obs), rewards.reshape(-1), terminated, truncated, infos
+        return obs if self.encoder.identity else self.encoder(obs), rewards.reshape(-1), terminated, truncated, infos
 
     def render(self) -> tuple[Any, ...] | None:
         """One frame per env (not per slot), as ``SyncVectorEnv.render`` returns one per env.
@@ -304,7 +313,7 @@ class BabyRobotVectorEnv(_BatchVectorEnv):
         return [self._xy[int(self._batch.cells[i, 0])]] if self._started else []  # at its exit too, as the single env draws it
 
     def _info_values(self, obs: np.ndarray, outcome: np.ndarray, blocked: np.ndarray) -> dict[str, np.ndarray]:
-        code = outcome.astype(np.int64)
+        code = outcome.astype(np.int64, copy=False)  # the batch's codes are a new array each step, held by nobody else
         return {"cell": obs.copy(), "outcome": code, "intended": _INTENDED.take(code)}
 
 
