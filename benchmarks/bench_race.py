@@ -9,13 +9,13 @@ robot leaving at the exit and the race reset when all are gone; agent-steps are 
 the agents present at each step (late in a race the fixed cost of a step is shared by fewer
 robots). The peer: multigrid's ``Empty`` through its PettingZoo wrapper, 8x8, 4 agents, random
 starts, ``max_steps=200``, ``success_termination_mode="all"`` (each agent leaves at the goal).
-The two take turns every ``CHUNK`` joint steps (who goes first alternates), timed in CPU time of this
-process (``time.process_time``: both are single-threaded Python, and other jobs on a busy
-machine stretch wall time, not CPU time); each round's ratio is measured in that round, the
+After an untimed warm-up the two take turns every ``CHUNK`` joint steps (who goes first
+alternates), timed in CPU time of this process (``time.process_time``: both are single-threaded
+Python, and other jobs on a busy machine stretch wall time, not CPU time); each round's ratio is measured in that round, the
 target (``CORNERS_TARGET``) is judged on the median of the rounds' ratios, and the spread
 printed is over the rounds. Exit status 1 below it.
 
-Part 2: both envs run the same loop in the same process, interleaved round by round: 4 agents,
+Part 2 (wall time): both envs run the same loop in the same process, interleaved round by round: 4 agents,
 uniformly random actions drawn before timing, a reset whenever no agent is left. The peer is
 ``multigrid`` (pip package ``multigrid``, ``MultiGrid-Empty``) on an 8x8 grid with 4 agents,
 through its own PettingZoo wrapper. Figures are medians over rounds; the ratio is per
