@@ -97,6 +97,7 @@ def resolve_collisions(
     return [c if s else d for c, d, s in zip(cells, desired, stopped)]
 
 
+_LOOP_UP_TO = 8  # racing robots up to which race_step looks moves up in a plain loop
 _ARRAYS_FROM = 48  # racing robots above which numpy (``batch.resolve_collisions_array``) beats Python dicts
 
 
@@ -159,16 +160,28 @@ def race_step(
                 return (d0, d1), (o0, o1), [False, False], [t.is_exit[d0], t.is_exit[d1]]
     if not m:
         return [], [], [], []
-    # Table look-ups in C (map): the `sure` table holds the outcome of every cell and action
-    # that needs no random draw; only puddles and glass walls go through `move`.
-    moves = list(map(getitem, map(t.sure.__getitem__, cells), actions))
-    if None in moves:
-        robots = range(m) if robots is None else robots
-        base = step * (n or m) * SLOTS
+    # The `sure` table holds the outcome of every cell and action that needs no random draw; only
+    # puddles and glass walls go through `move`. Few robots: a plain loop (map's and zip's set-up
+    # cost more than the look-ups); many: the look-ups in C (map).
+    if m <= _LOOP_UP_TO:
+        sure, desired, outcome = t.sure, [], []
         for k in range(m):
-            if moves[k] is None:
-                moves[k] = move(t, cells[k], actions[k], key, base + robots[k] * SLOTS)
-    desired, outcome = zip(*moves)
+            cell, action = cells[k], actions[k]
+            one = sure[cell][action]
+            if one is None:
+                robot = k if robots is None else robots[k]
+                one = move(t, cell, action, key, (step * (n or m) + robot) * SLOTS)
+            desired.append(one[0])
+            outcome.append(one[1])
+    else:
+        moves = list(map(getitem, map(t.sure.__getitem__, cells), actions))
+        if None in moves:
+            robots = range(m) if robots is None else robots
+            base = step * (n or m) * SLOTS
+            for k in range(m):
+                if moves[k] is None:
+                    moves[k] = move(t, cells[k], actions[k], key, base + robots[k] * SLOTS)
+        desired, outcome = zip(*moves)
     if mode == "pass":
         final = desired
     # resolve_collisions' own first test, inlined; without skids the robots that move are the MOVED ones
