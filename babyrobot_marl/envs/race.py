@@ -37,7 +37,7 @@ from .starts import draw_starts, new_generator, placement
 START_MODES = ("level", "fill", "random")
 FINISHED_MODES = ("remove", "freeze")
 # actions on the fast path: Python ints 0..4 (bools, numpy ints and the rest are checked one by one)
-_INT, _ACTIONS = frozenset({int}), frozenset(range(N_ACTIONS))
+_ACTIONS = frozenset(range(N_ACTIONS))
 _add = operator.add
 _LAYOUTS, _LAYOUT_SIZE = 256, 4096  # gathers kept per env, and the largest kept (int indices)
 _RACING_INFO = {"cell": None, "outcome": 0, "blocked": False, "finished": False, "rank": 0}  # a racing robot's info, copied
@@ -207,12 +207,14 @@ class RaceEnv(OverlayMethods, ParallelEnv):
             if actions:
                 raise ValueError("actions: the race is over (no agents left); call reset() before stepping again")
             return {}, {}, {}, {}, {}
-        # The common case, checked in C: one int action 0..4 per racing robot, in `agents` order;
-        # anything else is checked one by one (raising before anything changes).
-        if type(actions) is dict and self._reported_live:
+        # The common case: one int action 0..4 per racing robot, in `agents` order (a plain loop: few
+        # robots); anything else is checked one by one by _check_actions, raising before anything changes.
+        if type(actions) is dict and self._reported_live and list(actions) == reported:
             acts = list(actions.values())
-            if not (list(actions) == reported and _INT.issuperset(map(type, acts)) and _ACTIONS.issuperset(acts)):
-                acts = self._check_actions(actions)
+            for a in acts:
+                if type(a) is not int or a not in _ACTIONS:
+                    acts = self._check_actions(actions)
+                    break
         else:
             acts = self._check_actions(actions)
         live, t = self._live, self._t
