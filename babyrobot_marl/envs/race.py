@@ -232,15 +232,16 @@ class RaceEnv(OverlayMethods, ParallelEnv):
             out = self._step_general(cells, outcome, blocked, finishing, list(map(self._reward_at.__getitem__, cells)))
         else:  # the common step: nobody finishes, the race goes on, the agents are the racing robots
             # the five dicts in one pass; infos fresh dicts and arrays (users keep and change them)
-            obs, rewards, infos, xy, reward_at = {}, {}, {}, self._xy_arrays, self._reward_at
-            for a, row, c, o, b in zip(reported, self._observations(), cells, outcome, blocked):
+            obs, rewards, infos, returns, xy, reward_at = {}, {}, {}, [], self._xy_arrays, self._reward_at
+            for a, row, c, o, b, ret in zip(reported, self._observations(), cells, outcome, blocked, self._live_returns):
                 obs[a] = row
-                rewards[a] = reward_at[c]
+                rewards[a] = r = reward_at[c]
+                returns.append(ret + r)
                 infos[a] = info = _RACING_INFO.copy()
                 info["cell"] = xy[c].copy()
                 info["outcome"] = o
                 info["blocked"] = b
-            self._live_returns = list(map(_add, self._live_returns, rewards.values()))
+            self._live_returns = returns
             no = self._none_done
             out = obs, rewards, no.copy(), no.copy(), infos
         if self.render_mode == "human":
