@@ -38,7 +38,6 @@ START_MODES = ("level", "fill", "random")
 FINISHED_MODES = ("remove", "freeze")
 # actions on the fast path: Python ints 0..4 (bools, numpy ints and the rest are checked one by one)
 _ACTIONS = frozenset(range(N_ACTIONS))
-_add = operator.add
 _LAYOUTS, _LAYOUT_SIZE = 256, 4096  # gathers kept per env, and the largest kept (int indices)
 _RACING_INFO = {"cell": None, "outcome": 0, "blocked": False, "finished": False, "rank": 0}  # a racing robot's info, copied
 _ARGS = (
@@ -130,7 +129,7 @@ class RaceEnv(OverlayMethods, ParallelEnv):
         else:  # "local" or "nearest": rows of a bounded size, but n of them
             check_view_numbers(n, len(self._observer.nvec), "view_radius" if observe == "local" else "k")
         self._gather = global_gather(n if self._observer is None else 0)  # robot i sees i, i+1, ..., i-1: "global" only
-        self._layouts: dict[tuple, np.ndarray] = {}  # _set_layout's gathers by (agents, racing, finished) robot numbers
+        self._layouts: dict[tuple, np.ndarray] = {}  # _set_layout's gathers by robot numbers: races repeat finishing orders
         self._lists = self.table.lists
         self._xy = [self.table.cell_xy(c) for c in range(self.table.n_cells)]
         self._xy_arrays = [np.array(xy, dtype=np.int64) for xy in self._xy]  # infos' "cell", copied per step
@@ -239,8 +238,7 @@ class RaceEnv(OverlayMethods, ParallelEnv):
                 returns.append(ret + r)
                 infos[a] = info = _RACING_INFO.copy()
                 info["cell"] = xy[c].copy()
-                info["outcome"] = o
-                info["blocked"] = b
+                info["outcome"], info["blocked"] = o, b
             self._live_returns = returns
             no = self._none_done
             out = obs, rewards, no.copy(), no.copy(), infos
@@ -263,7 +261,7 @@ class RaceEnv(OverlayMethods, ParallelEnv):
                     self._n_finished += 1
                     if first:
                         rewards[k] += self.rules.win_bonus
-        returns = list(map(_add, self._live_returns, rewards))
+        returns = list(map(operator.add, self._live_returns, rewards))
         if True in finishing:  # the finishers leave the board for their parking rows
             racing, racing_cells, racing_returns = [], [], []
             done, parked, n_cells = list(self._done), list(self._parked), self.table.n_cells
@@ -315,8 +313,7 @@ class RaceEnv(OverlayMethods, ParallelEnv):
         self._set_layout()
 
     def _set_layout(self) -> None:
-        """Observation rows of the reported agents, gathered from the rows of ``_live_cells + _parked``
-        (small ones kept by robot numbers: races repeat their finishing orders, and finishing steps count)."""
+        """Observation rows of the reported agents, gathered from the rows of ``_live_cells + _parked`` (kept)."""
         key = (tuple(self._agent_ids), tuple(self._live), tuple(self._done))
         g = self._layouts.get(key)
         if g is None:
@@ -443,8 +440,7 @@ class RaceEnv(OverlayMethods, ParallelEnv):
             raise ValueError(f"agent: unknown agent {agent!r}; agents are {', '.join(self.possible_agents)}") from None
 
     def _check_actions(self, actions: Mapping[str, Any]) -> list[int]:
-        """The racing robots' actions, in robot order; a ValueError (and nothing changed) if any is bad.
-        (``step`` takes the common case, a dict of int actions in ``agents`` order, itself.)"""
+        """The racing robots' actions, in robot order; a ValueError (and nothing changed) if any is bad."""
         if type(actions) is not dict and not isinstance(actions, Mapping):  # the ABC check is slow
             raise ValueError(f"actions: expected a dict agent -> action, got {type(actions).__name__}")
         given: dict[int, int] = {}
