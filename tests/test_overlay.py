@@ -76,29 +76,68 @@ def test_nan_values_leave_the_cell_as_it_was():
     assert not (cell(img[:grid], 5, 0) == cell(plain, 5, 0)).all()
 
 
-@pytest.mark.parametrize(
-    ("action", "u", "v"),
-    [(Action.EAST, 0.78, 0.5), (Action.WEST, 0.22, 0.5), (Action.NORTH, 0.5, 0.22), (Action.SOUTH, 0.5, 0.78)],
-)
-def test_an_arrow_points_from_the_centre_towards_its_direction(action, u, v):  # fmt: skip
+@pytest.mark.parametrize(("action", "dx", "dy"), [(Action.EAST, 1, 0), (Action.WEST, -1, 0), (Action.NORTH, 0, -1), (Action.SOUTH, 0, 1)])
+def test_an_arrow_is_centred_in_its_cell_and_its_head_points_its_way(action, dx, dy):
     env = env_with()
     arrows = np.zeros((8, 8), dtype=int)
     arrows[3, 4] = int(action)
     env.set_overlay(arrows=arrows)
-    img = env.render()
-    assert px(img, 4, 3, u, v) == LIGHT.arrow
-    # and not the opposite way
-    assert px(img, 4, 3, 1 - u, 1 - v) != LIGHT.arrow
+    white = (cell(env.render(), 4, 3) == LIGHT.arrow).all(axis=2)
+    ys, xs = np.nonzero(white)
+    along = (xs - CS / 2) * dx + (ys - CS / 2) * dy  # pixels along the arrow, from the cell's centre
+    assert abs(along.min() + along.max()) < 0.15 * CS  # centred
+    across = np.abs((xs - CS / 2) * dy - (ys - CS / 2) * dx)
+    assert across[along > along.max() - 0.2 * CS].max() >= 1.8 * across[along < along.min() + 0.15 * CS].max()  # the head
 
 
-def test_ties_are_several_arrows_from_the_same_centre():
-    arrows = np.zeros((8, 8, 5), dtype=bool)
-    arrows[1, 1, [Action.EAST, Action.SOUTH]] = True
-    ov = update_overlay(Overlay(), env_with().level, arrows=arrows)
-    shapes = [op for op in annotate.ink_ops(ov, CS, LIGHT) if isinstance(op, Fill) and op.colour == LIGHT.arrow]
-    assert len(shapes) == 2
-    tails = [tuple(np.round(op.points[[0, -1]].mean(axis=0))) for op in shapes]  # the two tail corners' middle
-    assert np.allclose(tails[0], tails[1], atol=0.6 * CS * 0.12 + 1)  # both start at the cell's centre
+def arrow_shapes(ops):
+    return [op for op in ops if isinstance(op, Fill) and op.colour == LIGHT.arrow]
+
+
+@pytest.mark.parametrize("cs", [32, 48, 64])
+@pytest.mark.parametrize("values", [False, True])
+def test_arrows_are_at_least_a_third_of_the_cell_and_ties_are_distinct_arrows(cs, values):
+    """Every arrow, alone or tied (two, three, four ways), is at least cs / 3 long; tied arrows
+    do not touch (they are not drawn from one point); on mixed-8x8, cell (3, 0) has a tie."""
+    level = env_with().level
+    ties = [(a,) for a in (1, 2, 3, 4)] + [(1, 3), (2, 4), (2, 3), (1, 4), (3, 4), (1, 2), (1, 2, 3), (1, 2, 3, 4)]
+    for actions in ties:
+        arrows = np.zeros((8, 8, 5), dtype=bool)
+        arrows[4, 4, list(actions)] = True
+        vals = np.full((8, 8), -12.5) if values else None
+        ov = update_overlay(Overlay(), level, arrows=arrows, values=vals)
+        shapes = arrow_shapes(annotate.ink_ops(ov, cs, LIGHT))
+        assert len(shapes) == len(actions)
+        for s in shapes:
+            ext = s.points.max(axis=0) - s.points.min(axis=0)
+            if len(actions) <= 2:
+                assert ext.max() >= cs / 3 - 1, (actions, cs, ext)
+            assert (s.points >= 4 * cs - 0.5).all() and (s.points <= 5 * cs + 0.5).all()  # inside its cell
+        boxes = [(s.points.min(axis=0), s.points.max(axis=0)) for s in shapes]
+        for i in range(len(boxes)):
+            for j in range(i + 1, len(boxes)):
+                (a0, a1), (b0, b1) = boxes[i], boxes[j]
+                gap = np.maximum(b0 - a1, a0 - b1).max()  # > 0: apart along some axis
+                assert gap > 0 or _apart(shapes[i].points, shapes[j].points), (actions, cs)
+
+
+def _apart(a, b) -> bool:
+    """No corner of either shape within 1 pixel of the other's corners (two arrows, not a scribble)."""
+    d = np.linalg.norm(a[:, None, :] - b[None, :, :], axis=2)
+    return bool(d.min() > 1.0)
+
+
+def test_cell_3_0_of_mixed_8x8_draws_its_tie_as_two_separate_arrows():
+    from babyrobot_marl import planning
+
+    env = env_with(level="mixed-8x8")
+    sol = planning.value_iteration(planning.model(env.level), gamma=1.0)
+    assert sol.best_actions[0, 3].sum() >= 2  # a tie there
+    ov = update_overlay(Overlay(), env.level, arrows=sol.best_actions, values=sol.value_grid)
+    shapes = [s for s in arrow_shapes(annotate.ink_ops(ov, CS, LIGHT)) if (s.points.mean(axis=0) // CS == (3, 0)).all()]
+    assert len(shapes) == sol.best_actions[0, 3].sum()
+    tails = [s.points[[0, -1]].mean(axis=0) for s in shapes]
+    assert np.linalg.norm(tails[0] - tails[1]) > CS / 6  # not from one point
 
 
 def test_arrows_never_cover_the_value_boxes():
@@ -137,7 +176,9 @@ def test_text_is_drawn_in_its_cell_only():
     img = env.render()
     changed = np.argwhere((img != plain).any(axis=2))
     assert len(changed) > 0
-    assert set(map(tuple, changed // CS)) == {(1, 6)}  # (row, column) of cell (6, 1)
+    (x0, y0), exits = env.robot_cell, env.level.exits
+    moved = {(y0, x0), *((y, x) for x, y in [*env.level.starts, *exits])}  # the robot and icons go to their corners
+    assert set(map(tuple, changed // CS)) - moved == {(1, 6)}  # (row, column) of cell (6, 1)
     assert has(cell(img, 6, 1), LIGHT.value_text)
 
 

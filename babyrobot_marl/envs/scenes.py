@@ -22,13 +22,14 @@ def single_scene(env: Any) -> Scene:
         return Scene()
     cell = env._xy[env._cell]
     last = env._last_step
+    corner = env.drawing.overlay.has_cells
     if last is None:
-        return Scene((RobotView(0, cell, numbered=False),), done=env._done)
+        return Scene((RobotView(0, cell, numbered=False),), done=env._done, corner=corner)
     prev, action, outcome = last
     finished = bool(env._lists.is_exit[env._cell])
     pose = "finished" if finished else ("idle" if outcome == MOVED and action == 0 else POSE_OF_OUTCOME[outcome])
     view = RobotView(0, cell, action, pose, env._xy[prev], numbered=False)
-    return Scene((view,), done=env._done)
+    return Scene((view,), done=env._done, corner=corner)
 
 
 def race_scene(env: Any) -> Scene:
@@ -61,7 +62,8 @@ def race_scene(env: Any) -> Scene:
     legend = tuple(
         LegendRow(i, names.get(i, ""), live_returns.get(i, env._returns[i]), env._rank[i], racing[i]) for i in range(n)
     )
-    return Scene(tuple(views), tuple(marks), legend, done=not env.agents)
+    corner = env.drawing.overlay.has_cells
+    return Scene(tuple(views), tuple(marks), legend, done=not env.agents, corner=corner)
 
 
 def _desired(lists: Any, cell: int, action: int, key: int, counter: int) -> int:

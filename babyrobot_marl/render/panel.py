@@ -114,7 +114,7 @@ class Metrics:
 def metrics(cs: int, ratio: int = 1) -> Metrics:
     size = text_size(cs // ratio) * ratio
     cap = cap_height(size)[1]
-    return Metrics(size, cap, max(4, size // 2), int(round(cap * 2.0)), int(round(cap * 2.2)),
+    return Metrics(size, cap, max(4, size // 2), int(round(cap * 2.0)), int(round(cap * 3.6)),
                    int(round(max(cap * 2.6, 20.0 * ratio))), int(round(cap * 2.2)))  # fmt: skip
 
 
@@ -187,6 +187,12 @@ def panel_sections(
     return out
 
 
+def legend_row_section(width: int, cs: int, theme: Theme, row: LegendRow, ratio: int = 1) -> Section:
+    """The strip of one legend row, as ``panel_sections`` lays it out (to redraw a row alone)."""
+    m = metrics(cs, ratio)
+    return _legend_row(_columns(width, m.size, m.row_h), width, m.row_h, m.size, row, theme)
+
+
 def _section(key: tuple, height: int, width: int, bg: Colour, build: Callable[[], list[Op]]) -> Section:
     return Section(key, height, bg, build)
 
@@ -200,35 +206,56 @@ def shifted(op: Op, dy: float) -> Op:
     return replace(op, y=op.y + dy)
 
 
-def _colour_bar(width: int, h: int, size: int, vr: tuple[float, float], theme: Theme) -> list[Op]:
-    from .overlay import format_value
+def _colour_bar(width: int, h: int, size: int, vr: tuple, theme: Theme) -> list[Op]:
+    """The colour bar: the overlay's label, then the colours from lowest to highest with ticks
+    and their numbers under them (in the overlay's number format)."""
+    from .overlay import Scale, format_value
 
-    lo, hi = vr
+    scale = vr if isinstance(vr, Scale) else Scale(float(vr[0]), float(vr[1]), "value", 0)
+    lo, hi = scale.lo, scale.hi
     cap = cap_height(size)[1]
     pad = max(4, size // 2)
-    left, right = f"{format_value(lo)}", f"{format_value(hi)}"
-    title = "value"
-    x0 = pad + text_width(title, size) + pad + text_width(left, size) + pad
-    x1 = width - pad - text_width(right, size) - pad
-    cy = h / 2
-    ops: list[Op] = [Text(pad, cy, title, size, theme.text, align="left")]
+    small = max(7, int(size * 0.85))
+    title = scale.label
+    ends = [scale.format(lo), scale.format(hi)]
+    x0 = pad + text_width(title, size) + 2 * pad + text_width(ends[0], small) / 2
+    x1 = width - pad - text_width(ends[1], small) / 2
+    bar_h = cap * 1.2
+    top = pad * 0.6
+    ops: list[Op] = [Text(pad, top + bar_h / 2, title, size, theme.text, align="left")]
     if x1 - x0 < 20:  # too narrow for a bar: the range in words
-        ops.append(Text(x0 - pad, cy, f"{left} .. {right}", size, theme.text, align="left"))
+        ops.append(Text(x0 - text_width(ends[0], small) / 2, top + bar_h / 2, f"{ends[0]} .. {ends[1]}", size, theme.text,
+                        align="left"))  # fmt: skip
         return ops
-    ops.append(Text(x0 - pad / 2, cy, left, size, theme.text, align="right"))
-    ops.append(Text(x1 + pad / 2, cy, right, size, theme.text, align="left"))
     n = 48
     colours = colour_map(np.linspace(0.0, 1.0, n), theme.colour_map, 0.0, 1.0)
-    bar_h = cap * 1.3
-    ops.append(Fill(rect(x0 - 1, cy - bar_h / 2 - 1, x1 + 1, cy + bar_h / 2 + 1), theme.text))
+    ops.append(Fill(rect(x0 - 1, top - 1, x1 + 1, top + bar_h + 1), theme.text))
     step = (x1 - x0) / n
     for k in range(n):
-        ops.append(
-            Fill(rect(x0 + k * step, cy - bar_h / 2, x0 + (k + 1) * step + 0.6, cy + bar_h / 2), tuple(colours[k].tolist()))
-        )
+        ops.append(Fill(rect(x0 + k * step, top, x0 + (k + 1) * step + 0.6, top + bar_h), tuple(colours[k].tolist())))
+    tick = max(2.0, cap * 0.45)
+    label_y = top + bar_h + tick + 1 + cap_height(small)[1] / 2 + 1
+    room = text_width(max(ends, key=len), small) + 2 * pad
+    for v in ticks(lo, hi, max(2, min(6, int((x1 - x0) // room) + 1))):
+        x = x0 if hi == lo else x0 + (v - lo) / (hi - lo) * (x1 - x0)
+        ops.append(Fill(rect(x - 0.5, top + bar_h + 1, x + 0.5, top + bar_h + 1 + tick), theme.text))
+        ops.append(Text(x, label_y, scale.format(v) if v in (lo, hi) else format_value(v, scale.digits), small, theme.text))
     return ops
 
 
+def ticks(lo: float, hi: float, most: int) -> list[float]:
+    """At most ``most`` round values from ``lo`` to ``hi``, both ends included (1, 2 or 5 times a power of ten apart)."""
+    if hi <= lo:
+        return [lo]
+    raw = (hi - lo) / max(1, most - 1)
+    mag = 10 ** np.floor(np.log10(raw))
+    step = next(m * mag for m in (1, 2, 5, 10) if m * mag >= raw)
+    inner = [k * step for k in range(int(np.ceil(lo / step)), int(np.floor(hi / step)) + 1)]
+    keep = [v for v in inner if min(v - lo, hi - v) >= step * 0.45]  # not crowding an end
+    return [lo, *keep, hi]
+
+
+@lru_cache(maxsize=64)
 def _columns(width: int, size: int, rh: int) -> tuple[float, float, float, float]:
     """x of the robot icon's centre, the name (left), the return and the rank (right edges)."""
     pad = max(4, size // 2)
@@ -246,8 +273,10 @@ def _legend_head(cols: tuple[float, float, float, float], h: int, size: int, the
     ]
 
 
+@lru_cache(maxsize=2048)
 def _legend_row(cols: tuple[float, float, float, float], width: int, rh: int, size: int, row: LegendRow, theme: Theme) -> Section:
-    """A robot's row: icon and name, return, rank (three pieces: the return changes every step)."""
+    """A robot's row: icon and name, return, rank (three pieces: the return changes every step);
+    cached: a race's rows come back (the same returns at the same step of every race)."""
     x_icon, x_name, x_ret, x_rank = cols
     cap = cap_height(size)[1]
     cy = rh / 2

@@ -35,9 +35,10 @@ from .checks import (  # noqa: F401  (the limits and checks are read from here t
 from .overlay import Overlay
 from .paint import Patch, blend, paint, patch, to_uint8
 from .palette import THEMES, Theme, resolve_theme
-from .panel import panel_sections
+from .panel import legend_row_section, legend_rows, metrics, panel_sections
 from .picture import feature_ops, floor_ops, label_band, label_ops, level_ops
-from .scene import Scene, as_scene, glide, robot_sprites
+from .scene import BURST, Scene, as_scene, burst_centre, glide, placement_sprites, placements, robot_sprites
+from .sprites import burst
 from .shapes import Op, Text
 
 __all__ = ["MAX_CELL_SIZE", "MAX_FRAME_PIXELS", "MIN_CELL_SIZE", "THEMES", "RgbRenderer", "Theme", "resolve_theme"]
@@ -54,12 +55,19 @@ class RgbRenderer:
         self.width, self.grid_height = level.width * cs, level.height * cs
         self.labels: list[Op] = label_ops(level, cs, self.theme)
         self.labelled = frozenset((int(op.x // cs), int(op.y // cs)) for op in self.labels if isinstance(op, Text))
+        self.exits = frozenset(level.exits)
         self.label_top = label_band(cs)[1] / cs  # robots sharing a labelled cell stand below this
         self.background = self._draw([*level_ops(level, cs, self.theme), *self.labels])
         self._label_patches = self._patches(self.labels)
         self._static: tuple[Overlay | None, np.ndarray] = (None, self.background)
         self._panels: OrderedDict[object, np.ndarray] = OrderedDict()
         self._tiles: OrderedDict[tuple, tuple] = OrderedDict()  # cells with a robot drawn in, by content
+        self._placed: OrderedDict[object, tuple] = OrderedDict()  # placed robots' sprites, patches and cells
+        self._checked: tuple | None = None
+        self._legend_y: int | None = None  # the first legend row's top, from the panel's  # the overlay and legend length last checked
+        self._base_img: np.ndarray | None = None  # the last frame without robots, its panel strips, its key
+        self._base_strips: list[np.ndarray] = []
+        self._base_key: tuple = (None, None, None)
 
     @property
     def shape(self) -> tuple[int, int, int]:
@@ -74,25 +82,20 @@ class RgbRenderer:
         scene = as_scene(robots)
         self.check_frame(overlay, scene)
         static = self.static(overlay)
-        strips = self._panel_strips(overlay, scene)
-        h = static.shape[0]
-        img = np.empty((h + sum(st.shape[0] for st in strips), self.width, 3), dtype=np.uint8)
-        img[:h] = static
-        for st in strips:
-            img[h : h + st.shape[0]] = st
-            h += st.shape[0]
+        img = self._base(static, overlay, scene).copy()
         grid = img[: static.shape[0]]
-        at, poses = glide(scene, t, self.labelled, self.label_top) if t < 1.0 else ({}, {})
-        drawn = [(sprite, cx, cy, patch(sprite, cx, cy)) for sprite, cx, cy in robot_sprites(
-            scene, self.cell_size, self.theme, poses, at, self.labelled)]  # fmt: skip
-        boxes = [_box(p, cx, cy) for _, cx, cy, p in drawn]
+        if t < 1.0:
+            at, poses = glide(scene, t, self.labelled, self.label_top)
+            drawn = [self._placed_sprite(sprite, cx, cy) for sprite, cx, cy in robot_sprites(
+                scene, self.cell_size, self.theme, poses, at, self.labelled)]  # fmt: skip
+        else:
+            drawn = self._still(scene)
         touched: dict[tuple[int, int], int] = {}
-        for box in boxes:
-            for c in self._cells_of(box):
+        for *_, cells in drawn:
+            for c in cells:
                 touched[c] = touched.get(c, 0) + 1
         blended = []
-        for (sprite, cx, cy, p), box in zip(drawn, boxes):
-            cells = self._cells_of(box)
+        for sprite, cx, cy, p, box, cells in drawn:
             if len(cells) == 1 and touched[cells[0]] == 1:  # alone in its cell: a cached tile
                 x, y = cells[0]
                 cs = self.cell_size
@@ -106,10 +109,66 @@ class RgbRenderer:
                 blend(grid, label, x0, y0)
         return img
 
+    def _placed_sprite(self, sprite, cx: float, cy: float) -> tuple:
+        """A sprite at ``(cx, cy)`` pixels: it, its patch, the pixels and the cells it covers."""
+        p = patch(sprite, cx, cy)
+        box = _box(p, cx, cy)
+        return sprite, cx, cy, p, box, self._cells_of(box)
+
+    def _still(self, scene: Scene) -> list[tuple]:
+        """``_placed_sprite`` of the scene's robots, marks and badges at rest (``robot_sprites``'
+        order), each placed robot's cached: robots stand in the same places again and again."""
+        cs, th = self.cell_size, self.theme
+        robots, badges = [], []
+        for pl in placements(scene, self.labelled, self.label_top):
+            hit = self._placed.get(pl)
+            if hit is None:
+                hit = self._placed[pl] = tuple(self._placed_sprite(*sp) for sp in placement_sprites(
+                    pl, cs, th, pl.view.pose, pl.cx, pl.cy) if sp is not None)  # fmt: skip
+                if len(self._placed) > 4096:
+                    self._placed.popitem(last=False)
+            robots.append(hit[0])
+            badges += hit[1:]
+        marks = [self._placed_sprite(burst(th, round(cs * BURST[0], 2)), *burst_centre(own, other, cs))
+                 for own, other in scene.marks]  # fmt: skip
+        return robots + marks + badges
+
     def check_frame(self, overlay: Overlay | None, scene: Scene) -> None:
-        """The frame of ``overlay`` and ``scene`` (grid, panel, legend) within the limit, before drawing it."""
-        if overlay is not None or scene.legend:
-            check_overlay_frame(self.level, self.cell_size, overlay or Overlay(), len(scene.legend))
+        """The frame of ``overlay`` and ``scene`` (grid, panel, legend) within the limit, before drawing it
+        (checked once per overlay and legend length)."""
+        if overlay is None and not scene.legend:
+            return
+        checked = self._checked
+        if checked is not None and checked[0] is overlay and checked[1] == len(scene.legend):
+            return
+        check_overlay_frame(self.level, self.cell_size, overlay or Overlay(), len(scene.legend))
+        self._checked = (overlay, len(scene.legend))
+
+    def _base(self, static: np.ndarray, overlay: Overlay | None, scene: Scene) -> np.ndarray:
+        """The frame without robots: ``static`` over the panel, kept from frame to frame; only
+        the panel strips that changed are copied in (a legend row's return, say)."""
+        key = (overlay.panel, overlay.scale) if overlay is not None else None
+        last = self._base_key
+        if last[0] is static and last[1] == key:
+            if last[2] == scene.legend:
+                return self._base_img
+            if self._rows_only(last[2], scene.legend):
+                self._base_key = (static, key, scene.legend)
+                return self._base_img
+        strips = self._panel_strips(overlay, scene)
+        h = static.shape[0] + sum(st.shape[0] for st in strips)
+        img, old = self._base_img, self._base_strips
+        if img is None or img.shape[0] != h or self._base_key[0] is not static or len(old) != len(strips):
+            img = np.empty((h, self.width, 3), dtype=np.uint8)
+            img[: static.shape[0]] = static
+            old = [None] * len(strips)
+        y = static.shape[0]
+        for k, st in enumerate(strips):
+            if old[k] is not st:
+                img[y : y + st.shape[0]] = st
+            y += st.shape[0]
+        self._base_img, self._base_strips, self._base_key = img, strips, (static, key, scene.legend)
+        return img
 
     def _cells_of(self, box: tuple[int, int, int, int]) -> list[tuple[int, int]]:
         cs = self.cell_size
@@ -145,8 +204,9 @@ class RgbRenderer:
         if not _same_cells(self._static[0], overlay):
             cs, th = self.cell_size, self.theme
             lv = self.level
-            img = self._draw([*floor_ops(lv, cs, th), *annotate.tint_ops(overlay, cs, th), *feature_ops(lv, cs, th),
-                              *annotate.ink_ops(overlay, cs, th, self.labelled), *self.labels])  # fmt: skip
+            img = self._draw([*floor_ops(lv, cs, th), *annotate.tint_ops(overlay, cs, th, self.exits),
+                              *feature_ops(lv, cs, th, corner=True),
+                              *annotate.ink_ops(overlay, cs, th, self.labelled, self.exits), *self.labels])  # fmt: skip
             self._static = (overlay, img)
         return self._static[1]
 
@@ -155,20 +215,51 @@ class RgbRenderer:
         strips = self._panel_strips(overlay, scene)
         return np.concatenate(strips, axis=0) if strips else None
 
+    def _rows_only(self, old: tuple, new: tuple) -> bool:
+        """Redraw in the kept frame only the legend rows that changed, when nothing else did
+        (the same rows listed, the same count row); False: the panel must be laid out again."""
+        if len(old) != len(new) or not new:
+            return False
+        (was, more_was), (now, more) = legend_rows(old), legend_rows(new)
+        if more != more_was or [r.number for r in was] != [r.number for r in now]:
+            return False
+        img, h = self._base_img, metrics(self.cell_size).row_h
+        if self._legend_y is None:
+            return False
+        y0 = self.grid_height + self._legend_y
+        for k, (a, b) in enumerate(zip(was, now)):
+            if a != b:
+                strip = self._section_strip(legend_row_section(self.width, self.cell_size, self.theme, b))
+                img[y0 + k * h : y0 + (k + 1) * h] = strip
+        self._base_strips = [None] * len(self._base_strips)  # the kept strips no longer all show
+        return True
+
     def _panel_strips(self, overlay: Overlay | None, scene: Scene) -> list[np.ndarray]:
         lines = overlay.panel if overlay is not None else ()
         vr = annotate.value_range(overlay) if overlay is not None else None
         sections = panel_sections(self.width, self.cell_size, self.theme, lines, vr, scene.legend)
         strips = []
+        self._legend_y, y = None, 0
         for sec in sections:
+            if sec.key[0] == "row" and self._legend_y is None:
+                self._legend_y = y  # where the rows start: ``_rows_only`` redraws them there
+            y += sec.height
             if sec.parts:
-                strip = np.empty((sec.height, self.width, 3), dtype=np.uint8)
-                for x0, x1, key, build in sec.parts:
-                    strip[:, x0:x1] = self._strip((sec.height, *key), sec.height, x1 - x0, sec.background, build, x0)
-                strips.append(strip)
+                strips.append(self._section_strip(sec))
             else:
                 strips.append(self._strip(sec.key, sec.height, self.width, sec.background, sec.build))
         return strips
+
+    def _section_strip(self, sec) -> np.ndarray:
+        """A section of side by side pieces: its pieces cached one by one, and the strip they make."""
+        whole = ("whole", sec.height, *(key for _, _, key, _ in sec.parts))
+        strip = self._panels.get(whole)
+        if strip is None:
+            strip = np.empty((sec.height, self.width, 3), dtype=np.uint8)
+            for x0, x1, key, build in sec.parts:
+                strip[:, x0:x1] = self._strip((sec.height, *key), sec.height, x1 - x0, sec.background, build, x0)
+            self._panels[whole] = strip
+        return strip
 
     def _strip(self, key: tuple, height: int, width: int, bg: tuple, build, x0: int = 0) -> np.ndarray:
         """A piece of the panel drawn from ``build()`` (operations from ``x0``), cached by ``key``."""
