@@ -76,7 +76,9 @@ def test_nan_values_leave_the_cell_as_it_was():
     assert not (cell(img[:grid], 5, 0) == cell(plain, 5, 0)).all()
 
 
-@pytest.mark.parametrize(("action", "dx", "dy"), [(Action.EAST, 1, 0), (Action.WEST, -1, 0), (Action.NORTH, 0, -1), (Action.SOUTH, 0, 1)])
+@pytest.mark.parametrize(
+    ("action", "dx", "dy"), [(Action.EAST, 1, 0), (Action.WEST, -1, 0), (Action.NORTH, 0, -1), (Action.SOUTH, 0, 1)]
+)
 def test_an_arrow_is_centred_in_its_cell_and_its_head_points_its_way(action, dx, dy):
     env = env_with()
     arrows = np.zeros((8, 8), dtype=int)
@@ -308,3 +310,60 @@ def test_values_near_the_float_maximum_draw_without_a_warning_and_keep_their_ord
     assert (colours[0, 0] == colour_map(np.array([0.0, 1.0]), THEMES["light"].colour_map)[0]).all()  # lowest
     assert (colours[0, 2] == colour_map(np.array([0.0, 1.0]), THEMES["light"].colour_map)[1]).all()  # highest
     assert (colours[0, 1] == colour_map(np.array([0.0, 0.5, 1.0]), THEMES["light"].colour_map)[1]).all()  # the middle
+
+
+def test_one_number_format_per_overlay_chosen_from_the_range():
+    """Values from -8.8 to -0.69: one decimal for every number (not -8.8, -.69 and 0 mixed)."""
+    level = env_with().level
+    vals = np.full((8, 8), -3.0)
+    vals[0, 0], vals[0, 1], vals[0, 2] = -8.8, -0.69, 0.0
+    ov = update_overlay(Overlay(), level, values=vals)
+    texts = {op.text for op in annotate.ink_ops(ov, CS, LIGHT) if hasattr(op, "text")}
+    assert texts == {"-8.8", "-0.7", "0.0", "-3.0"}
+    assert update_overlay(Overlay(), level, values=vals * 10).scale.format(-6.9) == "-7"  # whole numbers from 10 up
+    assert update_overlay(Overlay(), level, values=vals / 10).scale.format(-0.069) == "-0.07"
+
+
+def test_the_colour_bar_has_ticks_and_the_overlays_own_label():
+    env = env_with()
+    env.set_overlay(values=np.linspace(-17, 0, 64).reshape(8, 8))
+    from babyrobot_marl.render.panel import _colour_bar
+
+    ops = _colour_bar(512, 40, 13, env.unwrapped.overlay.scale, LIGHT)
+    words = [op.text for op in ops if hasattr(op, "text")]
+    assert words[0] == "value" and {"-17", "-10", "-5", "0"} <= set(words)
+    ov = update_overlay(env.unwrapped.overlay, env.level, label="gap")
+    assert [op.text for op in _colour_bar(512, 40, 13, ov.scale, LIGHT) if hasattr(op, "text")][0] == "gap"
+    with pytest.raises(ValueError, match="^label: "):
+        update_overlay(ov, env.level, label=3)
+
+
+@pytest.mark.parametrize("cs", [32, 48, 64])
+def test_action_values_sit_in_their_triangles_clear_of_walls_labels_and_the_robot_and_none_in_the_exit(cs):
+    """Each number's box is inside its triangle, off the wall band, below a START label, outside
+    the robot's corner; the exit shows none."""
+    from babyrobot_marl.render.picture import label_band
+    from babyrobot_marl.render.robot import CORNER
+    from babyrobot_marl.render.shapes import Text
+
+    env = env_with(level="mixed-8x8", cs=cs)
+    q = np.random.default_rng(0).normal(size=(8, 8, 5)) * 9
+    env.set_overlay(q_values=q)
+    r = env.unwrapped.drawing.renderer
+    ops = annotate.ink_ops(env.unwrapped.overlay, cs, LIGHT, r.labelled, r.exits)
+    texts = [op for op in ops if isinstance(op, Text)]
+    assert texts
+    m = wall_width(cs) / 2
+    s, ux, uy = CORNER
+    for t in texts:
+        x, y = int(t.x // cs), int(t.y // cs)
+        u, v = t.x / cs - x, t.y / cs - y
+        assert (x, y) not in r.exits
+        half = annotate.text_width(t.text, t.size) / 2 / cs
+        assert m / cs < u - half and u + half < 1 - m / cs  # clear of the walls
+        assert not (abs(u - ux) < s / 2 and abs(v - uy) < s / 2)  # not on the robot's corner
+        if (x, y) in r.labelled:
+            assert v * cs > label_band(cs)[1]
+        # inside its triangle: the centre is nearer its own edge than any other
+        d = {"N": v, "S": 1 - v, "W": u, "E": 1 - u}
+        assert min(d.values()) < 0.5

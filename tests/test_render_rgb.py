@@ -328,3 +328,51 @@ def test_a_race_legend_stops_growing_past_eight_robots_and_the_frame_limit_count
     env.reset(seed=0)
     with pytest.raises(ValueError, match=r"^panel: 3,000 lines"):
         env.unwrapped.set_overlay(panel=[f"line {i}" for i in range(3000)])
+
+
+def test_a_collision_burst_is_beside_both_faces_and_podium_robots_show_only_their_rank():
+    """The burst sits on the shared edge below the faces (both visors untouched); a finished
+    robot carries no id on its chest (its rank badge only) and is at least 24 px at 64 px cells."""
+    from babyrobot_marl.render.robot import icon_scale
+    from babyrobot_marl.render.scene import BURST, burst_centre
+
+    cx, cy = burst_centre((1, 0), (2, 0), 64)
+    assert cx == 2 * 64 and cy - 0.5 * 64 >= BURST[1] * 64 - 1  # on the edge, below the eyes' row
+    face_bottom = 0.5 * 64 + (-0.11 * 0.86) * 64  # a full-size robot's visor ends here
+    assert cy - BURST[0] * 64 * 1.12 > face_bottom
+    s, _ = icon_scale(4, 0.3)
+    assert s * 64 >= 24
+    env = race_v0.parallel_env(level=LANE, n_robots=2, render_mode="rgb_array", cell_size=64)
+    env.reset(seed=0)
+    env.step({"robot_0": 2, "robot_1": 0})
+    env.step({"robot_0": 2, "robot_1": 0})
+    from babyrobot_marl.render.scene import robot_sprites
+
+    u = env.unwrapped
+    sprites = robot_sprites(u._scene(), 64, THEMES["light"], labelled=u.drawing.renderer.labelled)
+    texts = [t.text for s, _, _ in sprites for t in s.texts]
+    assert "1" in texts and "0" not in texts  # the rank badge's 1, not robot 0's id
+
+
+def test_the_kept_frame_redraws_changed_legend_rows_and_a_new_overlay():
+    """Frames from one renderer, its panel and placed robots kept, equal frames from a fresh one."""
+    env = race_v0.parallel_env(level="mixed-8x8", n_robots=4, start="random", render_mode="rgb_array", cell_size=48)
+    env.reset(seed=1)
+    fresh = race_v0.parallel_env(level="mixed-8x8", n_robots=4, start="random", render_mode="rgb_array", cell_size=48)
+    fresh.reset(seed=1)
+    rng = np.random.default_rng(0)
+    for k in range(12):
+        if not env.agents:
+            break
+        acts = {a: int(rng.integers(5)) for a in env.agents}
+        env.step(acts)
+        fresh.step(acts)
+        if k == 6:
+            env.unwrapped.set_overlay(values=np.arange(64.0).reshape(8, 8))
+            fresh.unwrapped.set_overlay(values=np.arange(64.0).reshape(8, 8))
+        kept = env.render()
+        from babyrobot_marl.render.rgb import RgbRenderer
+
+        u = fresh.unwrapped
+        new = RgbRenderer(u.level, 48, u.drawing.renderer.theme).frame(u._scene(), u.overlay)
+        assert (kept == new).all(), k

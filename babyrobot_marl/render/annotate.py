@@ -139,8 +139,8 @@ def arrow_lanes(actions: list[int], box: Box) -> list[tuple[float, float, float,
         length = min(0.86 * h, 0.34 * w / 0.34)
         return [along(a, cx + s * w * 0.17, cy - length / 2, cy + length / 2) for a, s in zip(vert, (-1, 1))]
     if len(actions) == 2 and len(horiz) == 2:  # E and W one above the other, their heads clear of each other
-        length = min(0.8 * w, 0.4 * h / 0.46)
-        return [along(a, cy + s * h * 0.2, cx - length / 2, cx + length / 2) for a, s in zip(horiz, (1, -1))]
+        length = min(0.8 * w, 0.48 * h / 0.52)
+        return [along(a, cy + s * h * 0.24, cx - length / 2, cx + length / 2) for a, s in zip(horiz, (1, -1))]
     if len(actions) == 2:  # an L: the vertical lane on the side the horizontal arrow leaves from
         v, hz = vert[0], horiz[0]
         xv = x0 + 0.2 * w if hz == Action.EAST else x1 - 0.2 * w

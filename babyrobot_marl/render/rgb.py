@@ -38,8 +38,8 @@ from .palette import THEMES, Theme, resolve_theme
 from .panel import legend_row_section, legend_rows, metrics, panel_sections
 from .picture import feature_ops, floor_ops, label_band, label_ops, level_ops
 from .scene import BURST, Scene, as_scene, burst_centre, glide, placement_sprites, placements, robot_sprites
-from .sprites import burst
 from .shapes import Op, Text
+from .sprites import burst
 
 __all__ = ["MAX_CELL_SIZE", "MAX_FRAME_PIXELS", "MIN_CELL_SIZE", "THEMES", "RgbRenderer", "Theme", "resolve_theme"]
 
@@ -64,7 +64,7 @@ class RgbRenderer:
         self._tiles: OrderedDict[tuple, tuple] = OrderedDict()  # cells with a robot drawn in, by content
         self._placed: OrderedDict[object, tuple] = OrderedDict()  # placed robots' sprites, patches and cells
         self._checked: tuple | None = None
-        self._legend_y: int | None = None  # the first legend row's top, from the panel's  # the overlay and legend length last checked
+        self._legend_y: int | None = None  # the first legend row's top, from the panel's
         self._base_img: np.ndarray | None = None  # the last frame without robots, its panel strips, its key
         self._base_strips: list[np.ndarray] = []
         self._base_key: tuple = (None, None, None)
