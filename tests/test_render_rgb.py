@@ -321,7 +321,7 @@ def test_a_race_legend_stops_growing_past_eight_robots_and_the_frame_limit_count
         env.reset(seed=0)
         return env.render().shape[0]
 
-    assert height(2) < height(8) == height(9) == height(100)
+    assert height(2) < height(8) and height(9) < height(8) and height(30) == height(100)  # compact past eight
     with pytest.raises(ValueError, match=r"^cell_size: .*legend of 4 robots.* 4096x4262 frame"):
         race_v0.parallel_env(level="maze-16x16", n_robots=4, start="random", cell_size=256, render_mode="rgb_array")
     env = BabyRobotEnv(level="maze-8x8", render_mode="rgb_array")
@@ -376,3 +376,36 @@ def test_the_kept_frame_redraws_changed_legend_rows_and_a_new_overlay():
         u = fresh.unwrapped
         new = RgbRenderer(u.level, 48, u.drawing.renderer.theme).frame(u._scene(), u.overlay)
         assert (kept == new).all(), k
+
+
+@pytest.mark.parametrize("n", [4, 12])
+def test_kept_blocks_and_legend_pieces_equal_a_fresh_renderers_frames(n):
+    """The caches (cells with robots by exact content, legend pieces, the kept frame) across
+    steps, bursts, shared cells, in-between frames, overlay and name changes, and a compact
+    legend: every frame equals a fresh renderer's."""
+    from babyrobot_marl.render.rgb import RgbRenderer
+
+    env = race_v0.parallel_env(level="mixed-8x8", n_robots=n, start="random", render_mode="rgb_array", cell_size=32)
+    env.reset(seed=2)
+    u = env.unwrapped
+    rng = np.random.default_rng(3)
+    seen = {"burst": 0, "shared": 0}
+    for k in range(70):
+        if not env.agents:
+            env.reset()
+        env.step({a: int(rng.integers(5)) for a in env.agents})
+        if k == 20:
+            u.set_overlay(values=np.arange(64.0).reshape(8, 8), arrows=np.full((8, 8), 2), panel="step 20")
+        if k == 40:
+            u.set_overlay(names=[f"p{i}" for i in range(n)], panel=None)
+        if k == 55:
+            u.set_overlay(values=None, arrows=None)
+        scene = u._scene()
+        seen["burst"] += bool(scene.marks)
+        seen["shared"] += len({v.cell for v in scene.robots}) < len(scene.robots)
+        kept = [u.rgb_renderer.frame(scene, u.overlay, 0.5), env.render()]  # every step: the caches in use
+        if k % 3 == 0 or k in (21, 41, 56):
+            fresh = RgbRenderer(u.level, 32, u.theme)
+            assert (kept[0] == fresh.frame(scene, u.overlay, 0.5)).all(), k
+            assert (kept[1] == fresh.frame(scene, u.overlay)).all(), k
+    assert n == 4 or (seen["burst"] and seen["shared"])  # the blocks of several sprites were exercised

@@ -6,9 +6,12 @@ top; ``rgb_array`` caches the strips' images, the live canvas redraws only the s
 changed. ``panel_height`` gives the panel's height without laying it out (the frame limit is
 checked on it before anything is drawn).
 
-The legend lists every robot of a race of up to ``LEGEND_ROWS`` robots, in robot order; a
-larger race's legend stays as tall: its ``LEGEND_ROWS - 1`` leaders (finished ones by rank,
-then racing ones by return), then one row counting the rest ("+1,193 more: ...").
+The legend lists every robot of a race of up to ``LEGEND_ROWS`` robots, a row each in robot
+order (icon and name, return, rank). A larger race's legend is compact (``compact_layout``):
+entries side by side in as many columns as the width holds, at most ``COMPACT_LINES`` lines
+(a small icon with its number, the return, the rank badge), every robot in robot order when
+they fit, else the leaders (finished ones by rank, then racing ones by return) and a last
+entry counting the rest ("+1,193 more").
 """
 
 from __future__ import annotations
@@ -40,16 +43,30 @@ class LegendRow:
 LEGEND_ROWS = 8  # robots listed one a row; a larger race: its leaders, then a row counting the rest
 
 
-def legend_rows(legend: Sequence[LegendRow]) -> tuple[list[LegendRow], str]:
-    """The rows the legend lists, and the text of the row that counts the others ("" if none)."""
-    if len(legend) <= LEGEND_ROWS:
+COMPACT_LINES = 3  # beyond LEGEND_ROWS robots: entries side by side, on at most this many lines
+
+
+def legend_rows(legend: Sequence[LegendRow], room: int = LEGEND_ROWS) -> tuple[list[LegendRow], str]:
+    """The robots the legend lists in its ``room`` places, and the text of the place that counts
+    the others ("" if none): all in robot order when they fit, else the leaders."""
+    if len(legend) <= room:
         return list(legend), ""
     order = sorted(legend, key=lambda r: (r.rank == 0, r.rank, -r.ret, r.number))  # finished by rank, then by return
-    shown, rest = order[: LEGEND_ROWS - 1], order[LEGEND_ROWS - 1 :]
+    shown, rest = order[: room - 1], order[room - 1 :]
     racing = sum(1 for r in rest if r.racing)
     finished = sum(1 for r in rest if r.rank)
     counts = [f"{k:,} {what}" for k, what in ((racing, "racing"), (finished, "finished")) if k]
     return shown, f"+{len(rest):,} more" + (f": {', '.join(counts)}" if counts else "")
+
+
+@lru_cache(maxsize=64)
+def compact_layout(width: int, cs: int, robots: int, ratio: int = 1) -> tuple[int, int]:
+    """A compact legend's columns and lines for ``robots`` robots: as many columns as entries of
+    a small icon, a return and a rank badge fit across ``width``, at most ``COMPACT_LINES`` lines."""
+    m = metrics(cs, ratio)
+    entry = 4 * m.pad + m.row_h + text_width("00 -000", m.size) + text_width("10th", m.size) + m.cap * 1.2
+    cols = int(max(1, min(8, width // entry)))
+    return cols, min(COMPACT_LINES, -(-robots // cols))
 
 
 def ordinal(rank: int) -> str:
@@ -125,7 +142,10 @@ def panel_height(width: int, cs: int, lines: Sequence[str] = (), bar: bool = Fal
     m = metrics(cs, ratio)
     h = m.pad + len(_wrapped(tuple(lines), width - 2 * m.pad, m.size)) * m.line_h if lines else m.pad
     h += m.bar_h if bar else 0
-    h += m.head_h + (min(robots, LEGEND_ROWS) * m.row_h) if robots else 0
+    if robots > LEGEND_ROWS:
+        h += compact_layout(width, cs, robots, ratio)[1] * m.row_h
+    elif robots:
+        h += m.head_h + robots * m.row_h
     return h + m.pad + (-(h + m.pad)) % ratio
 
 
@@ -173,15 +193,14 @@ def panel_sections(
     if value_range is not None:
         h = m.bar_h
         out.append(_section(("bar", value_range), h, width, bg, lambda: _colour_bar(width, h, size, value_range, theme)))
-    if legend:
+    if len(legend) > LEGEND_ROWS:
+        out += _compact_legend(width, cs, ratio, legend, theme)
+    elif legend:
         rh, head = m.row_h, m.head_h
         cols = _columns(width, size, rh)
         out.append(_section(("legend",), head, width, bg, lambda: _legend_head(cols, head, size, theme)))
-        rows, more = legend_rows(legend)
-        for row in rows:
+        for row in legend:
             out.append(_legend_row(cols, width, rh, size, row, theme))
-        if more:
-            out.append(_section(("more", more, rh), rh, width, bg, lambda: _legend_more(cols, width, rh, size, more, theme)))
     total = sum(sec.height for sec in out) + pad
     out.append(_section(("bottom", pad + (-total) % ratio), pad + (-total) % ratio, width, bg, list))  # whole CSS pixels
     return out
@@ -308,15 +327,89 @@ def _legend_row(cols: tuple[float, float, float, float], width: int, rh: int, si
     return Section(("row", row), rh, theme.panel, lambda: [*who(), *score(), *rank()], parts)
 
 
-def _legend_more(cols: tuple[float, float, float, float], width: int, rh: int, size: int, text: str, theme: Theme) -> list[Op]:
-    """The row that counts the robots the legend does not list."""
-    _, x_name, _, _ = cols
-    room, cap = width - x_name - max(4, size // 2), cap_height(size)[1]
-    s = fit(text, room, cap, largest=size, smallest=7)
-    if s is None:  # too narrow for the counts: the number alone
-        text = text.split(":")[0]
-        s = fit(text, room, cap, largest=size, smallest=7) or 7
-    return [Text(x_name, rh / 2, text, s, theme.text, align="left", alpha=0.7)]
+def _compact_legend(width: int, cs: int, ratio: int, legend: Sequence[LegendRow], theme: Theme) -> list[Section]:
+    """The compact legend's lines: entries side by side, the last place counting the others."""
+    m = metrics(cs, ratio)
+    cols, lines = compact_layout(width, cs, len(legend), ratio)
+    shown, more = legend_rows(legend, cols * lines)
+    edges = [round(j * width / cols) for j in range(cols + 1)]
+    out = []
+    for line in range(lines):
+        parts = []
+        for j in range(cols):
+            k, x0, x1 = line * cols + j, edges[j], edges[j + 1]
+            if k < len(shown):
+                key, draw = ("entry", x1 - x0, shown[k]), _entry(x1 - x0, m.row_h, m.size, shown[k], theme)
+            elif k == len(shown) and more:
+                key, draw = ("count", x1 - x0, more), _count(x1 - x0, m.row_h, m.size, more, theme)
+            else:
+                key, draw = ("blank",), list
+            parts.append((x0, x1, key, _at(draw, x0)))
+        key = ("entries", *(part[2] for part in parts))
+
+        def build(parts: list = parts) -> list[Op]:
+            return [op for *_, b in parts for op in b()]
+
+        out.append(Section(key, m.row_h, theme.panel, build, tuple(parts)))
+    return out
+
+
+def _entry(w: int, rh: int, size: int, row: LegendRow, theme: Theme) -> Callable[[], list[Op]]:
+    """A compact entry, from its own left edge: the robot's icon, its number (and name, if it has
+    one and room is left), its return, its rank badge (a dash: out without finishing)."""
+    pad = max(4, size // 2)
+    cap, cy = cap_height(size)[1], rh / 2
+    x_rank = w - pad - (text_width("10th", size) + cap * 1.2) / 2
+    x_ret = w - 2 * pad - text_width("10th", size) - cap * 1.2
+
+    def build() -> list[Op]:
+        pose = "finished" if row.rank else "idle"
+        ops: list[Op] = [Stamp(robot_sprite(theme, row.number, 0, pose, True, round(rh * 1.05, 2)), pad + rh / 2, cy)]
+        ret = f"{row.ret + 0.0:g}"
+        ops.append(Text(x_ret, cy, ret, size, theme.text, align="right"))
+        room = x_ret - text_width(ret, size) - pad - (pad + rh)
+        label = f"{row.number} {row.name}" if row.name else str(row.number)
+        s = fit(label, room, cap, largest=size, smallest=7) if room > 0 else None
+        if s is None:  # no room for the name: the number alone
+            label, s = str(row.number), fit(str(row.number), max(room, 1.0), cap, largest=size, smallest=7) or 7
+        ops.append(Text(pad + rh, cy, label, s, theme.text, align="left"))
+        if row.rank:
+            ops.append(Stamp(_badge(size, row.rank, theme), x_rank, cy))
+        elif not row.racing:
+            ops.append(Text(x_rank, cy, "-", size, theme.text, alpha=0.7))
+        return ops
+
+    return build
+
+
+def _count(w: int, rh: int, size: int, text: str, theme: Theme) -> Callable[[], list[Op]]:
+    """The compact legend's last place: how many robots it does not list (the counts if they fit)."""
+    pad = max(4, size // 2)
+
+    def build() -> list[Op]:
+        cap = cap_height(size)[1]
+        words = text
+        s = fit(words, w - 2 * pad, cap, largest=size, smallest=7)
+        if s is None:
+            words = text.split(":")[0]
+            s = fit(words, w - 2 * pad, cap, largest=size, smallest=7) or 7
+        return [Text(pad, rh / 2, words, s, theme.text, align="left", alpha=0.7)]
+
+    return build
+
+
+def _at(build: Callable[[], list[Op]], x0: int) -> Callable[[], list[Op]]:
+    """``build``'s operations moved right to ``x0`` (the pieces of a section draw in its coordinates)."""
+    return lambda: [shifted_x(op, x0) for op in build()]
+
+
+def shifted_x(op: Op, dx: float) -> Op:
+    """``op`` moved right by ``dx`` pixels."""
+    if isinstance(op, Fill):
+        return Fill(op.points + (dx, 0.0), op.colour, op.alpha)
+    if isinstance(op, Stamp):
+        return Stamp(op.sprite, op.x + dx, op.y)
+    return replace(op, x=op.x + dx)
 
 
 @lru_cache(maxsize=128)

@@ -35,7 +35,7 @@ from .checks import (  # noqa: F401  (the limits and checks are read from here t
 from .overlay import Overlay
 from .paint import Patch, blend, paint, patch, to_uint8
 from .palette import THEMES, Theme, resolve_theme
-from .panel import legend_row_section, legend_rows, metrics, panel_sections
+from .panel import LEGEND_ROWS, legend_row_section, metrics, panel_sections
 from .picture import feature_ops, floor_ops, label_band, label_ops, level_ops
 from .scene import BURST, Scene, as_scene, burst_centre, glide, placement_sprites, placements, robot_sprites
 from .shapes import Op, Text
@@ -43,6 +43,7 @@ from .sprites import burst
 
 __all__ = ["MAX_CELL_SIZE", "MAX_FRAME_PIXELS", "MIN_CELL_SIZE", "THEMES", "RgbRenderer", "Theme", "resolve_theme"]
 
+BLOCK_BYTES = 24 << 20  # the cached cells with robots, per renderer
 
 
 class RgbRenderer:
@@ -61,7 +62,9 @@ class RgbRenderer:
         self._label_patches = self._patches(self.labels)
         self._static: tuple[Overlay | None, np.ndarray] = (None, self.background)
         self._panels: OrderedDict[object, np.ndarray] = OrderedDict()
-        self._tiles: OrderedDict[tuple, tuple] = OrderedDict()  # cells with a robot drawn in, by content
+        self._max_blocks = max(1024, BLOCK_BYTES // (3 * cs * cs))  # about BLOCK_BYTES of one-cell blocks
+        self._rows: dict[object, list] = {}  # legend rows' pieces, by content
+        self._blocks: OrderedDict[tuple, tuple] = OrderedDict()  # cells with robots drawn in, by content
         self._placed: OrderedDict[object, tuple] = OrderedDict()  # placed robots' sprites, patches and cells
         self._checked: tuple | None = None
         self._legend_y: int | None = None  # the first legend row's top, from the panel's
@@ -90,30 +93,19 @@ class RgbRenderer:
                 scene, self.cell_size, self.theme, poses, at, self.labelled)]  # fmt: skip
         else:
             drawn = self._still(scene)
-        touched: dict[tuple[int, int], int] = {}
-        for *_, cells in drawn:
-            for c in cells:
-                touched[c] = touched.get(c, 0) + 1
-        blended = []
-        for sprite, cx, cy, p, box, cells in drawn:
-            if len(cells) == 1 and touched[cells[0]] == 1:  # alone in its cell: a cached tile
-                x, y = cells[0]
-                cs = self.cell_size
-                grid[y * cs : (y + 1) * cs, x * cs : (x + 1) * cs] = self._tile(static, cells[0], sprite, p, cx, cy)
-            else:
-                blend(grid, p, cx, cy)
-                blended.append(box)
-        for y0, x0, label in self._label_patches:  # labels stay on top
-            lb = (x0, y0, x0 + label.rgb.shape[1], y0 + label.rgb.shape[0])
-            if any(_overlap(lb, box) for box in blended):
-                blend(grid, label, x0, y0)
+        cs = self.cell_size
+        for (x0, y0, x1, y1), items in _groups(drawn):  # each group's cells from a cached block
+            grid[y0 * cs : y1 * cs, x0 * cs : x1 * cs] = self._block(static, (x0, y0, x1, y1), items)
         return img
 
     def _placed_sprite(self, sprite, cx: float, cy: float) -> tuple:
         """A sprite at ``(cx, cy)`` pixels: it, its patch, the pixels and the cells it covers."""
         p = patch(sprite, cx, cy)
         box = _box(p, cx, cy)
-        return sprite, cx, cy, p, box, self._cells_of(box)
+        cs = self.cell_size  # the cells it covers: x0, y0, x1, y1 (exclusive); what a block's key holds of it
+        w, h = self.level.width, self.level.height  # (clipped to the grid: a bump's stars may reach past it)
+        rect = (max(0, box[0] // cs), max(0, box[1] // cs), min(w, (box[2] - 1) // cs + 1), min(h, (box[3] - 1) // cs + 1))
+        return sprite, cx, cy, p, box, rect, (id(p), box[0], box[1])
 
     def _still(self, scene: Scene) -> list[tuple]:
         """``_placed_sprite`` of the scene's robots, marks and badges at rest (``robot_sprites``'
@@ -121,14 +113,14 @@ class RgbRenderer:
         cs, th = self.cell_size, self.theme
         robots, badges = [], []
         for pl in placements(scene, self.labelled, self.label_top):
-            hit = self._placed.get(pl)
-            if hit is None:
-                hit = self._placed[pl] = tuple(self._placed_sprite(*sp) for sp in placement_sprites(
-                    pl, cs, th, pl.view.pose, pl.cx, pl.cy) if sp is not None)  # fmt: skip
+            hit = self._placed.get(id(pl))  # the entry keeps ``pl`` alive: its id is its own
+            if hit is None or hit[0] is not pl:
+                hit = self._placed[id(pl)] = (pl, *(self._placed_sprite(*sp) for sp in placement_sprites(
+                    pl, cs, th, pl.view.pose, pl.cx, pl.cy) if sp is not None))  # fmt: skip
                 if len(self._placed) > 4096:
                     self._placed.popitem(last=False)
-            robots.append(hit[0])
-            badges += hit[1:]
+            robots.append(hit[1])
+            badges += hit[2:]
         marks = [self._placed_sprite(burst(th, round(cs * BURST[0], 2)), *burst_centre(own, other, cs))
                  for own, other in scene.marks]  # fmt: skip
         return robots + marks + badges
@@ -170,31 +162,30 @@ class RgbRenderer:
         self._base_img, self._base_strips, self._base_key = img, strips, (static, key, scene.legend)
         return img
 
-    def _cells_of(self, box: tuple[int, int, int, int]) -> list[tuple[int, int]]:
-        cs = self.cell_size
-        x0, y0, x1, y1 = box
-        return [(x, y) for y in range(y0 // cs, (y1 - 1) // cs + 1) for x in range(x0 // cs, (x1 - 1) // cs + 1)]
-
-    def _tile(self, static: np.ndarray, cell: tuple[int, int], sprite, p: Patch, cx: float, cy: float) -> np.ndarray:
-        """The cell of ``static`` with the sprite and the labels over it, cached: robots come back to
-        the same cells in the same poses, and a copy is far cheaper than a blend."""
-        key = (id(static), cell, id(sprite), int(round((cx % 1) * 4)), int(round((cy % 1) * 4)))
-        hit = self._tiles.get(key)
-        if hit is not None and hit[0] is static and hit[1] is sprite:
-            self._tiles.move_to_end(key)
+    def _block(self, static: np.ndarray, rect: tuple[int, int, int, int], items: list[tuple]) -> np.ndarray:
+        """The cells ``rect`` (x0, y0, x1, y1, in cells) of ``static`` with the sprites ``items``
+        blended in order and the labels over them, cached by exact content: robots come back to
+        the same cells in the same poses (a burst beside the same two robots), and a copy is far
+        cheaper than blends."""
+        key = (id(static), rect, *[it[6] for it in items])
+        hit = self._blocks.get(key)
+        if hit is not None:  # the entry keeps ``static`` and the patches alive: their ids are theirs
+            self._blocks.move_to_end(key)
             return hit[2]
         cs = self.cell_size
-        x, y = cell
-        tile = static[y * cs : (y + 1) * cs, x * cs : (x + 1) * cs].copy()
-        blend(tile, p, cx - x * cs, cy - y * cs)
-        for y0, x0, label in self._label_patches:
-            if y0 // cs == y and x0 // cs == x or _overlap((x0, y0, x0 + label.rgb.shape[1], y0 + label.rgb.shape[0]),
-                                                           (x * cs, y * cs, (x + 1) * cs, (y + 1) * cs)):  # fmt: skip
-                blend(tile, label, x0 - x * cs, y0 - y * cs)
-        self._tiles[key] = (static, sprite, tile)
-        if len(self._tiles) > 1024:
-            self._tiles.popitem(last=False)
-        return tile
+        x0, y0, x1, y1 = rect
+        ox, oy = x0 * cs, y0 * cs
+        block = static[oy : y1 * cs, ox : x1 * cs].copy()
+        for _, cx, cy, p, *_ in items:
+            blend(block, p, cx - ox, cy - oy)
+        for ly, lx, label in self._label_patches:  # labels stay on top of the robots under them
+            lb = (lx, ly, lx + label.rgb.shape[1], ly + label.rgb.shape[0])
+            if any(_overlap(lb, it[4]) for it in items):
+                blend(block, label, lx - ox, ly - oy)
+        self._blocks[key] = (static, tuple(it[3] for it in items), block)  # kept alive: their ids stay theirs
+        if len(self._blocks) > self._max_blocks:
+            self._blocks.popitem(last=False)
+        return block
 
     def static(self, overlay: Overlay | None) -> np.ndarray:
         """The level with ``overlay``'s tints, arrows and numbers, and the labels (read-only; the
@@ -216,23 +207,34 @@ class RgbRenderer:
         return np.concatenate(strips, axis=0) if strips else None
 
     def _rows_only(self, old: tuple, new: tuple) -> bool:
-        """Redraw in the kept frame only the legend rows that changed, when nothing else did
-        (the same rows listed, the same count row); False: the panel must be laid out again."""
-        if len(old) != len(new) or not new:
+        """Redraw in the kept frame only the legend rows that changed, when nothing else did (a
+        legend of a row per robot, the same robots); False: the panel must be laid out again.
+        Each row's strip is cached by its exact content: returns repeat from race to race."""
+        if self._legend_y is None or len(old) != len(new) or not new or len(new) > LEGEND_ROWS:
             return False
-        (was, more_was), (now, more) = legend_rows(old), legend_rows(new)
-        if more != more_was or [r.number for r in was] != [r.number for r in now]:
+        if any(a.number != b.number for a, b in zip(old, new) if a is not b):
             return False
         img, h = self._base_img, metrics(self.cell_size).row_h
-        if self._legend_y is None:
-            return False
-        y0 = self.grid_height + self._legend_y
-        for k, (a, b) in enumerate(zip(was, now)):
-            if a != b:
-                strip = self._section_strip(legend_row_section(self.width, self.cell_size, self.theme, b))
-                img[y0 + k * h : y0 + (k + 1) * h] = strip
+        y = self.grid_height + self._legend_y
+        for a, b in zip(old, new):
+            if a is not b and a != b:  # only its pieces that changed (its return, mostly)
+                for (x0, x1, was, _), (_, _, now, piece) in zip(self._row_pieces(a), self._row_pieces(b)):
+                    if was != now:
+                        img[y : y + h, x0:x1] = piece
+            y += h
         self._base_strips = [None] * len(self._base_strips)  # the kept strips no longer all show
         return True
+
+    def _row_pieces(self, row) -> list[tuple[int, int, tuple, np.ndarray]]:
+        """A legend row's pieces side by side (x0, x1, key, image), cached by the row's content."""
+        hit = self._rows.get(row)
+        if hit is None:
+            sec = legend_row_section(self.width, self.cell_size, self.theme, row)
+            hit = self._rows[row] = [(x0, x1, key, self._strip((sec.height, *key), sec.height, x1 - x0, sec.background,
+                                                               build, x0)) for x0, x1, key, build in sec.parts]  # fmt: skip
+            if len(self._rows) > 4096:
+                del self._rows[next(iter(self._rows))]
+        return hit
 
     def _panel_strips(self, overlay: Overlay | None, scene: Scene) -> list[np.ndarray]:
         lines = overlay.panel if overlay is not None else ()
@@ -301,6 +303,27 @@ class RgbRenderer:
             out.append((y0, x0, Patch(rgb, alpha[..., None], 0, 0)))
         return out
 
+
+
+def _groups(drawn: list[tuple]) -> list[tuple[tuple[int, int, int, int], list[tuple]]]:
+    """The drawn sprites in groups whose cell rectangles (x0, y0, x1, y1, x1 and y1 exclusive)
+    do not overlap, each group's sprites in drawing order: each group is one cached block."""
+    rects = [item[5] for item in drawn]
+    if len(set(rects)) == len(rects) and all(r[2] - r[0] == 1 and r[3] - r[1] == 1 for r in rects):
+        return [(r, [item]) for r, item in zip(rects, drawn)]  # one cell each, each its own (the usual case)
+    groups: list[tuple[tuple[int, int, int, int], list[int]]] = []
+    for k, item in enumerate(drawn):
+        rect, members = item[5], [k]
+        hit = [g for g in groups if _overlap(rect, g[0])]
+        while hit:  # a merged rectangle can reach a group it did not touch before
+            for g in hit:
+                groups.remove(g)
+                r = g[0]
+                rect = (min(rect[0], r[0]), min(rect[1], r[1]), max(rect[2], r[2]), max(rect[3], r[3]))
+                members += g[1]
+            hit = [g for g in groups if _overlap(rect, g[0])]
+        groups.append((rect, members))
+    return [(rect, [drawn[k] for k in sorted(members)]) for rect, members in groups]
 
 
 def _box(p: Patch, cx: float, cy: float) -> tuple[int, int, int, int]:

@@ -81,15 +81,25 @@ def _placements(robots: tuple[RobotView, ...], corner: bool, labelled: frozenset
         by_cell.setdefault(v.cell, []).append(v)
     out = []
     for cell, views in by_cell.items():
-        views.sort(key=lambda v: (v.rank == 0, v.rank, v.number))  # finished first, by rank
-        if corner and len(views) == 1:
-            out.append(Placement(views[0], cell[0] + CORNER[1], cell[1] + CORNER[2], CORNER[0]))
+        if len(views) == 1:
+            out.append(_alone(views[0], corner, top if cell in labelled else 0.0))
             continue
+        views.sort(key=lambda v: (v.rank == 0, v.rank, v.number))  # finished first, by rank
         scale, slots = icon_scale(len(views), top if cell in labelled else 0.0)
         for v, (u, w) in zip(views, slots):
             out.append(Placement(v, cell[0] + u, cell[1] + w, scale))
     out.sort(key=lambda p: -p.view.number)
     return out
+
+
+@lru_cache(maxsize=8192)
+def _alone(view: RobotView, corner: bool, top: float) -> Placement:
+    """A robot alone in its cell (the same object each time: renderers key their caches by it)."""
+    x, y = view.cell
+    if corner:
+        return Placement(view, x + CORNER[1], y + CORNER[2], CORNER[0])
+    scale, ((u, w),) = icon_scale(1, top)
+    return Placement(view, x + u, y + w, scale)
 
 
 def glide(
