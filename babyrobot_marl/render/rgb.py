@@ -63,6 +63,9 @@ class RgbRenderer:
         self._static: tuple[Overlay | None, np.ndarray] = (None, self.background)
         self._panels: OrderedDict[object, np.ndarray] = OrderedDict()
         self._max_blocks = max(1024, BLOCK_BYTES // (3 * cs * cs))  # about BLOCK_BYTES of one-cell blocks
+        self._lone: tuple[dict, dict] = ({}, {})  # lone robots' cells and blocks by view, without and with an overlay
+        self._lone_static: np.ndarray | None = None
+        self._mark_cache: dict[tuple, tuple] = {}  # bursts placed, by their two cells
         self._rows: dict[object, list] = {}  # legend rows' pieces, by content
         self._blocks: OrderedDict[tuple, tuple] = OrderedDict()  # cells with robots drawn in, by content
         self._placed: OrderedDict[object, tuple] = OrderedDict()  # placed robots' sprites, patches and cells
@@ -87,16 +90,81 @@ class RgbRenderer:
         static = self.static(overlay)
         img = self._base(static, overlay, scene).copy()
         grid = img[: static.shape[0]]
+        cs = self.cell_size
+        lone = self._lone_blocks(static, scene) if t >= 1.0 else None
+        if lone is not None:  # each robot alone in its cells: its block by its view alone
+            for (x0, y0, x1, y1), block in lone:
+                grid[y0 * cs : y1 * cs, x0 * cs : x1 * cs] = block
+            for _, cx, cy, p, box, _, _ in self._marks(scene):  # the bursts over them, the labels over those
+                blend(grid, p, cx, cy)
+                for ly, lx, label in self._label_patches:
+                    if _overlap((lx, ly, lx + label.rgb.shape[1], ly + label.rgb.shape[0]), box):
+                        blend(grid, label, lx, ly)
+            return img
         if t < 1.0:
             at, poses = glide(scene, t, self.labelled, self.label_top)
             drawn = [self._placed_sprite(sprite, cx, cy) for sprite, cx, cy in robot_sprites(
                 scene, self.cell_size, self.theme, poses, at, self.labelled)]  # fmt: skip
         else:
             drawn = self._still(scene)
-        cs = self.cell_size
         for (x0, y0, x1, y1), items in _groups(drawn):  # each group's cells from a cached block
             grid[y0 * cs : y1 * cs, x0 * cs : x1 * cs] = self._block(static, (x0, y0, x1, y1), items)
         return img
+
+    def _lone_blocks(self, static: np.ndarray, scene: Scene) -> list[tuple] | None:
+        """Each cell's robots as one block (cells and image), when no cell's robots reach into
+        another's cells and no rank badge lies under a burst (the usual frame); None otherwise.
+        Cached by the cell's views: their picture depends on nothing else (badges included)."""
+        if self._lone_static is not static:
+            self._lone = ({}, {})
+            self._lone_static = static
+        cache = self._lone[scene.corner]
+        by_cell: dict[tuple, list] = {}
+        for v in scene.robots:
+            by_cell.setdefault(v.cell, []).append(v)
+        out, ranked = [], []
+        for views in by_cell.values():
+            key = views[0] if len(views) == 1 else tuple(views)
+            hit = cache.get(key)
+            if hit is None:
+                hit = cache[key] = self._cell_block(static, tuple(views), scene.corner)
+                if len(cache) > self._max_blocks:
+                    del cache[next(iter(cache))]
+            out.append(hit)
+            if any(v.rank for v in views):
+                ranked.append(hit[0])
+        rects = [r for r, _ in out]
+        wide = any(r[2] - r[0] != 1 or r[3] - r[1] != 1 for r in rects)  # a bump's stars reach a neighbour
+        if wide and any(_overlap(a, b) for i, a in enumerate(rects) for b in rects[i + 1 :]):
+            return None
+        if ranked and any(_overlap(m[4], r) for m in self._marks(scene) for r in ranked):
+            return None  # a badge is drawn over a burst: the general order
+        return out
+
+    def _cell_block(self, static: np.ndarray, views: tuple, corner: bool) -> tuple:
+        """The robots of one cell drawn as ``_still`` draws them (robots, then their badges)."""
+        robots, badges = [], []
+        for pl in placements(Scene(views, corner=corner), self.labelled, self.label_top):
+            robot, badge = placement_sprites(pl, self.cell_size, self.theme, pl.view.pose, pl.cx, pl.cy)
+            robots.append(self._placed_sprite(*robot))
+            if badge is not None:
+                badges.append(self._placed_sprite(*badge))
+        items = robots + badges
+        rs = [it[5] for it in items]
+        rect = (min(r[0] for r in rs), min(r[1] for r in rs), max(r[2] for r in rs), max(r[3] for r in rs))
+        return rect, self._block(static, rect, items)
+
+    def _marks(self, scene: Scene) -> list[tuple]:
+        """The bursts of the scene's collisions, placed (cached by the two cells)."""
+        out = []
+        for mark in scene.marks:
+            hit = self._mark_cache.get(mark)
+            if hit is None:
+                cs = self.cell_size
+                hit = self._mark_cache[mark] = self._placed_sprite(burst(self.theme, round(cs * BURST[0], 2)),
+                                                                   *burst_centre(*mark, cs))  # fmt: skip
+            out.append(hit)
+        return out
 
     def _placed_sprite(self, sprite, cx: float, cy: float) -> tuple:
         """A sprite at ``(cx, cy)`` pixels: it, its patch, the pixels and the cells it covers."""
@@ -121,9 +189,7 @@ class RgbRenderer:
                     self._placed.popitem(last=False)
             robots.append(hit[1])
             badges += hit[2:]
-        marks = [self._placed_sprite(burst(th, round(cs * BURST[0], 2)), *burst_centre(own, other, cs))
-                 for own, other in scene.marks]  # fmt: skip
-        return robots + marks + badges
+        return robots + self._marks(scene) + badges
 
     def check_frame(self, overlay: Overlay | None, scene: Scene) -> None:
         """The frame of ``overlay`` and ``scene`` (grid, panel, legend) within the limit, before drawing it

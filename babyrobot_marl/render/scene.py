@@ -82,7 +82,7 @@ def _placements(robots: tuple[RobotView, ...], corner: bool, labelled: frozenset
     out = []
     for cell, views in by_cell.items():
         if len(views) == 1:
-            out.append(_alone(views[0], corner, top if cell in labelled else 0.0))
+            out.append(lone_placement(views[0], corner, top if cell in labelled else 0.0))
             continue
         views.sort(key=lambda v: (v.rank == 0, v.rank, v.number))  # finished first, by rank
         scale, slots = icon_scale(len(views), top if cell in labelled else 0.0)
@@ -93,7 +93,7 @@ def _placements(robots: tuple[RobotView, ...], corner: bool, labelled: frozenset
 
 
 @lru_cache(maxsize=8192)
-def _alone(view: RobotView, corner: bool, top: float) -> Placement:
+def lone_placement(view: RobotView, corner: bool, top: float) -> Placement:
     """A robot alone in its cell (the same object each time: renderers key their caches by it)."""
     x, y = view.cell
     if corner:
