@@ -409,3 +409,19 @@ def test_kept_blocks_and_legend_pieces_equal_a_fresh_renderers_frames(n):
             assert (kept[0] == fresh.frame(scene, u.overlay, 0.5)).all(), k
             assert (kept[1] == fresh.frame(scene, u.overlay)).all(), k
     assert n == 4 or (seen["burst"] and seen["shared"])  # the blocks of several sprites were exercised
+
+
+def test_a_cell_block_is_keyed_by_all_its_robots_and_the_burst_by_its_cells():
+    """The same view of robot 0 alone, then sharing its cell, then alone again; a burst on and off."""
+    from babyrobot_marl.render.rgb import RgbRenderer
+    from babyrobot_marl.render.scene import RobotView, Scene
+
+    level = levels.get("mixed-8x8")
+    zero, one = RobotView(0, (2, 2), 2, "moved"), RobotView(1, (2, 2), 4, "moved")
+    podium = (RobotView(2, (5, 5), 0, "finished", rank=1), RobotView(3, (5, 5), 0, "finished", rank=2))
+    scenes = [Scene((zero,)), Scene((zero, one)), Scene((zero,)), Scene((zero, RobotView(1, (3, 2), 4, "bumped")),
+              (((3, 2), (2, 2)),)), Scene((zero, RobotView(1, (3, 2), 4, "bumped"))), Scene((zero, *podium)),
+              Scene((zero, podium[0]))]  # fmt: skip
+    kept = RgbRenderer(level, 48)
+    for k, scene in enumerate(scenes * 2):
+        assert (kept.frame(scene) == RgbRenderer(level, 48).frame(scene)).all(), k
