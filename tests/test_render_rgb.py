@@ -425,3 +425,29 @@ def test_a_cell_block_is_keyed_by_all_its_robots_and_the_burst_by_its_cells():
     kept = RgbRenderer(level, 48)
     for k, scene in enumerate(scenes * 2):
         assert (kept.frame(scene) == RgbRenderer(level, 48).frame(scene)).all(), k
+
+
+@pytest.mark.parametrize("theme", ["light", "dark"])
+@pytest.mark.parametrize("cs", [32, 48, 64])
+def test_at_reset_the_robots_head_shows_below_the_start_pill(cs, theme):
+    """Issue 26: the START pill hid the robot's head at reset. Its eyes and visor show in the
+    start cell, the whole head below the pill's band (its top a few pixels clear of it), and
+    the pill is still there."""
+    from babyrobot_marl.render.picture import label_band
+
+    env = BabyRobotEnv(level="mixed-8x8", render_mode="rgb_array", cell_size=cs, theme=theme)
+    env.reset(seed=0)
+    th = THEMES[theme]
+    x, y = env.unwrapped.robot_cell
+    start = env.render()[y * cs : (y + 1) * cs, x * cs : (x + 1) * cs].astype(int)
+    band = int(np.ceil(label_band(cs)[1]))
+    eye = (np.abs(start - th.eye).sum(axis=2) <= 6)
+    visor = (np.abs(start - th.visor).sum(axis=2) <= 6)
+    pill = (x, y) in env.unwrapped.rgb_renderer.labelled  # at 32 px the word does not fit: no pill
+    assert pill == (cs >= 48)
+    assert eye.sum() >= 2 and visor[band if pill else 0 :].sum() >= cs // 8, (eye.sum(), visor.sum())
+    if pill:
+        assert not eye[:band].any()  # no eye under the pill (the pill's ink may match the visor's)
+        body = np.nonzero((np.abs(start - th.robots[0]).sum(axis=2) <= 6).any(axis=1))[0]
+        assert body.min() >= band + max(3, cs // 16)  # the head's top clear of the pill (it ran on under it)
+        assert (np.abs(start[:band] - th.label_bg).sum(axis=2) <= 6).sum() >= cs // 2  # the pill itself
