@@ -66,6 +66,7 @@ class RgbRenderer:
         self._lone: tuple[dict, dict] = ({}, {})  # lone robots' cells and blocks by view, without and with an overlay
         self._lone_static: np.ndarray | None = None
         self._mark_cache: dict[tuple, tuple] = {}  # bursts placed, by their two cells
+        self._row_h = metrics(cs).row_h
         self._rows: dict[object, list] = {}  # legend rows' pieces, by content
         self._blocks: OrderedDict[tuple, tuple] = OrderedDict()  # cells with robots drawn in, by content
         self._placed: OrderedDict[object, tuple] = OrderedDict()  # placed robots' sprites, patches and cells
@@ -278,17 +279,18 @@ class RgbRenderer:
         Each row's strip is cached by its exact content: returns repeat from race to race."""
         if self._legend_y is None or len(old) != len(new) or not new or len(new) > LEGEND_ROWS:
             return False
-        if any(a.number != b.number for a, b in zip(old, new) if a is not b):
-            return False
-        img, h = self._base_img, metrics(self.cell_size).row_h
+        self._base_strips = [None] * len(self._base_strips)  # the kept strips will not all show
+        img, h, rows = self._base_img, self._row_h, self._rows
         y = self.grid_height + self._legend_y
         for a, b in zip(old, new):
             if a is not b and a != b:  # only its pieces that changed (its return, mostly)
-                for (x0, x1, was, _), (_, _, now, piece) in zip(self._row_pieces(a), self._row_pieces(b)):
-                    if was != now:
+                if a.number != b.number:
+                    return False
+                now = rows.get(b) or self._row_pieces(b)
+                for (x0, x1, was, _), (_, _, key, piece) in zip(rows.get(a) or self._row_pieces(a), now):
+                    if was != key:
                         img[y : y + h, x0:x1] = piece
             y += h
-        self._base_strips = [None] * len(self._base_strips)  # the kept strips no longer all show
         return True
 
     def _row_pieces(self, row) -> list[tuple[int, int, tuple, np.ndarray]]:
