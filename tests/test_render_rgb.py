@@ -451,3 +451,22 @@ def test_at_reset_the_robots_head_shows_below_the_start_pill(cs, theme):
         body = np.nonzero((np.abs(start - th.robots[0]).sum(axis=2) <= 6).any(axis=1))[0]
         assert body.min() >= band + max(3, cs // 16)  # the head's top clear of the pill (it ran on under it)
         assert (np.abs(start[:band] - th.label_bg).sum(axis=2) <= 6).sum() >= cs // 2  # the pill itself
+
+
+@pytest.mark.parametrize("cs", [48, 56, 64])
+def test_podium_robots_are_24_px_and_wear_a_readable_rank_clear_of_the_exit_label(cs):
+    """Issue 26: podium robots were about 23 px in race.gif (56 px cells), their rank badges
+    too small for a digit at 48-56 px and the gold one under the EXIT pill."""
+    from babyrobot_marl.render.picture import label_band
+    from babyrobot_marl.render.scene import RobotView, Scene, placement_sprites, placements
+
+    level = levels.get("race-4")
+    exit_cell = sorted(level.exits)[0]
+    scene = Scene(tuple(RobotView(i, exit_cell, 0, "finished", rank=i + 1) for i in range(4)))
+    r = RgbRenderer(level, cs)
+    band = exit_cell[1] * cs + label_band(cs)[1]
+    for pl in placements(scene, r.labelled, r.label_top):
+        assert pl.scale * cs >= (24 if cs >= 56 else 21)
+        _, (medal, mx, my) = placement_sprites(pl, cs, r.theme, "finished", pl.cx, pl.cy)
+        assert [t.text for t in medal.texts] == [str(pl.view.rank)]  # its digit fits
+        assert my + medal.points[:, 1].min() > band  # its top below the pill

@@ -171,13 +171,15 @@ def _eyes(p: _Pen, pose: str, ex: float, ey: float, eye: Colour) -> None:
 
 
 CORNER = (0.44, 0.24, 0.76)  # a lone robot while an overlay is on: its scale and centre, bottom left of its cell
-REACH = 0.82  # a robot's drawn height (antenna to track) at scale 1, in cells
+REACH = 0.76  # rows of robots sharing a cell: this many scales apart (its drawn height, antenna to
+# track, is 0.82: the antenna's tip may reach past the track of the robot above, which hides nothing)
 
 
 def icon_scale(n: int, top: float = 0.0) -> tuple[float, list[tuple[float, float]]]:
     """Robots in one cell: their scale and centres in cell units, in the part of the cell below
     ``top`` (a label's band), side by side when there are several (as large as their drawn
-    height lets them: the rows are ``REACH`` of a scale apart)."""
+    height lets them: the rows are ``REACH`` of a scale apart; 4 robots at 56-pixel cells below an
+    EXIT label are 25 pixels)."""
     if n <= 1:
         s = 1.0 - top
         return s, [(0.5, top + s / 2)]

@@ -153,8 +153,10 @@ def placement_sprites(p: Placement, cs: float, theme: Theme, pose: str, cx: floa
     robot = (robot_sprite(theme, v.number, v.heading, pose, numbered, round(cs * p.scale, 2)), cx * cs, cy * cs)
     if not v.rank:
         return robot, None
-    r = max(4.0, cs * 0.13 * max(p.scale, 0.55))
-    return robot, (badge(theme, v.rank, round(r, 2)), (cx + 0.36 * p.scale) * cs, (cy - 0.36 * p.scale) * cs)
+    # a medal on its chest, where a racing robot's id is: clear of the label above and of the
+    # other robots' faces, large enough for its digit
+    r = max(5.0, cs * p.scale * 0.15)
+    return robot, (badge(theme, v.rank, round(r, 2)), cx * cs, (cy + 0.17 * p.scale) * cs)
 
 
 BURST = (0.15, 0.32)  # a collision's burst: its radius, and how far beside the robots' faces, in cells
