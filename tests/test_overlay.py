@@ -80,14 +80,19 @@ def test_nan_values_leave_the_cell_as_it_was():
     ("action", "dx", "dy"), [(Action.EAST, 1, 0), (Action.WEST, -1, 0), (Action.NORTH, 0, -1), (Action.SOUTH, 0, 1)]
 )
 def test_an_arrow_is_centred_in_its_cell_and_its_head_points_its_way(action, dx, dy):
+    from babyrobot_marl.render.annotate import ROBOT_RIGHT
+
     env = env_with()
     arrows = np.zeros((8, 8), dtype=int)
     arrows[3, 4] = int(action)
     env.set_overlay(arrows=arrows)
     white = (cell(env.render(), 4, 3) == LIGHT.arrow).all(axis=2)
     ys, xs = np.nonzero(white)
-    along = (xs - CS / 2) * dx + (ys - CS / 2) * dy  # pixels along the arrow, from the cell's centre
+    mid = (ROBOT_RIGHT * CS + CS) / 2 if dx else CS / 2  # E and W: in the part right of the robot's corner
+    along = (xs - mid) * dx + (ys - CS / 2) * dy  # pixels along the arrow, from the middle of its part
     assert abs(along.min() + along.max()) < 0.15 * CS  # centred
+    if dx:
+        assert xs.min() > ROBOT_RIGHT * CS  # clear of the robot standing in its corner
     across = np.abs((xs - CS / 2) * dy - (ys - CS / 2) * dx)
     assert across[along > along.max() - 0.2 * CS].max() >= 1.8 * across[along < along.min() + 0.15 * CS].max()  # the head
 
@@ -367,3 +372,21 @@ def test_action_values_sit_in_their_triangles_clear_of_walls_labels_and_the_robo
         # inside its triangle: the centre is nearer its own edge than any other
         d = {"N": v, "S": 1 - v, "W": u, "E": 1 - u}
         assert min(d.values()) < 0.5
+
+
+@pytest.mark.parametrize("theme", ["light", "dark"])
+@pytest.mark.parametrize("cs", [32, 48, 64])
+@pytest.mark.parametrize("action", [Action.EAST, Action.WEST])
+def test_a_horizontal_arrow_does_not_run_under_the_robot_in_its_corner(cs, action, theme):
+    """Issue 26 (follow-up): in the start cell an E or W arrow ran partly under the robot."""
+    env = BabyRobotEnv(level="mixed-8x8", render_mode="rgb_array", cell_size=cs, theme=theme)
+    env.reset(seed=0)
+    u = env.unwrapped
+    u.set_overlay(values=np.linspace(-9, 0, 64).reshape(8, 8), arrows=np.full((8, 8), int(action)))
+    x, y = u.robot_cell
+    th = THEMES[theme]
+    under = u.rgb_renderer.static(u.overlay)[y * cs : (y + 1) * cs, x * cs : (x + 1) * cs]
+    shown = env.render()[y * cs : (y + 1) * cs, x * cs : (x + 1) * cs]
+    arrow = (under == th.arrow).all(axis=2)
+    assert arrow.sum() >= cs // 4  # there is an arrow
+    assert ((shown == th.arrow).all(axis=2) & arrow).sum() == arrow.sum()  # all of it still shows
