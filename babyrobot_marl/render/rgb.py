@@ -257,6 +257,8 @@ class RgbRenderer:
     def static(self, overlay: Overlay | None) -> np.ndarray:
         """The level with ``overlay``'s tints, arrows and numbers, and the labels (read-only; the
         live canvas's bottom layer). The same cell parts give the same image object back."""
+        if overlay is self._static[0]:  # the same overlay as the last frame's (the usual case)
+            return self._static[1]
         if overlay is None or not overlay.has_cells:
             return self.background
         if not _same_cells(self._static[0], overlay):
