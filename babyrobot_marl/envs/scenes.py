@@ -75,7 +75,7 @@ def _value(cls: type, *fields: Any) -> Any:
     key = (cls, *fields)
     v = _VALUES.get(key)
     if v is None:
-        if len(_VALUES) >= 1 << 16:
+        if len(_VALUES) >= 1 << 14:
             _VALUES.clear()
         v = _VALUES[key] = cls(*fields)
     return v
