@@ -80,7 +80,7 @@ def test_nan_values_leave_the_cell_as_it_was():
     ("action", "dx", "dy"), [(Action.EAST, 1, 0), (Action.WEST, -1, 0), (Action.NORTH, 0, -1), (Action.SOUTH, 0, 1)]
 )
 def test_an_arrow_is_centred_in_its_cell_and_its_head_points_its_way(action, dx, dy):
-    from babyrobot_marl.render.annotate import ROBOT_RIGHT
+    from babyrobot_marl.render.annotate import ROBOT_RIGHT, ROBOT_TOP
 
     env = env_with()
     arrows = np.zeros((8, 8), dtype=int)
@@ -88,12 +88,12 @@ def test_an_arrow_is_centred_in_its_cell_and_its_head_points_its_way(action, dx,
     env.set_overlay(arrows=arrows)
     white = (cell(env.render(), 4, 3) == LIGHT.arrow).all(axis=2)
     ys, xs = np.nonzero(white)
-    mid = (ROBOT_RIGHT * CS + CS) / 2 if dx else CS / 2  # E and W: in the part right of the robot's corner
-    along = (xs - mid) * dx + (ys - CS / 2) * dy  # pixels along the arrow, from the middle of its part
+    along = (xs - CS / 2) * dx + (ys - CS / 2) * dy  # pixels along the arrow, from the cell's centre
     assert abs(along.min() + along.max()) < 0.15 * CS  # centred
-    if dx:
-        assert xs.min() > ROBOT_RIGHT * CS  # clear of the robot standing in its corner
-    across = np.abs((xs - CS / 2) * dy - (ys - CS / 2) * dx)
+    if dx:  # E and W: clear of the robot in its corner
+        assert not ((xs < ROBOT_RIGHT * CS) & (ys > ROBOT_TOP * CS)).any()
+    axis = (ys.min() + ys.max()) / 2 if dx else (xs.min() + xs.max()) / 2  # E and W: above the robot's corner
+    across = np.abs((xs - axis) * dy - (ys - axis) * dx)
     assert across[along > along.max() - 0.2 * CS].max() >= 1.8 * across[along < along.min() + 0.15 * CS].max()  # the head
 
 

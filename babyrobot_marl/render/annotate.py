@@ -7,8 +7,8 @@ Laid out so each reads at a glance, per cell (``cs`` pixels):
   label);
 - arrows: white with a dark edge, at least a third of the cell long, in the space under the
   value box (the whole cell without values); tied actions are distinct arrows, each in its own
-  lane (``arrow_lanes``), never drawn from one point; E and W arrows right of the robot's
-  corner (``ROBOT_RIGHT``), so they do not run under the robot;
+  lane (``arrow_lanes``), never drawn from one point; E and W arrows above the robot's corner
+  (``ROBOT_TOP``), or right of it under a value box (``ROBOT_RIGHT``): none runs under it;
 - action values: the four triangles tinted, each number centred in its own triangle, clear of
   the walls and the label; none in an exit (nothing is done there);
 - text: in a box at the bottom of the cell.
@@ -43,6 +43,7 @@ _TRIANGLES = {  # centre-to-corner triangles, cell units
 TEXT_BAND = (0.76, 0.97)  # cell text, at the bottom
 Box = tuple[float, float, float, float]  # x0, y0, x1, y1: pixels in a cell
 ROBOT_RIGHT = CORNER[1] + 0.36 * CORNER[0]  # the right edge of a robot in its corner (arms out), cell units
+ROBOT_TOP = CORNER[2] - 0.54 * CORNER[0]  # and its top (the antenna's tip)
 
 
 def value_range(overlay: Overlay) -> Scale | None:
@@ -91,8 +92,11 @@ def ink_ops(overlay: Overlay, cs: int, theme: Theme, labelled: frozenset = froze
         for y, x in zip(*np.nonzero(overlay.arrows[:, :, 1:].any(axis=2))):
             actions = [a for a in DIRECTIONS if overlay.arrows[y, x, a]]
             x0, y0, x1, y1 = arrow_region(cs, layout, (int(x), int(y)) in labelled)
-            if all(a in (Action.EAST, Action.WEST) for a in actions):
-                x0 = max(x0, ROBOT_RIGHT * cs)  # right of the robot's corner: no arrow runs under it
+            if all(a in (Action.EAST, Action.WEST) for a in actions):  # clear of the robot's corner:
+                if ROBOT_TOP * cs - y0 >= 0.4 * cs:
+                    y1 = min(y1, ROBOT_TOP * cs)  # above it, as long as ever (no value box)
+                else:
+                    x0 = max(x0, ROBOT_RIGHT * cs)  # right of it (under a value box)
             region = (x * cs + x0, y * cs + y0, x * cs + x1, y * cs + y1)
             for tx, ty, dx, dy, length in arrow_lanes(actions, region):
                 ops += arrow(tx, ty, dx, dy, length, theme)
