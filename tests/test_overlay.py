@@ -377,12 +377,13 @@ def test_action_values_sit_in_their_triangles_clear_of_walls_labels_and_the_robo
 @pytest.mark.parametrize("theme", ["light", "dark"])
 @pytest.mark.parametrize("cs", [32, 48, 64])
 @pytest.mark.parametrize("action", [Action.EAST, Action.WEST])
-def test_a_horizontal_arrow_does_not_run_under_the_robot_in_its_corner(cs, action, theme):
+@pytest.mark.parametrize("values", [True, False])
+def test_a_horizontal_arrow_does_not_run_under_the_robot_in_its_corner(cs, action, theme, values):
     """Issue 26 (follow-up): in the start cell an E or W arrow ran partly under the robot."""
     env = BabyRobotEnv(level="mixed-8x8", render_mode="rgb_array", cell_size=cs, theme=theme)
     env.reset(seed=0)
     u = env.unwrapped
-    u.set_overlay(values=np.linspace(-9, 0, 64).reshape(8, 8), arrows=np.full((8, 8), int(action)))
+    u.set_overlay(values=np.linspace(-9, 0, 64).reshape(8, 8) if values else None, arrows=np.full((8, 8), int(action)))
     x, y = u.robot_cell
     th = THEMES[theme]
     under = u.rgb_renderer.static(u.overlay)[y * cs : (y + 1) * cs, x * cs : (x + 1) * cs]
