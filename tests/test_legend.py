@@ -8,8 +8,16 @@ import pytest
 from babyrobot_marl import BabyRobotEnv, levels, race_v0
 from babyrobot_marl.render.checks import MAX_FRAME_PIXELS, check_frame_size
 from babyrobot_marl.render.overlay import Overlay, update_overlay
-from babyrobot_marl.render.palette import THEMES
-from babyrobot_marl.render.panel import LEGEND_ROWS, LegendRow, legend_rows, panel_height, panel_sections
+from babyrobot_marl.render.palette import THEMES, robot_colour
+from babyrobot_marl.render.panel import (
+    COMPACT_LINES,
+    LEGEND_ROWS,
+    LegendRow,
+    compact_layout,
+    legend_rows,
+    panel_height,
+    panel_sections,
+)
 from babyrobot_marl.render.rgb import RgbRenderer
 from babyrobot_marl.render.scene import Scene
 
@@ -22,13 +30,34 @@ def race_frame(n: int, steps: int = 0, **kw) -> tuple[np.ndarray, object]:
     return env.render(), env.unwrapped
 
 
-@pytest.mark.parametrize("n", [8, 9, 12, 100])
-def test_a_large_race_legend_is_as_tall_as_eight_rows(n):
+@pytest.mark.parametrize("n", [9, 12, 100])
+def test_a_large_race_legend_is_compact_a_few_lines_of_entries(n):
     frame, race = race_frame(n)
     grid = race.level.height * race.cell_size
-    eight = panel_height(frame.shape[1], race.cell_size, robots=8)
-    assert frame.shape == (grid + eight, race.level.width * race.cell_size, 3)
-    assert panel_height(frame.shape[1], race.cell_size, robots=n) == eight
+    cols, lines = compact_layout(frame.shape[1], race.cell_size, n)
+    assert lines <= COMPACT_LINES and cols >= 4  # 768 pixels across: several entries a line
+    assert frame.shape == (grid + panel_height(frame.shape[1], race.cell_size, robots=n), race.level.width * race.cell_size, 3)
+    assert frame.shape[0] - grid < panel_height(frame.shape[1], race.cell_size, robots=8) / 2
+
+
+@pytest.mark.parametrize("cs", [32, 48, 64])
+@pytest.mark.parametrize("n", [12, 32])
+def test_beyond_eight_robots_the_legend_takes_a_small_share_of_the_picture(cs, n):
+    """Issue 26: a 12-robot legend took a quarter of the picture (a third on an 8x8 level at 64 px)."""
+    env = race_v0.parallel_env(level="mixed-8x8", n_robots=n, start="random", render_mode="rgb_array", cell_size=cs)
+    env.reset(seed=0)
+    frame = env.render()
+    share = 1 - 8 * cs / frame.shape[0]  # the rows below the grid
+    assert share <= {32: 0.23, 48: 0.17, 64: 0.16}[cs], share
+
+
+def test_the_compact_legend_shows_each_robot_it_lists_with_its_colour():
+    frame, race = race_frame(12, cell_size=48)  # 768 pixels across: all twelve fit
+    panel = frame[race.level.height * race.cell_size :]
+    theme = race.theme
+    for i in range(12):
+        colour = np.array(robot_colour(theme, i))
+        assert (np.abs(panel.astype(int) - colour).sum(axis=2) < 8).sum() >= 6, i  # its icon's body
 
 
 def test_the_legend_lists_every_robot_up_to_eight_then_the_leaders_and_a_row_counting_the_rest():
@@ -42,8 +71,12 @@ def test_the_legend_lists_every_robot_up_to_eight_then_the_leaders_and_a_row_cou
     assert more == "+5 more: 5 racing"
     over = [LegendRow(i, "", -3.0, 1 + (i > 3), False) for i in range(40)]
     assert legend_rows(over) == (over[:LEGEND_ROWS - 1], "+33 more: 33 finished")
-    sections = panel_sections(512, 64, THEMES["light"], legend=rows)
-    assert [s.key[0] for s in sections] == ["top", "legend", *["row"] * 7, "more", "bottom"]
+    sections = panel_sections(512, 64, THEMES["light"], legend=rows)  # compact: 3 entries a line, on 3 lines
+    assert compact_layout(512, 64, 12) == (3, 3)
+    assert [s.key[0] for s in sections] == ["top", "entries", "entries", "entries", "bottom"]
+    listed = [part[2] for sec in sections[1:4] for part in sec.parts]
+    assert [k[2].number for k in listed[:8]] == [7, 4, 9, 0, 1, 2, 3, 5]  # the leaders (8 places)
+    assert listed[8][:1] == ("count",) and listed[8][2] == "+4 more: 4 racing"
 
 
 def test_the_legend_of_a_1200_robot_race_fits_the_frame():

@@ -77,28 +77,74 @@ def test_nan_values_leave_the_cell_as_it_was():
 
 
 @pytest.mark.parametrize(
-    ("action", "u", "v"),
-    [(Action.EAST, 0.78, 0.5), (Action.WEST, 0.22, 0.5), (Action.NORTH, 0.5, 0.22), (Action.SOUTH, 0.5, 0.78)],
+    ("action", "dx", "dy"), [(Action.EAST, 1, 0), (Action.WEST, -1, 0), (Action.NORTH, 0, -1), (Action.SOUTH, 0, 1)]
 )
-def test_an_arrow_points_from_the_centre_towards_its_direction(action, u, v):  # fmt: skip
+def test_an_arrow_is_centred_in_its_cell_and_its_head_points_its_way(action, dx, dy):
+    from babyrobot_marl.render.annotate import ROBOT_RIGHT, ROBOT_TOP
+
     env = env_with()
     arrows = np.zeros((8, 8), dtype=int)
     arrows[3, 4] = int(action)
     env.set_overlay(arrows=arrows)
-    img = env.render()
-    assert px(img, 4, 3, u, v) == LIGHT.arrow
-    # and not the opposite way
-    assert px(img, 4, 3, 1 - u, 1 - v) != LIGHT.arrow
+    white = (cell(env.render(), 4, 3) == LIGHT.arrow).all(axis=2)
+    ys, xs = np.nonzero(white)
+    along = (xs - CS / 2) * dx + (ys - CS / 2) * dy  # pixels along the arrow, from the cell's centre
+    assert abs(along.min() + along.max()) < 0.15 * CS  # centred
+    if dx:  # E and W: clear of the robot in its corner
+        assert not ((xs < ROBOT_RIGHT * CS) & (ys > ROBOT_TOP * CS)).any()
+    axis = (ys.min() + ys.max()) / 2 if dx else (xs.min() + xs.max()) / 2  # E and W: above the robot's corner
+    across = np.abs((xs - axis) * dy - (ys - axis) * dx)
+    assert across[along > along.max() - 0.2 * CS].max() >= 1.8 * across[along < along.min() + 0.15 * CS].max()  # the head
 
 
-def test_ties_are_several_arrows_from_the_same_centre():
-    arrows = np.zeros((8, 8, 5), dtype=bool)
-    arrows[1, 1, [Action.EAST, Action.SOUTH]] = True
-    ov = update_overlay(Overlay(), env_with().level, arrows=arrows)
-    shapes = [op for op in annotate.ink_ops(ov, CS, LIGHT) if isinstance(op, Fill) and op.colour == LIGHT.arrow]
-    assert len(shapes) == 2
-    tails = [tuple(np.round(op.points[[0, -1]].mean(axis=0))) for op in shapes]  # the two tail corners' middle
-    assert np.allclose(tails[0], tails[1], atol=0.6 * CS * 0.12 + 1)  # both start at the cell's centre
+def arrow_shapes(ops):
+    return [op for op in ops if isinstance(op, Fill) and op.colour == LIGHT.arrow]
+
+
+@pytest.mark.parametrize("cs", [32, 48, 64])
+@pytest.mark.parametrize("values", [False, True])
+def test_arrows_are_at_least_a_third_of_the_cell_and_ties_are_distinct_arrows(cs, values):
+    """Every arrow, alone or tied (two, three, four ways), is at least cs / 3 long; tied arrows
+    do not touch (they are not drawn from one point); on mixed-8x8, cell (3, 0) has a tie."""
+    level = env_with().level
+    ties = [(a,) for a in (1, 2, 3, 4)] + [(1, 3), (2, 4), (2, 3), (1, 4), (3, 4), (1, 2), (1, 2, 3), (1, 2, 3, 4)]
+    for actions in ties:
+        arrows = np.zeros((8, 8, 5), dtype=bool)
+        arrows[4, 4, list(actions)] = True
+        vals = np.full((8, 8), -12.5) if values else None
+        ov = update_overlay(Overlay(), level, arrows=arrows, values=vals)
+        shapes = arrow_shapes(annotate.ink_ops(ov, cs, LIGHT))
+        assert len(shapes) == len(actions)
+        for s in shapes:
+            ext = s.points.max(axis=0) - s.points.min(axis=0)
+            if len(actions) <= 2:
+                assert ext.max() >= cs / 3 - 1, (actions, cs, ext)
+            assert (s.points >= 4 * cs - 0.5).all() and (s.points <= 5 * cs + 0.5).all()  # inside its cell
+        boxes = [(s.points.min(axis=0), s.points.max(axis=0)) for s in shapes]
+        for i in range(len(boxes)):
+            for j in range(i + 1, len(boxes)):
+                (a0, a1), (b0, b1) = boxes[i], boxes[j]
+                gap = np.maximum(b0 - a1, a0 - b1).max()  # > 0: apart along some axis
+                assert gap > 0 or _apart(shapes[i].points, shapes[j].points), (actions, cs)
+
+
+def _apart(a, b) -> bool:
+    """No corner of either shape within 1 pixel of the other's corners (two arrows, not a scribble)."""
+    d = np.linalg.norm(a[:, None, :] - b[None, :, :], axis=2)
+    return bool(d.min() > 1.0)
+
+
+def test_cell_3_0_of_mixed_8x8_draws_its_tie_as_two_separate_arrows():
+    from babyrobot_marl import planning
+
+    env = env_with(level="mixed-8x8")
+    sol = planning.value_iteration(planning.model(env.level), gamma=1.0)
+    assert sol.best_actions[0, 3].sum() >= 2  # a tie there
+    ov = update_overlay(Overlay(), env.level, arrows=sol.best_actions, values=sol.value_grid)
+    shapes = [s for s in arrow_shapes(annotate.ink_ops(ov, CS, LIGHT)) if (s.points.mean(axis=0) // CS == (3, 0)).all()]
+    assert len(shapes) == sol.best_actions[0, 3].sum()
+    tails = [s.points[[0, -1]].mean(axis=0) for s in shapes]
+    assert np.linalg.norm(tails[0] - tails[1]) > CS / 6  # not from one point
 
 
 def test_arrows_never_cover_the_value_boxes():
@@ -137,7 +183,9 @@ def test_text_is_drawn_in_its_cell_only():
     img = env.render()
     changed = np.argwhere((img != plain).any(axis=2))
     assert len(changed) > 0
-    assert set(map(tuple, changed // CS)) == {(1, 6)}  # (row, column) of cell (6, 1)
+    (x0, y0), exits = env.robot_cell, env.level.exits
+    moved = {(y0, x0), *((y, x) for x, y in [*env.level.starts, *exits])}  # the robot and icons go to their corners
+    assert set(map(tuple, changed // CS)) - moved == {(1, 6)}  # (row, column) of cell (6, 1)
     assert has(cell(img, 6, 1), LIGHT.value_text)
 
 
@@ -267,3 +315,79 @@ def test_values_near_the_float_maximum_draw_without_a_warning_and_keep_their_ord
     assert (colours[0, 0] == colour_map(np.array([0.0, 1.0]), THEMES["light"].colour_map)[0]).all()  # lowest
     assert (colours[0, 2] == colour_map(np.array([0.0, 1.0]), THEMES["light"].colour_map)[1]).all()  # highest
     assert (colours[0, 1] == colour_map(np.array([0.0, 0.5, 1.0]), THEMES["light"].colour_map)[1]).all()  # the middle
+
+
+def test_one_number_format_per_overlay_chosen_from_the_range():
+    """Values from -8.8 to -0.69: one decimal for every number (not -8.8, -.69 and 0 mixed)."""
+    level = env_with().level
+    vals = np.full((8, 8), -3.0)
+    vals[0, 0], vals[0, 1], vals[0, 2] = -8.8, -0.69, 0.0
+    ov = update_overlay(Overlay(), level, values=vals)
+    texts = {op.text for op in annotate.ink_ops(ov, CS, LIGHT) if hasattr(op, "text")}
+    assert texts == {"-8.8", "-0.7", "0.0", "-3.0"}
+    assert update_overlay(Overlay(), level, values=vals * 10).scale.format(-6.9) == "-7"  # whole numbers from 10 up
+    assert update_overlay(Overlay(), level, values=vals / 10).scale.format(-0.069) == "-0.07"
+
+
+def test_the_colour_bar_has_ticks_and_the_overlays_own_label():
+    env = env_with()
+    env.set_overlay(values=np.linspace(-17, 0, 64).reshape(8, 8))
+    from babyrobot_marl.render.panel import _colour_bar
+
+    ops = _colour_bar(512, 40, 13, env.unwrapped.overlay.scale, LIGHT)
+    words = [op.text for op in ops if hasattr(op, "text")]
+    assert words[0] == "value" and {"-17", "-10", "-5", "0"} <= set(words)
+    ov = update_overlay(env.unwrapped.overlay, env.level, label="gap")
+    assert [op.text for op in _colour_bar(512, 40, 13, ov.scale, LIGHT) if hasattr(op, "text")][0] == "gap"
+    with pytest.raises(ValueError, match="^label: "):
+        update_overlay(ov, env.level, label=3)
+
+
+@pytest.mark.parametrize("cs", [32, 48, 64])
+def test_action_values_sit_in_their_triangles_clear_of_walls_labels_and_the_robot_and_none_in_the_exit(cs):
+    """Each number's box is inside its triangle, off the wall band, below a START label, outside
+    the robot's corner; the exit shows none."""
+    from babyrobot_marl.render.picture import label_band
+    from babyrobot_marl.render.robot import CORNER
+    from babyrobot_marl.render.shapes import Text
+
+    env = env_with(level="mixed-8x8", cs=cs)
+    q = np.random.default_rng(0).normal(size=(8, 8, 5)) * 9
+    env.set_overlay(q_values=q)
+    r = env.unwrapped.drawing.renderer
+    ops = annotate.ink_ops(env.unwrapped.overlay, cs, LIGHT, r.labelled, r.exits)
+    texts = [op for op in ops if isinstance(op, Text)]
+    assert texts
+    m = wall_width(cs) / 2
+    s, ux, uy = CORNER
+    for t in texts:
+        x, y = int(t.x // cs), int(t.y // cs)
+        u, v = t.x / cs - x, t.y / cs - y
+        assert (x, y) not in r.exits
+        half = annotate.text_width(t.text, t.size) / 2 / cs
+        assert m / cs < u - half and u + half < 1 - m / cs  # clear of the walls
+        assert not (abs(u - ux) < s / 2 and abs(v - uy) < s / 2)  # not on the robot's corner
+        if (x, y) in r.labelled:
+            assert v * cs > label_band(cs)[1]
+        # inside its triangle: the centre is nearer its own edge than any other
+        d = {"N": v, "S": 1 - v, "W": u, "E": 1 - u}
+        assert min(d.values()) < 0.5
+
+
+@pytest.mark.parametrize("theme", ["light", "dark"])
+@pytest.mark.parametrize("cs", [32, 48, 64])
+@pytest.mark.parametrize("action", [Action.EAST, Action.WEST])
+@pytest.mark.parametrize("values", [True, False])
+def test_a_horizontal_arrow_does_not_run_under_the_robot_in_its_corner(cs, action, theme, values):
+    """Issue 26 (follow-up): in the start cell an E or W arrow ran partly under the robot."""
+    env = BabyRobotEnv(level="mixed-8x8", render_mode="rgb_array", cell_size=cs, theme=theme)
+    env.reset(seed=0)
+    u = env.unwrapped
+    u.set_overlay(values=np.linspace(-9, 0, 64).reshape(8, 8) if values else None, arrows=np.full((8, 8), int(action)))
+    x, y = u.robot_cell
+    th = THEMES[theme]
+    under = u.rgb_renderer.static(u.overlay)[y * cs : (y + 1) * cs, x * cs : (x + 1) * cs]
+    shown = env.render()[y * cs : (y + 1) * cs, x * cs : (x + 1) * cs]
+    arrow = (under == th.arrow).all(axis=2)
+    assert arrow.sum() >= cs // 4  # there is an arrow
+    assert ((shown == th.arrow).all(axis=2) & arrow).sum() == arrow.sum()  # all of it still shows

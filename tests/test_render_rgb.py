@@ -321,10 +321,152 @@ def test_a_race_legend_stops_growing_past_eight_robots_and_the_frame_limit_count
         env.reset(seed=0)
         return env.render().shape[0]
 
-    assert height(2) < height(8) == height(9) == height(100)
+    assert height(2) < height(8) and height(9) < height(8) and height(30) == height(100)  # compact past eight
     with pytest.raises(ValueError, match=r"^cell_size: .*legend of 4 robots.* 4096x4262 frame"):
         race_v0.parallel_env(level="maze-16x16", n_robots=4, start="random", cell_size=256, render_mode="rgb_array")
     env = BabyRobotEnv(level="maze-8x8", render_mode="rgb_array")
     env.reset(seed=0)
     with pytest.raises(ValueError, match=r"^panel: 3,000 lines"):
         env.unwrapped.set_overlay(panel=[f"line {i}" for i in range(3000)])
+
+
+def test_a_collision_burst_is_beside_both_faces_and_podium_robots_show_only_their_rank():
+    """The burst sits on the shared edge below the faces (both visors untouched); a finished
+    robot carries no id on its chest (its rank badge only) and is at least 24 px at 64 px cells."""
+    from babyrobot_marl.render.robot import icon_scale
+    from babyrobot_marl.render.scene import BURST, burst_centre
+
+    cx, cy = burst_centre((1, 0), (2, 0), 64)
+    assert cx == 2 * 64 and cy - 0.5 * 64 >= BURST[1] * 64 - 1  # on the edge, below the eyes' row
+    face_bottom = 0.5 * 64 + (-0.11 * 0.86) * 64  # a full-size robot's visor ends here
+    assert cy - BURST[0] * 64 * 1.12 > face_bottom
+    s, _ = icon_scale(4, 0.3)
+    assert s * 64 >= 24
+    env = race_v0.parallel_env(level=LANE, n_robots=2, render_mode="rgb_array", cell_size=64)
+    env.reset(seed=0)
+    env.step({"robot_0": 2, "robot_1": 0})
+    env.step({"robot_0": 2, "robot_1": 0})
+    from babyrobot_marl.render.scene import robot_sprites
+
+    u = env.unwrapped
+    sprites = robot_sprites(u._scene(), 64, THEMES["light"], labelled=u.drawing.renderer.labelled)
+    texts = [t.text for s, _, _ in sprites for t in s.texts]
+    assert "1" in texts and "0" not in texts  # the rank badge's 1, not robot 0's id
+
+
+def test_the_kept_frame_redraws_changed_legend_rows_and_a_new_overlay():
+    """Frames from one renderer, its panel and placed robots kept, equal frames from a fresh one."""
+    env = race_v0.parallel_env(level="mixed-8x8", n_robots=4, start="random", render_mode="rgb_array", cell_size=48)
+    env.reset(seed=1)
+    fresh = race_v0.parallel_env(level="mixed-8x8", n_robots=4, start="random", render_mode="rgb_array", cell_size=48)
+    fresh.reset(seed=1)
+    rng = np.random.default_rng(0)
+    for k in range(12):
+        if not env.agents:
+            break
+        acts = {a: int(rng.integers(5)) for a in env.agents}
+        env.step(acts)
+        fresh.step(acts)
+        if k == 6:
+            env.unwrapped.set_overlay(values=np.arange(64.0).reshape(8, 8))
+            fresh.unwrapped.set_overlay(values=np.arange(64.0).reshape(8, 8))
+        kept = env.render()
+        from babyrobot_marl.render.rgb import RgbRenderer
+
+        u = fresh.unwrapped
+        new = RgbRenderer(u.level, 48, u.drawing.renderer.theme).frame(u._scene(), u.overlay)
+        assert (kept == new).all(), k
+
+
+@pytest.mark.parametrize("n", [4, 12])
+def test_kept_blocks_and_legend_pieces_equal_a_fresh_renderers_frames(n):
+    """The caches (cells with robots by exact content, legend pieces, the kept frame) across
+    steps, bursts, shared cells, in-between frames, overlay and name changes, and a compact
+    legend: every frame equals a fresh renderer's."""
+    from babyrobot_marl.render.rgb import RgbRenderer
+
+    env = race_v0.parallel_env(level="mixed-8x8", n_robots=n, start="random", render_mode="rgb_array", cell_size=32)
+    env.reset(seed=2)
+    u = env.unwrapped
+    rng = np.random.default_rng(3)
+    seen = {"burst": 0, "shared": 0}
+    for k in range(70):
+        if not env.agents:
+            env.reset()
+        env.step({a: int(rng.integers(5)) for a in env.agents})
+        if k == 20:
+            u.set_overlay(values=np.arange(64.0).reshape(8, 8), arrows=np.full((8, 8), 2), panel="step 20")
+        if k == 40:
+            u.set_overlay(names=[f"p{i}" for i in range(n)], panel=None)
+        if k == 55:
+            u.set_overlay(values=None, arrows=None)
+        scene = u._scene()
+        seen["burst"] += bool(scene.marks)
+        seen["shared"] += len({v.cell for v in scene.robots}) < len(scene.robots)
+        kept = [u.rgb_renderer.frame(scene, u.overlay, 0.5), env.render()]  # every step: the caches in use
+        if k % 3 == 0 or k in (21, 41, 56):
+            fresh = RgbRenderer(u.level, 32, u.theme)
+            assert (kept[0] == fresh.frame(scene, u.overlay, 0.5)).all(), k
+            assert (kept[1] == fresh.frame(scene, u.overlay)).all(), k
+    assert n == 4 or (seen["burst"] and seen["shared"])  # the blocks of several sprites were exercised
+
+
+def test_a_cell_block_is_keyed_by_all_its_robots_and_the_burst_by_its_cells():
+    """The same view of robot 0 alone, then sharing its cell, then alone again; a burst on and off."""
+    from babyrobot_marl.render.rgb import RgbRenderer
+    from babyrobot_marl.render.scene import RobotView, Scene
+
+    level = levels.get("mixed-8x8")
+    zero, one = RobotView(0, (2, 2), 2, "moved"), RobotView(1, (2, 2), 4, "moved")
+    podium = (RobotView(2, (5, 5), 0, "finished", rank=1), RobotView(3, (5, 5), 0, "finished", rank=2))
+    scenes = [Scene((zero,)), Scene((zero, one)), Scene((zero,)), Scene((zero, RobotView(1, (3, 2), 4, "bumped")),
+              (((3, 2), (2, 2)),)), Scene((zero, RobotView(1, (3, 2), 4, "bumped"))), Scene((zero, *podium)),
+              Scene((zero, podium[0]))]  # fmt: skip
+    kept = RgbRenderer(level, 48)
+    for k, scene in enumerate(scenes * 2):
+        assert (kept.frame(scene) == RgbRenderer(level, 48).frame(scene)).all(), k
+
+
+@pytest.mark.parametrize("theme", ["light", "dark"])
+@pytest.mark.parametrize("cs", [32, 48, 64])
+def test_at_reset_the_robots_head_shows_below_the_start_pill(cs, theme):
+    """Issue 26: the START pill hid the robot's head at reset. Its eyes and visor show in the
+    start cell, the whole head below the pill's band (its top a few pixels clear of it), and
+    the pill is still there."""
+    from babyrobot_marl.render.picture import label_band
+
+    env = BabyRobotEnv(level="mixed-8x8", render_mode="rgb_array", cell_size=cs, theme=theme)
+    env.reset(seed=0)
+    th = THEMES[theme]
+    x, y = env.unwrapped.robot_cell
+    start = env.render()[y * cs : (y + 1) * cs, x * cs : (x + 1) * cs].astype(int)
+    band = int(np.ceil(label_band(cs)[1]))
+    eye = (np.abs(start - th.eye).sum(axis=2) <= 6)
+    visor = (np.abs(start - th.visor).sum(axis=2) <= 6)
+    pill = (x, y) in env.unwrapped.rgb_renderer.labelled  # at 32 px the word does not fit: no pill
+    assert pill == (cs >= 48)
+    assert eye.sum() >= 2 and visor[band if pill else 0 :].sum() >= cs // 8, (eye.sum(), visor.sum())
+    if pill:
+        assert not eye[:band].any()  # no eye under the pill (the pill's ink may match the visor's)
+        body = np.nonzero((np.abs(start - th.robots[0]).sum(axis=2) <= 6).any(axis=1))[0]
+        assert body.min() >= band + max(3, cs // 16)  # the head's top clear of the pill (it ran on under it)
+        assert (np.abs(start[:band] - th.label_bg).sum(axis=2) <= 6).sum() >= cs // 2  # the pill itself
+
+
+@pytest.mark.parametrize("cs", [48, 56, 64])
+def test_podium_robots_are_24_px_and_wear_a_readable_rank_clear_of_the_exit_label(cs):
+    """Issue 26: podium robots were about 23 px in race.gif (56 px cells), their rank badges
+    too small for a digit at 48-56 px and the gold one under the EXIT pill."""
+    from babyrobot_marl.render.picture import label_band
+    from babyrobot_marl.render.scene import RobotView, Scene, placement_sprites, placements
+
+    level = levels.get("race-4")
+    exit_cell = sorted(level.exits)[0]
+    scene = Scene(tuple(RobotView(i, exit_cell, 0, "finished", rank=i + 1) for i in range(4)))
+    r = RgbRenderer(level, cs)
+    band = exit_cell[1] * cs + label_band(cs)[1]
+    for pl in placements(scene, r.labelled, r.label_top):
+        assert pl.scale * cs >= (24 if cs >= 56 else 21)
+        _, (medal, mx, my) = placement_sprites(pl, cs, r.theme, "finished", pl.cx, pl.cy)
+        assert [t.text for t in medal.texts] == [str(pl.view.rank)]  # its digit fits
+        assert my + medal.points[:, 1].min() > band  # its top below the pill

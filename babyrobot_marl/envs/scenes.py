@@ -22,13 +22,14 @@ def single_scene(env: Any) -> Scene:
         return Scene()
     cell = env._xy[env._cell]
     last = env._last_step
+    corner = env.drawing.overlay.has_cells
     if last is None:
-        return Scene((RobotView(0, cell, numbered=False),), done=env._done)
+        return Scene((RobotView(0, cell, numbered=False),), done=env._done, corner=corner)
     prev, action, outcome = last
     finished = bool(env._lists.is_exit[env._cell])
     pose = "finished" if finished else ("idle" if outcome == MOVED and action == 0 else POSE_OF_OUTCOME[outcome])
     view = RobotView(0, cell, action, pose, env._xy[prev], numbered=False)
-    return Scene((view,), done=env._done)
+    return Scene((view,), done=env._done, corner=corner)
 
 
 def race_scene(env: Any) -> Scene:
@@ -55,13 +56,29 @@ def race_scene(env: Any) -> Scene:
     for i in range(n):
         if not racing[i]:
             pose[i] = "finished"
-        views.append(RobotView(i, xy[cells[i]], heading[i], pose[i], came[i], env._rank[i]))
+        views.append(_value(RobotView, i, xy[cells[i]], heading[i], pose[i], came[i], env._rank[i]))
     live_returns = dict(zip(env._live, env._live_returns))
     names = env.drawing.overlay.names
     legend = tuple(
-        LegendRow(i, names.get(i, ""), live_returns.get(i, env._returns[i]), env._rank[i], racing[i]) for i in range(n)
+        _value(LegendRow, i, names.get(i, ""), live_returns.get(i, env._returns[i]), env._rank[i], racing[i]) for i in range(n)
     )
-    return Scene(tuple(views), tuple(marks), legend, done=not env.agents)
+    corner = env.drawing.overlay.has_cells
+    return Scene(tuple(views), tuple(marks), legend, done=not env.agents, corner=corner)
+
+
+_VALUES: dict[tuple, Any] = {}  # views and legend rows by content: they come back step after step
+
+
+def _value(cls: type, *fields: Any) -> Any:
+    """``cls(*fields)``, the same object for the same fields (frozen values: shared safely), so a
+    frame costs no new objects where nothing changed and the renderers compare them by identity."""
+    key = (cls, *fields)
+    v = _VALUES.get(key)
+    if v is None:
+        if len(_VALUES) >= 1 << 14:
+            _VALUES.clear()
+        v = _VALUES[key] = cls(*fields)
+    return v
 
 
 def _desired(lists: Any, cell: int, action: int, key: int, counter: int) -> int:

@@ -3,25 +3,34 @@
 Laid out so each reads at a glance, per cell (``cs`` pixels):
 
 - a state value: the cell tinted by the theme's colour map, the number in a dark box with
-  light text (the same contrast on every tint);
-- arrows: white with a dark edge, from the cell's centre (several: ties) — under the value box
-  when there are values, so the number is never covered;
-- action values: the four triangles tinted, each number inside its own triangle;
+  light text (the same contrast on every tint) at the top of the cell (under a START / EXIT
+  label);
+- arrows: white with a dark edge, at least a third of the cell long, in the space under the
+  value box (the whole cell without values); tied actions are distinct arrows, each in its own
+  lane (``arrow_lanes``), never drawn from one point; E and W arrows above the robot's corner
+  (``ROBOT_TOP``), or right of it under a value box (``ROBOT_RIGHT``): none runs under it;
+- action values: the four triangles tinted, each number centred in its own triangle, clear of
+  the walls and the label; none in an exit (nothing is done there);
 - text: in a box at the bottom of the cell.
 
-Every number is sized to the space it has (``glyphs.fit``) and dropped, never clipped, where
-not even the smallest size fits (the tint still shows it). All of it lies under the robots.
+Every number of one overlay has the same format (``Overlay.scale``), sized to the space it has
+(``glyphs.fit``) and dropped, never clipped, where not even the smallest size fits (the tint
+still shows it). All of it lies under the robots, which stand small in a corner while an
+overlay is on (``robot.CORNER``), clear of every number.
 """
 
 from __future__ import annotations
+
+from collections.abc import Callable
 
 import numpy as np
 
 from ..core.actions import Action
 from .glyphs import cap_height, fit, text_width
-from .overlay import Overlay, format_value
+from .overlay import Overlay, Scale, format_value
 from .palette import Theme, colour_map
-from .picture import wall_width
+from .picture import label_band, wall_width
+from .robot import CORNER
 from .shapes import Fill, Op, Points, Text, rect, round_rect
 
 DIRECTIONS = {Action.NORTH: (0.0, -1.0), Action.EAST: (1.0, 0.0), Action.SOUTH: (0.0, 1.0), Action.WEST: (-1.0, 0.0)}
@@ -31,24 +40,23 @@ _TRIANGLES = {  # centre-to-corner triangles, cell units
     Action.SOUTH: ((1.0, 1.0), (0.0, 1.0), (0.5, 0.5)),
     Action.WEST: ((0.0, 1.0), (0.0, 0.0), (0.5, 0.5)),
 }
-VALUE_CENTRE = (0.5, 0.33)  # the value box, with values
 TEXT_BAND = (0.76, 0.97)  # cell text, at the bottom
+Box = tuple[float, float, float, float]  # x0, y0, x1, y1: pixels in a cell
+ROBOT_RIGHT = CORNER[1] + 0.36 * CORNER[0]  # the right edge of a robot in its corner (arms out), cell units
+ROBOT_TOP = CORNER[2] - 0.54 * CORNER[0]  # and its top (the antenna's tip)
 
 
-def value_range(overlay: Overlay) -> tuple[float, float] | None:
-    """The range the colour map spans: the finite state values', else the action values'."""
-    for arr in (overlay.values, None if overlay.q_values is None else overlay.q_values[:, :, 1:]):
-        if arr is not None and np.isfinite(arr).any():
-            return float(np.nanmin(arr)), float(np.nanmax(arr))
-    return None
+def value_range(overlay: Overlay) -> Scale | None:
+    """What the colour bar shows: the range the colour map spans, its label, the number format."""
+    return overlay.scale
 
 
-def tint_ops(overlay: Overlay, cs: int, theme: Theme) -> list[Op]:
-    """The value tints: whole cells for state values, triangles for action values."""
+def tint_ops(overlay: Overlay, cs: int, theme: Theme, exits: frozenset = frozenset()) -> list[Op]:
+    """The value tints: whole cells for state values, triangles for action values (none in ``exits``)."""
     ops: list[Op] = []
     m = wall_width(cs) / 2
     if overlay.values is not None:
-        lo, hi = value_range(overlay) or (0.0, 0.0)
+        lo, hi = (value_range(overlay) or (0.0, 0.0))[:2]
         colours = colour_map(overlay.values, theme.colour_map, lo, hi)
         for y, x in zip(*np.nonzero(np.isfinite(overlay.values))):
             ops.append(
@@ -61,62 +69,124 @@ def tint_ops(overlay: Overlay, cs: int, theme: Theme) -> list[Op]:
         colours = colour_map(q, theme.colour_map, lo, hi)
         for action, tri in _TRIANGLES.items():
             for y, x in zip(*np.nonzero(np.isfinite(overlay.q_values[:, :, action]))):
+                if (int(x), int(y)) in exits:
+                    continue
                 pts = (np.array(tri) * (cs - 2 * m) + (x * cs + m, y * cs + m)).astype(np.float64)
                 ops.append(Fill(pts, tuple(colours[y, x, action - 1].tolist()), 0.82))
     return ops
 
 
-def ink_ops(overlay: Overlay, cs: int, theme: Theme, labelled: frozenset = frozenset()) -> list[Op]:
+def ink_ops(overlay: Overlay, cs: int, theme: Theme, labelled: frozenset = frozenset(),
+            exits: frozenset = frozenset()) -> list[Op]:  # fmt: skip
     """Arrows, value boxes, action-value numbers and cell text, in that order (all under the robots).
 
-    ``labelled``: the cells whose top band holds a START / EXIT label; their value box goes
-    below it, so the label covers no number.
+    ``labelled``: the cells whose top band holds a START / EXIT label (the numbers go below it);
+    ``exits``: the exit cells (no action values there).
     """
     ops: list[Op] = []
+    scale = overlay.scale
+    fmt = scale.format if scale is not None else format_value
     has_values = overlay.values is not None and bool(np.isfinite(overlay.values).any())
-    layout = _box_layout(overlay.values, cs) if has_values else None
+    layout = _box_layout(overlay.values, cs, fmt) if has_values else None  # type: ignore[arg-type]
     if overlay.arrows is not None:
-        bottom = cs - wall_width(cs) / 2 - 1
         for y, x in zip(*np.nonzero(overlay.arrows[:, :, 1:].any(axis=2))):
-            if layout is not None:  # in the space under the value box
-                top = box_centre(cs, layout, (int(x), int(y)) in labelled) + layout[2] / 2 + 1
-                cy, length = (top + bottom) / 2, max(2.0, (bottom - top) / 2)
-            else:
-                cy, length = cs / 2, 0.36 * cs
-            for action, (dx, dy) in DIRECTIONS.items():
-                if overlay.arrows[y, x, action]:
-                    ops += arrow((x + 0.5) * cs, y * cs + cy, dx, dy, length, theme)
+            actions = [a for a in DIRECTIONS if overlay.arrows[y, x, a]]
+            x0, y0, x1, y1 = arrow_region(cs, layout, (int(x), int(y)) in labelled)
+            if all(a in (Action.EAST, Action.WEST) for a in actions):  # clear of the robot's corner:
+                if ROBOT_TOP * cs - y0 >= 0.4 * cs:
+                    y1 = min(y1, ROBOT_TOP * cs)  # above it, as long as ever (no value box)
+                else:
+                    x0 = max(x0, ROBOT_RIGHT * cs)  # right of it (under a value box)
+            region = (x * cs + x0, y * cs + y0, x * cs + x1, y * cs + y1)
+            for tx, ty, dx, dy, length in arrow_lanes(actions, region):
+                ops += arrow(tx, ty, dx, dy, length, theme)
     if overlay.q_values is not None:
-        ops += _q_numbers(overlay.q_values, cs, theme, labelled)
+        ops += _q_numbers(overlay.q_values, cs, theme, labelled, exits, fmt)
     if layout is not None:
-        ops += _value_boxes(overlay.values, cs, theme, layout, labelled)  # type: ignore[arg-type]
+        ops += _value_boxes(overlay.values, cs, theme, layout, labelled, fmt)  # type: ignore[arg-type]
     for (x, y), s in overlay.text.items():
         ops += _cell_text(s, x, y, cs, theme)
     return ops
 
 
-def arrow(cx: float, cy: float, dx: float, dy: float, length: float, theme: Theme) -> list[Op]:
-    """An arrow from near ``(cx, cy)`` pointing ``(dx, dy)``, white on a dark edge."""
-    w = max(1.6, length * 0.2)
-    head = max(3.0, length * 0.42)
-    start = max(1.0, length * 0.12)
-    edge = max(1.0, length * 0.07)
+def arrow_region(cs: int, layout: tuple[int, float, float] | None, labelled: bool) -> Box:
+    """The part of a cell the arrows use: under the value box, or under the label, or all of it."""
+    m = wall_width(cs) / 2 + 2
+    top = label_band(cs)[1] + 1 if labelled else m
+    if layout is not None:
+        top = box_centre(cs, layout, labelled) + layout[2] / 2 + 2
+    return m, top, cs - m, cs - m
+
+
+def arrow_lanes(actions: list[int], box: Box) -> list[tuple[float, float, float, float, float]]:
+    """Where each of a cell's arrows goes in ``box``: ``(tail x, tail y, dx, dy, length)``.
+
+    One arrow: centred. Ties: each in its own lane, so each reads as an arrow: two opposite
+    ones side by side, a vertical and a horizontal one as an L with a gap at its corner, three
+    or four from a hub with a gap in the middle.
+    """
+    x0, y0, x1, y1 = box
+    w, h = x1 - x0, y1 - y0
+    cx, cy = (x0 + x1) / 2, (y0 + y1) / 2
+    vert = [a for a in actions if a in (Action.NORTH, Action.SOUTH)]
+    horiz = [a for a in actions if a in (Action.EAST, Action.WEST)]
+
+    def along(a: int, u: float, lo: float, hi: float) -> tuple[float, float, float, float, float]:
+        """Arrow ``a`` at ``u`` across, from ``lo`` to ``hi`` along (tail at the far side from where it points)."""
+        dx, dy = DIRECTIONS[a]  # type: ignore[index]
+        if dx:
+            return (lo if dx > 0 else hi), u, dx, dy, hi - lo
+        return u, (lo if dy > 0 else hi), dx, dy, hi - lo
+
+    if len(actions) == 1:
+        if vert:
+            length = min(0.86 * h, 1.3 * w)
+            return [along(vert[0], cx, cy - length / 2, cy + length / 2)]
+        length = min(0.8 * w, 1.6 * h)
+        return [along(horiz[0], cy, cx - length / 2, cx + length / 2)]
+    if len(actions) == 2 and len(vert) == 2:  # N and S side by side
+        length = min(0.86 * h, 0.34 * w / 0.34)
+        return [along(a, cx + s * w * 0.17, cy - length / 2, cy + length / 2) for a, s in zip(vert, (-1, 1))]
+    if len(actions) == 2 and len(horiz) == 2:  # E and W one above the other, their heads clear of each other
+        length = min(0.8 * w, 0.48 * h / 0.52)
+        return [along(a, cy + s * h * 0.24, cx - length / 2, cx + length / 2) for a, s in zip(horiz, (1, -1))]
+    if len(actions) == 2:  # an L: the vertical lane on the side the horizontal arrow leaves from
+        v, hz = vert[0], horiz[0]
+        xv = x0 + 0.2 * w if hz == Action.EAST else x1 - 0.2 * w
+        yh = y0 + 0.3 * h if v == Action.SOUTH else y1 - 0.3 * h
+        gap = 0.16 * w
+        lo, hi = (xv + gap, x1 - 0.04 * w) if hz == Action.EAST else (x0 + 0.04 * w, xv - gap)
+        return [along(v, xv, y0 + 0.06 * h, y1 - 0.06 * h), along(hz, yh, lo, hi)]
+    gap = 0.1 * min(w, h)  # a hub: each arrow from a gap round the middle outwards
+    out = []
+    for a in actions:
+        dx, dy = DIRECTIONS[a]  # type: ignore[index]
+        reach = (w if dx else h) / 2 * 0.94
+        out.append((cx + dx * gap, cy + dy * gap, dx, dy, reach - gap))
+    return out
+
+
+def arrow(tx: float, ty: float, dx: float, dy: float, length: float, theme: Theme) -> list[Op]:
+    """An arrow ``length`` pixels long from its tail ``(tx, ty)`` pointing ``(dx, dy)``, white on a dark edge."""
+    edge = max(1.0, length * 0.06)
+    w = max(2.0, length * 0.16)
+    head = max(3.0, min(length * 0.4, length - 2 * edge))
     tip = length - edge * 1.6  # the dark edge ends at ``length``
 
     def shape(grow: float) -> Points:
         # along the arrow (a) and across it (b), east-pointing, then turned
-        a0, a1, a2 = start - grow, tip - head, tip + grow * 1.6
-        b1, b2 = w / 2 + grow, head * 0.62 + grow
+        a0, a1, a2 = edge - grow, tip - head, tip + grow * 1.6
+        b1, b2 = w / 2 + grow, head * 0.6 + grow
         pts = np.array([(a0, -b1), (a1, -b1), (a1, -b2), (a2, 0.0), (a1, b2), (a1, b1), (a0, b1)])
-        return np.column_stack([cx + pts[:, 0] * dx - pts[:, 1] * dy, cy + pts[:, 0] * dy + pts[:, 1] * dx])
+        return np.column_stack([tx + pts[:, 0] * dx - pts[:, 1] * dy, ty + pts[:, 0] * dy + pts[:, 1] * dx])
 
     return [Fill(shape(edge), theme.arrow_edge), Fill(shape(0.0), theme.arrow)]
 
 
-def _box_layout(values: np.ndarray, cs: int) -> tuple[int, float, float] | None:
+def _box_layout(values: np.ndarray, cs: int, fmt: Callable[[float], str] = format_value) -> tuple[int, float, float] | None:
     """``(type size, box width, box height)``: one box size for the whole grid (the widest
     number's), so the picture stays calm; None where not even the smallest type fits."""
-    texts = [format_value(float(v)) for v in values[np.isfinite(values)]]
+    texts = [fmt(float(v)) for v in values[np.isfinite(values)]]
     inner = cs - 2 * wall_width(cs)
     widest = max(texts, key=lambda s: text_width(s, 20))
     size = fit(widest, inner * 0.84, cs * 0.17, largest=28, smallest=7)
@@ -127,54 +197,52 @@ def _box_layout(values: np.ndarray, cs: int) -> tuple[int, float, float] | None:
 
 
 def box_centre(cs: int, layout: tuple[int, float, float], labelled: bool) -> float:
-    """The y of a value box's centre in its cell (pixels from the cell's top)."""
-    from .picture import label_band
-
-    y = VALUE_CENTRE[1] * cs
-    return max(y, label_band(cs)[1] + 1 + layout[2] / 2) if labelled else y
+    """The y of a value box's centre in its cell (pixels from the cell's top): at the top, under a label."""
+    top = label_band(cs)[1] + 1 if labelled else wall_width(cs) / 2 + 2
+    return top + layout[2] / 2
 
 
 def _value_boxes(values: np.ndarray, cs: int, theme: Theme, layout: tuple[int, float, float] | None,
-                 labelled: frozenset = frozenset()) -> list[Op]:  # fmt: skip
+                 labelled: frozenset = frozenset(), fmt: Callable[[float], str] = format_value) -> list[Op]:  # fmt: skip
     if layout is None:
         return []
     size, bw, bh = layout
-    texts = {c: format_value(float(values[c])) for c in zip(*np.nonzero(np.isfinite(values)))}
+    texts = {c: fmt(float(values[c])) for c in zip(*np.nonzero(np.isfinite(values)))}
     ops: list[Op] = []
     for (y, x), s in texts.items():
-        cx, cy = (x + VALUE_CENTRE[0]) * cs, y * cs + box_centre(cs, layout, (int(x), int(y)) in labelled)
+        cx, cy = (x + 0.5) * cs, y * cs + box_centre(cs, layout, (int(x), int(y)) in labelled)
         ops.append(Fill(round_rect(cx - bw / 2, cy - bh / 2, cx + bw / 2, cy + bh / 2, bh * 0.3), theme.value_box, 0.86))
         ops.append(Text(cx, cy, s, size, theme.value_text))
     return ops
 
 
 def q_label_position(action: int, x: int, y: int, cs: int, w: float, h: float, top: float = 0.0) -> tuple[float, float] | None:
-    """Where an action value's number of ``w`` x ``h`` pixels sits inside its triangle, or None if
-    it cannot; ``top``: pixels at the top of the cell to keep clear (a START / EXIT label)."""
-    m = wall_width(cs) / 2 + 1
+    """Where an action value's number of ``w`` x ``h`` pixels sits: centred in its triangle (at
+    the triangle's middle, a sixth of the cell from its edge), moved in just enough to clear the
+    wall and ``top`` (pixels at the top of the cell kept for a START / EXIT label); None if it
+    does not fit inside the triangle."""
+    m = wall_width(cs) / 2 + 2
     if action in (Action.NORTH, Action.SOUTH):
-        # the triangle at depth d from its edge is (cs - 2 d) wide: the text's inner side must fit
         outer = max(m, top) if action == Action.NORTH else m
-        d = outer + h  # the inner side of the text
-        if w > cs - 2 * d - 2:
+        d = max(cs / 6, outer + h / 2)  # the text's centre, from the triangle's edge
+        if w > cs - 2 * (d + h / 2) - 2:  # the triangle at depth d is (cs - 2 d) wide
             return None
-        cy = y * cs + outer + h / 2 if action == Action.NORTH else (y + 1) * cs - m - h / 2
-        return (x + 0.5) * cs, cy
-    d = m + w
-    if h > cs - 2 * d - 2:
+        return (x + 0.5) * cs, (y * cs + d if action == Action.NORTH else (y + 1) * cs - d)
+    d = max(cs / 6, m + w / 2)
+    if h > cs - 2 * (d + w / 2) - 2 or (top and (y + 0.5) * cs - h / 2 < y * cs + top):
         return None
-    cx = x * cs + m + w / 2 if action == Action.WEST else (x + 1) * cs - m - w / 2
-    return cx, (y + 0.5) * cs
+    return (x * cs + d if action == Action.WEST else (x + 1) * cs - d), (y + 0.5) * cs
 
 
-def _q_numbers(q: np.ndarray, cs: int, theme: Theme, labelled: frozenset = frozenset()) -> list[Op]:
-    from .picture import label_band
-
+def _q_numbers(q: np.ndarray, cs: int, theme: Theme, labelled: frozenset = frozenset(), exits: frozenset = frozenset(),
+               fmt: Callable[[float], str] = format_value) -> list[Op]:  # fmt: skip
     band = label_band(cs)[1] + 1
     ops: list[Op] = []
     for action in DIRECTIONS:
         for y, x in zip(*np.nonzero(np.isfinite(q[:, :, action]))):
-            s = format_value(float(q[y, x, action]))
+            if (int(x), int(y)) in exits:
+                continue
+            s = fmt(float(q[y, x, action]))
             top = band if (int(x), int(y)) in labelled else 0.0
             for size in _sizes_down(min(22, max(7, int(cs * 0.16)))):
                 cap = cap_height(size)[1]

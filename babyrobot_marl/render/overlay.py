@@ -12,15 +12,19 @@ their overlay, ``None`` clears one. Both ``rgb_array`` and the live canvas draw 
 | ``text`` | ``{(x, y): str}`` | the text in the cell |
 | ``panel`` | ``str`` or list of ``str`` | lines below the grid |
 | ``names`` | ``{robot: str}`` (robot number or agent name) | names in the race legend (e.g. the policies) |
+| ``label`` | ``str`` | the colour bar's name (default ``value``, or ``action value``) |
 
-The colour bar of the values is drawn in the panel whenever values or action values are shown.
+The colour bar of the values is drawn in the panel whenever values or action values are shown,
+with ticks and the overlay's label. All numbers of one overlay share one format, chosen from
+its range (``Scale.format``): whole numbers from 10 up, else one decimal, two below 1.
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from functools import cached_property
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -41,6 +45,19 @@ class Overlay:
     text: Mapping[tuple[int, int], str] = field(default_factory=dict)
     panel: tuple[str, ...] = ()
     names: Mapping[int, str] = field(default_factory=dict)
+    label: str = ""
+
+    @cached_property
+    def scale(self) -> Scale | None:
+        """The range the colour map spans (the finite state values', else the action values'),
+        its label and the number format; None without numbers (computed once: the overlay is frozen)."""
+        parts = [a for a in (self.values, None if self.q_values is None else self.q_values[:, :, 1:]) if a is not None]
+        finite = [a[np.isfinite(a)] for a in parts]
+        for arr, name in zip(finite, ("value", "action value") if self.values is not None else ("action value",)):
+            if arr.size:
+                digits = decimals(np.concatenate(finite))
+                return Scale(float(arr.min()), float(arr.max()), self.label or name, digits)
+        return None
 
     @property
     def has_cells(self) -> bool:
@@ -62,6 +79,7 @@ def update_overlay(
     panel: Any = KEEP,
     names: Any = KEEP,
     n_robots: int = 1,
+    label: Any = KEEP,
 ) -> Overlay:
     """``current`` with the given parts replaced (``None`` clears a part); ValueError naming a bad one."""
     h, w = level.height, level.width
@@ -72,6 +90,7 @@ def update_overlay(
         "text": current.text if text is KEEP else _text(text, level),
         "panel": current.panel if panel is KEEP else _panel(panel),
         "names": current.names if names is KEEP else _names(names, n_robots),
+        "label": current.label if label is KEEP else _label(label),
     }
     return Overlay(**parts)
 
@@ -175,6 +194,14 @@ def _names(arg: Any, n_robots: int) -> dict[int, str]:
     return out
 
 
+def _label(arg: Any) -> str:
+    if arg is None:
+        return ""
+    if not isinstance(arg, str) or "\n" in arg:
+        raise ValueError(f"label: expected one line of text (the colour bar's name), got {arg!r:.40}")
+    return arg
+
+
 def _panel(arg: Any) -> tuple[str, ...]:
     if arg is None:
         return ()
@@ -186,10 +213,28 @@ def _panel(arg: Any) -> tuple[str, ...]:
 
 
 # ---------------------------------------------------------------------- shared by both renderers
-def format_value(v: float) -> str:
-    """A value short enough for a cell: ``-12``, ``-3.5``, ``0.25``."""
-    if abs(v) >= 100 or float(v).is_integer():
-        return f"{v:.0f}"
-    if abs(v) >= 10:
-        return f"{v:.0f}"
-    return f"{v:.1f}" if abs(v) >= 1 else f"{v:.2f}".replace("0.", ".", 1)
+class Scale(NamedTuple):
+    """What the colour bar shows: the range, its label, and the decimals every number of the overlay is written with."""
+
+    lo: float
+    hi: float
+    label: str
+    digits: int
+
+    def format(self, v: float) -> str:
+        return format_value(v, self.digits)
+
+
+def decimals(values: np.ndarray) -> int:
+    """One format for all of an overlay's numbers, from their range: whole numbers when they all
+    are or the largest is 10 or more, else one decimal, two when all are below 1."""
+    big = float(np.abs(values).max()) if values.size else 0.0
+    if big >= 10 or np.all(values == np.round(values)):
+        return 0
+    return 1 if big >= 1 else 2
+
+
+def format_value(v: float, digits: int = 0) -> str:
+    """``v`` with ``digits`` decimals (no ``-0``)."""
+    s = f"{v:.{digits}f}"
+    return s[1:] if s.startswith("-") and float(s) == 0 else s

@@ -25,7 +25,7 @@ def level_ops(level: Level, cs: int, theme: Theme) -> list[Op]:
 
 
 def floor_ops(level: Level, cs: int, theme: Theme) -> list[Op]:
-    """Tile lines, start and exit tiles: what value tints may cover."""
+    """Tile lines, start and exit tiles: what value tints may cover (their flag and door are features)."""
     ops: list[Op] = []
     w, h = level.width * cs, level.height * cs
     line = max(1.0, cs / 48)
@@ -33,18 +33,26 @@ def floor_ops(level: Level, cs: int, theme: Theme) -> list[Op]:
         ops.append(Fill(rect(x * cs - line / 2, 0, x * cs + line / 2, h), theme.floor_line))
     for y in range(1, level.height):
         ops.append(Fill(rect(0, y * cs - line / 2, w, y * cs + line / 2), theme.floor_line))
-    race = len(level.starts) > 1
-    for i, cell in enumerate(level.starts):
-        ops += _start(cell, cs, theme, robot_colour(theme, i) if race else None)
-    for cell in level.exits:
-        ops += _exit(cell, cs, theme)
+    for cell in (*level.starts, *level.exits):
+        ops.append(_tile(cell, cs, theme.start if cell in level.starts else theme.exit))
     return ops
 
 
-def feature_ops(level: Level, cs: int, theme: Theme) -> list[Op]:
-    """Puddles, blocks, glass panes and walls: drawn over value tints, so they always show."""
+ICON_CORNER = 0.42  # with an overlay, a start's flag and an exit's door: this part of the cell, bottom right
+
+
+def feature_ops(level: Level, cs: int, theme: Theme, corner: bool = False) -> list[Op]:
+    """Start flags, exit doors, puddles, blocks, glass panes and walls: drawn over value tints, so
+    they always show; ``corner``: the flags and doors small in their cells' bottom right corner
+    (an overlay's numbers and arrows use the rest)."""
     ops: list[Op] = []
     w, h = level.width * cs, level.height * cs
+    race = len(level.starts) > 1
+    s = ICON_CORNER * cs if corner else float(cs)
+    for i, cell in enumerate(level.starts):
+        ops += _flag(*_icon_box(cell, cs, s), theme, robot_colour(theme, i) if race else None)
+    for cell in level.exits:
+        ops += _door(*_icon_box(cell, cs, s), theme)
     for cell in level.small_puddles:
         ops += _puddle(cell, cs, theme, large=False)
     for cell in level.large_puddles:
@@ -134,25 +142,29 @@ def _tile(cell: Cell, cs: int, colour: Colour) -> Fill:
     return Fill(round_rect(cell[0] * cs + m, cell[1] * cs + m, (cell[0] + 1) * cs - m, (cell[1] + 1) * cs - m, cs * 0.08), colour)
 
 
-def _start(cell: Cell, cs: int, theme: Theme, colour: Colour | None) -> list[Op]:
-    """A start tile with a flag (in the robot's colour in a race)."""
-    x, y = cell[0] * cs, cell[1] * cs
+def _icon_box(cell: Cell, cs: int, s: float) -> tuple[float, float, float]:
+    """The top left corner and size of a cell's icon: the whole cell, or ``s`` pixels in its bottom right corner."""
+    if s >= cs:
+        return cell[0] * cs, cell[1] * cs, float(cs)
+    m = wall_width(cs) / 2
+    return (cell[0] + 1) * cs - m - s, (cell[1] + 1) * cs - m - s, s
+
+
+def _flag(x: float, y: float, cs: float, theme: Theme, colour: Colour | None) -> list[Op]:
+    """A start's flag (in the robot's colour in a race) in the ``cs``-pixel box at ``(x, y)``."""
     flag = colour or theme.start_ink
     pole = max(1.0, cs * 0.04)
     return [
-        _tile(cell, cs, theme.start),
         Fill(rect(x + 0.36 * cs, y + 0.3 * cs, x + 0.36 * cs + pole, y + 0.8 * cs), theme.start_ink),
         Fill(rect(x + 0.3 * cs, y + 0.78 * cs, x + 0.5 * cs, y + 0.82 * cs), theme.start_ink),
         Fill(rect(x + 0.36 * cs, y + 0.3 * cs, x + 0.68 * cs, y + 0.5 * cs), flag),
     ]
 
 
-def _exit(cell: Cell, cs: int, theme: Theme) -> list[Op]:
-    """An exit tile with an open door."""
-    x, y = cell[0] * cs, cell[1] * cs
+def _door(x: float, y: float, cs: float, theme: Theme) -> list[Op]:
+    """An exit's open door in the ``cs``-pixel box at ``(x, y)``."""
     ink = theme.exit_ink
     return [
-        _tile(cell, cs, theme.exit),
         Fill(round_rect(x + 0.32 * cs, y + 0.3 * cs, x + 0.68 * cs, y + 0.84 * cs, 0.06 * cs), ink),
         Fill(rect(x + 0.37 * cs, y + 0.35 * cs, x + 0.63 * cs, y + 0.84 * cs), shade(theme.exit, 1.35)),
         Fill(ellipse(x + 0.57 * cs, y + 0.6 * cs, 0.03 * cs, 0.03 * cs), ink),

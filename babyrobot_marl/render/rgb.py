@@ -35,13 +35,15 @@ from .checks import (  # noqa: F401  (the limits and checks are read from here t
 from .overlay import Overlay
 from .paint import Patch, blend, paint, patch, to_uint8
 from .palette import THEMES, Theme, resolve_theme
-from .panel import panel_sections
+from .panel import LEGEND_ROWS, legend_row_section, metrics, panel_sections
 from .picture import feature_ops, floor_ops, label_band, label_ops, level_ops
-from .scene import Scene, as_scene, glide, robot_sprites
+from .scene import BURST, Scene, as_scene, burst_centre, glide, placement_sprites, placements, robot_sprites
 from .shapes import Op, Text
+from .sprites import burst
 
 __all__ = ["MAX_CELL_SIZE", "MAX_FRAME_PIXELS", "MIN_CELL_SIZE", "THEMES", "RgbRenderer", "Theme", "resolve_theme"]
 
+BLOCK_BYTES = 24 << 20  # the cached cells with robots, per renderer
 
 
 class RgbRenderer:
@@ -54,12 +56,25 @@ class RgbRenderer:
         self.width, self.grid_height = level.width * cs, level.height * cs
         self.labels: list[Op] = label_ops(level, cs, self.theme)
         self.labelled = frozenset((int(op.x // cs), int(op.y // cs)) for op in self.labels if isinstance(op, Text))
+        self.exits = frozenset(level.exits)
         self.label_top = label_band(cs)[1] / cs  # robots sharing a labelled cell stand below this
         self.background = self._draw([*level_ops(level, cs, self.theme), *self.labels])
         self._label_patches = self._patches(self.labels)
         self._static: tuple[Overlay | None, np.ndarray] = (None, self.background)
         self._panels: OrderedDict[object, np.ndarray] = OrderedDict()
-        self._tiles: OrderedDict[tuple, tuple] = OrderedDict()  # cells with a robot drawn in, by content
+        self._max_blocks = max(1024, BLOCK_BYTES // (3 * cs * cs))  # about BLOCK_BYTES of one-cell blocks
+        self._lone: tuple[dict, dict] = ({}, {})  # lone robots' cells and blocks by view, without and with an overlay
+        self._lone_static: np.ndarray | None = None
+        self._mark_cache: dict[tuple, tuple] = {}  # bursts placed, by their two cells
+        self._row_h = metrics(cs).row_h
+        self._rows: dict[object, list] = {}  # legend rows' pieces, by content
+        self._blocks: OrderedDict[tuple, tuple] = OrderedDict()  # cells with robots drawn in, by content
+        self._placed: OrderedDict[object, tuple] = OrderedDict()  # placed robots' sprites, patches and cells
+        self._checked: tuple | None = None
+        self._legend_y: int | None = None  # the first legend row's top, from the panel's
+        self._base_img: np.ndarray | None = None  # the last frame without robots, its panel strips, its key
+        self._base_strips: list[np.ndarray] = []
+        self._base_key: tuple = (None, None, None)
 
     @property
     def shape(self) -> tuple[int, int, int]:
@@ -74,79 +89,184 @@ class RgbRenderer:
         scene = as_scene(robots)
         self.check_frame(overlay, scene)
         static = self.static(overlay)
-        strips = self._panel_strips(overlay, scene)
-        h = static.shape[0]
-        img = np.empty((h + sum(st.shape[0] for st in strips), self.width, 3), dtype=np.uint8)
-        img[:h] = static
-        for st in strips:
-            img[h : h + st.shape[0]] = st
-            h += st.shape[0]
+        img = self._base(static, overlay, scene).copy()
         grid = img[: static.shape[0]]
-        at, poses = glide(scene, t, self.labelled, self.label_top) if t < 1.0 else ({}, {})
-        drawn = [(sprite, cx, cy, patch(sprite, cx, cy)) for sprite, cx, cy in robot_sprites(
-            scene, self.cell_size, self.theme, poses, at, self.labelled)]  # fmt: skip
-        boxes = [_box(p, cx, cy) for _, cx, cy, p in drawn]
-        touched: dict[tuple[int, int], int] = {}
-        for box in boxes:
-            for c in self._cells_of(box):
-                touched[c] = touched.get(c, 0) + 1
-        blended = []
-        for (sprite, cx, cy, p), box in zip(drawn, boxes):
-            cells = self._cells_of(box)
-            if len(cells) == 1 and touched[cells[0]] == 1:  # alone in its cell: a cached tile
-                x, y = cells[0]
-                cs = self.cell_size
-                grid[y * cs : (y + 1) * cs, x * cs : (x + 1) * cs] = self._tile(static, cells[0], sprite, p, cx, cy)
-            else:
+        cs = self.cell_size
+        lone = self._lone_blocks(static, scene) if t >= 1.0 else None
+        if lone is not None:  # each robot alone in its cells: its block by its view alone
+            for (x0, y0, x1, y1), block in lone:
+                grid[y0 * cs : y1 * cs, x0 * cs : x1 * cs] = block
+            for _, cx, cy, p, box, _, _ in self._marks(scene):  # the bursts over them, the labels over those
                 blend(grid, p, cx, cy)
-                blended.append(box)
-        for y0, x0, label in self._label_patches:  # labels stay on top
-            lb = (x0, y0, x0 + label.rgb.shape[1], y0 + label.rgb.shape[0])
-            if any(_overlap(lb, box) for box in blended):
-                blend(grid, label, x0, y0)
+                for ly, lx, label in self._label_patches:
+                    if _overlap((lx, ly, lx + label.rgb.shape[1], ly + label.rgb.shape[0]), box):
+                        blend(grid, label, lx, ly)
+            return img
+        if t < 1.0:
+            at, poses = glide(scene, t, self.labelled, self.label_top)
+            drawn = [self._placed_sprite(sprite, cx, cy) for sprite, cx, cy in robot_sprites(
+                scene, self.cell_size, self.theme, poses, at, self.labelled)]  # fmt: skip
+        else:
+            drawn = self._still(scene)
+        for (x0, y0, x1, y1), items in _groups(drawn):  # each group's cells from a cached block
+            grid[y0 * cs : y1 * cs, x0 * cs : x1 * cs] = self._block(static, (x0, y0, x1, y1), items)
         return img
 
+    def _lone_blocks(self, static: np.ndarray, scene: Scene) -> list[tuple] | None:
+        """Each cell's robots as one block (cells and image), when no cell's robots reach into
+        another's cells and no rank badge lies under a burst (the usual frame); None otherwise.
+        Cached by the cell's views: their picture depends on nothing else (badges included)."""
+        if self._lone_static is not static:
+            self._lone = ({}, {})
+            self._lone_static = static
+        cache = self._lone[scene.corner]
+        by_cell: dict[tuple, list] = {}
+        for v in scene.robots:
+            by_cell.setdefault(v.cell, []).append(v)
+        out, ranked = [], []
+        for views in by_cell.values():
+            key = views[0] if len(views) == 1 else tuple(views)
+            hit = cache.get(key)
+            if hit is None:
+                hit = cache[key] = self._cell_block(static, tuple(views), scene.corner)
+                if len(cache) > self._max_blocks:
+                    del cache[next(iter(cache))]
+            out.append(hit)
+            if any(v.rank for v in views):
+                ranked.append(hit[0])
+        rects = [r for r, _ in out]
+        wide = any(r[2] - r[0] != 1 or r[3] - r[1] != 1 for r in rects)  # a bump's stars reach a neighbour
+        if wide and any(_overlap(a, b) for i, a in enumerate(rects) for b in rects[i + 1 :]):
+            return None
+        if ranked and any(_overlap(m[4], r) for m in self._marks(scene) for r in ranked):
+            return None  # a badge is drawn over a burst: the general order
+        return out
+
+    def _cell_block(self, static: np.ndarray, views: tuple, corner: bool) -> tuple:
+        """The robots of one cell drawn as ``_still`` draws them (robots, then their badges)."""
+        robots, badges = [], []
+        for pl in placements(Scene(views, corner=corner), self.labelled, self.label_top):
+            robot, badge = placement_sprites(pl, self.cell_size, self.theme, pl.view.pose, pl.cx, pl.cy)
+            robots.append(self._placed_sprite(*robot))
+            if badge is not None:
+                badges.append(self._placed_sprite(*badge))
+        items = robots + badges
+        rs = [it[5] for it in items]
+        rect = (min(r[0] for r in rs), min(r[1] for r in rs), max(r[2] for r in rs), max(r[3] for r in rs))
+        return rect, self._block(static, rect, items)
+
+    def _marks(self, scene: Scene) -> list[tuple]:
+        """The bursts of the scene's collisions, placed (cached by the two cells)."""
+        out = []
+        for mark in scene.marks:
+            hit = self._mark_cache.get(mark)
+            if hit is None:
+                cs = self.cell_size
+                hit = self._mark_cache[mark] = self._placed_sprite(burst(self.theme, round(cs * BURST[0], 2)),
+                                                                   *burst_centre(*mark, cs))  # fmt: skip
+            out.append(hit)
+        return out
+
+    def _placed_sprite(self, sprite, cx: float, cy: float) -> tuple:
+        """A sprite at ``(cx, cy)`` pixels: it, its patch, the pixels and the cells it covers."""
+        p = patch(sprite, cx, cy)
+        box = _box(p, cx, cy)
+        cs = self.cell_size  # the cells it covers: x0, y0, x1, y1 (exclusive); what a block's key holds of it
+        w, h = self.level.width, self.level.height  # (clipped to the grid: a bump's stars may reach past it)
+        rect = (max(0, box[0] // cs), max(0, box[1] // cs), min(w, (box[2] - 1) // cs + 1), min(h, (box[3] - 1) // cs + 1))
+        return sprite, cx, cy, p, box, rect, (id(p), box[0], box[1])
+
+    def _still(self, scene: Scene) -> list[tuple]:
+        """``_placed_sprite`` of the scene's robots, marks and badges at rest (``robot_sprites``'
+        order), each placed robot's cached: robots stand in the same places again and again."""
+        cs, th = self.cell_size, self.theme
+        robots, badges = [], []
+        for pl in placements(scene, self.labelled, self.label_top):
+            hit = self._placed.get(id(pl))  # the entry keeps ``pl`` alive: its id is its own
+            if hit is None or hit[0] is not pl:
+                hit = self._placed[id(pl)] = (pl, *(self._placed_sprite(*sp) for sp in placement_sprites(
+                    pl, cs, th, pl.view.pose, pl.cx, pl.cy) if sp is not None))  # fmt: skip
+                if len(self._placed) > 4096:
+                    self._placed.popitem(last=False)
+            robots.append(hit[1])
+            badges += hit[2:]
+        return robots + self._marks(scene) + badges
+
     def check_frame(self, overlay: Overlay | None, scene: Scene) -> None:
-        """The frame of ``overlay`` and ``scene`` (grid, panel, legend) within the limit, before drawing it."""
-        if overlay is not None or scene.legend:
-            check_overlay_frame(self.level, self.cell_size, overlay or Overlay(), len(scene.legend))
+        """The frame of ``overlay`` and ``scene`` (grid, panel, legend) within the limit, before drawing it
+        (checked once per overlay and legend length)."""
+        if overlay is None and not scene.legend:
+            return
+        checked = self._checked
+        if checked is not None and checked[0] is overlay and checked[1] == len(scene.legend):
+            return
+        check_overlay_frame(self.level, self.cell_size, overlay or Overlay(), len(scene.legend))
+        self._checked = (overlay, len(scene.legend))
 
-    def _cells_of(self, box: tuple[int, int, int, int]) -> list[tuple[int, int]]:
-        cs = self.cell_size
-        x0, y0, x1, y1 = box
-        return [(x, y) for y in range(y0 // cs, (y1 - 1) // cs + 1) for x in range(x0 // cs, (x1 - 1) // cs + 1)]
+    def _base(self, static: np.ndarray, overlay: Overlay | None, scene: Scene) -> np.ndarray:
+        """The frame without robots: ``static`` over the panel, kept from frame to frame; only
+        the panel strips that changed are copied in (a legend row's return, say)."""
+        key = (overlay.panel, overlay.scale) if overlay is not None else None
+        last = self._base_key
+        if last[0] is static and last[1] == key:
+            if last[2] == scene.legend:
+                return self._base_img
+            if self._rows_only(last[2], scene.legend):
+                self._base_key = (static, key, scene.legend)
+                return self._base_img
+        strips = self._panel_strips(overlay, scene)
+        h = static.shape[0] + sum(st.shape[0] for st in strips)
+        img, old = self._base_img, self._base_strips
+        if img is None or img.shape[0] != h or self._base_key[0] is not static or len(old) != len(strips):
+            img = np.empty((h, self.width, 3), dtype=np.uint8)
+            img[: static.shape[0]] = static
+            old = [None] * len(strips)
+        y = static.shape[0]
+        for k, st in enumerate(strips):
+            if old[k] is not st:
+                img[y : y + st.shape[0]] = st
+            y += st.shape[0]
+        self._base_img, self._base_strips, self._base_key = img, strips, (static, key, scene.legend)
+        return img
 
-    def _tile(self, static: np.ndarray, cell: tuple[int, int], sprite, p: Patch, cx: float, cy: float) -> np.ndarray:
-        """The cell of ``static`` with the sprite and the labels over it, cached: robots come back to
-        the same cells in the same poses, and a copy is far cheaper than a blend."""
-        key = (id(static), cell, id(sprite), int(round((cx % 1) * 4)), int(round((cy % 1) * 4)))
-        hit = self._tiles.get(key)
-        if hit is not None and hit[0] is static and hit[1] is sprite:
-            self._tiles.move_to_end(key)
+    def _block(self, static: np.ndarray, rect: tuple[int, int, int, int], items: list[tuple]) -> np.ndarray:
+        """The cells ``rect`` (x0, y0, x1, y1, in cells) of ``static`` with the sprites ``items``
+        blended in order and the labels over them, cached by exact content: robots come back to
+        the same cells in the same poses (a burst beside the same two robots), and a copy is far
+        cheaper than blends."""
+        key = (id(static), rect, *[it[6] for it in items])
+        hit = self._blocks.get(key)
+        if hit is not None:  # the entry keeps ``static`` and the patches alive: their ids are theirs
+            self._blocks.move_to_end(key)
             return hit[2]
         cs = self.cell_size
-        x, y = cell
-        tile = static[y * cs : (y + 1) * cs, x * cs : (x + 1) * cs].copy()
-        blend(tile, p, cx - x * cs, cy - y * cs)
-        for y0, x0, label in self._label_patches:
-            if y0 // cs == y and x0 // cs == x or _overlap((x0, y0, x0 + label.rgb.shape[1], y0 + label.rgb.shape[0]),
-                                                           (x * cs, y * cs, (x + 1) * cs, (y + 1) * cs)):  # fmt: skip
-                blend(tile, label, x0 - x * cs, y0 - y * cs)
-        self._tiles[key] = (static, sprite, tile)
-        if len(self._tiles) > 1024:
-            self._tiles.popitem(last=False)
-        return tile
+        x0, y0, x1, y1 = rect
+        ox, oy = x0 * cs, y0 * cs
+        block = static[oy : y1 * cs, ox : x1 * cs].copy()
+        for _, cx, cy, p, *_ in items:
+            blend(block, p, cx - ox, cy - oy)
+        for ly, lx, label in self._label_patches:  # labels stay on top of the robots under them
+            lb = (lx, ly, lx + label.rgb.shape[1], ly + label.rgb.shape[0])
+            if any(_overlap(lb, it[4]) for it in items):
+                blend(block, label, lx - ox, ly - oy)
+        self._blocks[key] = (static, tuple(it[3] for it in items), block)  # kept alive: their ids stay theirs
+        if len(self._blocks) > self._max_blocks:
+            self._blocks.popitem(last=False)
+        return block
 
     def static(self, overlay: Overlay | None) -> np.ndarray:
         """The level with ``overlay``'s tints, arrows and numbers, and the labels (read-only; the
         live canvas's bottom layer). The same cell parts give the same image object back."""
+        if overlay is self._static[0]:  # the same overlay as the last frame's (the usual case)
+            return self._static[1]
         if overlay is None or not overlay.has_cells:
             return self.background
         if not _same_cells(self._static[0], overlay):
             cs, th = self.cell_size, self.theme
             lv = self.level
-            img = self._draw([*floor_ops(lv, cs, th), *annotate.tint_ops(overlay, cs, th), *feature_ops(lv, cs, th),
-                              *annotate.ink_ops(overlay, cs, th, self.labelled), *self.labels])  # fmt: skip
+            img = self._draw([*floor_ops(lv, cs, th), *annotate.tint_ops(overlay, cs, th, self.exits),
+                              *feature_ops(lv, cs, th, corner=True),
+                              *annotate.ink_ops(overlay, cs, th, self.labelled, self.exits), *self.labels])  # fmt: skip
             self._static = (overlay, img)
         return self._static[1]
 
@@ -155,20 +275,63 @@ class RgbRenderer:
         strips = self._panel_strips(overlay, scene)
         return np.concatenate(strips, axis=0) if strips else None
 
+    def _rows_only(self, old: tuple, new: tuple) -> bool:
+        """Redraw in the kept frame only the legend rows that changed, when nothing else did (a
+        legend of a row per robot, the same robots); False: the panel must be laid out again.
+        Each row's strip is cached by its exact content: returns repeat from race to race."""
+        if self._legend_y is None or len(old) != len(new) or not new or len(new) > LEGEND_ROWS:
+            return False
+        self._base_strips = [None] * len(self._base_strips)  # the kept strips will not all show
+        img, h, rows = self._base_img, self._row_h, self._rows
+        y = self.grid_height + self._legend_y
+        for a, b in zip(old, new):
+            if a is not b and a != b:  # only its pieces that changed (its return, mostly)
+                if a.number != b.number:
+                    return False
+                now = rows.get(b) or self._row_pieces(b)
+                for (x0, x1, was, _), (_, _, key, piece) in zip(rows.get(a) or self._row_pieces(a), now):
+                    if was != key:
+                        img[y : y + h, x0:x1] = piece
+            y += h
+        return True
+
+    def _row_pieces(self, row) -> list[tuple[int, int, tuple, np.ndarray]]:
+        """A legend row's pieces side by side (x0, x1, key, image), cached by the row's content."""
+        hit = self._rows.get(row)
+        if hit is None:
+            sec = legend_row_section(self.width, self.cell_size, self.theme, row)
+            hit = self._rows[row] = [(x0, x1, key, self._strip((sec.height, *key), sec.height, x1 - x0, sec.background,
+                                                               build, x0)) for x0, x1, key, build in sec.parts]  # fmt: skip
+            if len(self._rows) > 4096:
+                del self._rows[next(iter(self._rows))]
+        return hit
+
     def _panel_strips(self, overlay: Overlay | None, scene: Scene) -> list[np.ndarray]:
         lines = overlay.panel if overlay is not None else ()
         vr = annotate.value_range(overlay) if overlay is not None else None
         sections = panel_sections(self.width, self.cell_size, self.theme, lines, vr, scene.legend)
         strips = []
+        self._legend_y, y = None, 0
         for sec in sections:
+            if sec.key[0] == "row" and self._legend_y is None:
+                self._legend_y = y  # where the rows start: ``_rows_only`` redraws them there
+            y += sec.height
             if sec.parts:
-                strip = np.empty((sec.height, self.width, 3), dtype=np.uint8)
-                for x0, x1, key, build in sec.parts:
-                    strip[:, x0:x1] = self._strip((sec.height, *key), sec.height, x1 - x0, sec.background, build, x0)
-                strips.append(strip)
+                strips.append(self._section_strip(sec))
             else:
                 strips.append(self._strip(sec.key, sec.height, self.width, sec.background, sec.build))
         return strips
+
+    def _section_strip(self, sec) -> np.ndarray:
+        """A section of side by side pieces: its pieces cached one by one, and the strip they make."""
+        whole = ("whole", sec.height, *(key for _, _, key, _ in sec.parts))
+        strip = self._panels.get(whole)
+        if strip is None:
+            strip = np.empty((sec.height, self.width, 3), dtype=np.uint8)
+            for x0, x1, key, build in sec.parts:
+                strip[:, x0:x1] = self._strip((sec.height, *key), sec.height, x1 - x0, sec.background, build, x0)
+            self._panels[whole] = strip
+        return strip
 
     def _strip(self, key: tuple, height: int, width: int, bg: tuple, build, x0: int = 0) -> np.ndarray:
         """A piece of the panel drawn from ``build()`` (operations from ``x0``), cached by ``key``."""
@@ -210,6 +373,27 @@ class RgbRenderer:
             out.append((y0, x0, Patch(rgb, alpha[..., None], 0, 0)))
         return out
 
+
+
+def _groups(drawn: list[tuple]) -> list[tuple[tuple[int, int, int, int], list[tuple]]]:
+    """The drawn sprites in groups whose cell rectangles (x0, y0, x1, y1, x1 and y1 exclusive)
+    do not overlap, each group's sprites in drawing order: each group is one cached block."""
+    rects = [item[5] for item in drawn]
+    if len(set(rects)) == len(rects) and all(r[2] - r[0] == 1 and r[3] - r[1] == 1 for r in rects):
+        return [(r, [item]) for r, item in zip(rects, drawn)]  # one cell each, each its own (the usual case)
+    groups: list[tuple[tuple[int, int, int, int], list[int]]] = []
+    for k, item in enumerate(drawn):
+        rect, members = item[5], [k]
+        hit = [g for g in groups if _overlap(rect, g[0])]
+        while hit:  # a merged rectangle can reach a group it did not touch before
+            for g in hit:
+                groups.remove(g)
+                r = g[0]
+                rect = (min(rect[0], r[0]), min(rect[1], r[1]), max(rect[2], r[2]), max(rect[3], r[3]))
+                members += g[1]
+            hit = [g for g in groups if _overlap(rect, g[0])]
+        groups.append((rect, members))
+    return [(rect, [drawn[k] for k in sorted(members)]) for rect, members in groups]
 
 
 def _box(p: Patch, cx: float, cy: float) -> tuple[int, int, int, int]:

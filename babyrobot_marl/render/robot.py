@@ -170,13 +170,21 @@ def _eyes(p: _Pen, pose: str, ex: float, ey: float, eye: Colour) -> None:
                 p.disc(x, ey, r * 0.45, (20, 24, 36))
 
 
+CORNER = (0.44, 0.24, 0.76)  # a lone robot while an overlay is on: its scale and centre, bottom left of its cell
+REACH = 0.76  # rows of robots sharing a cell: this many scales apart (its drawn height, antenna to
+# track, is 0.82: the antenna's tip may reach past the track of the robot above, which hides nothing)
+
+
 def icon_scale(n: int, top: float = 0.0) -> tuple[float, list[tuple[float, float]]]:
-    """Robots sharing one cell side by side: their scale and their centres in cell units, in
-    the part of the cell below ``top`` (a label's band) when there are several."""
+    """Robots in one cell: their scale and centres in cell units, in the part of the cell below
+    ``top`` (a label's band), side by side when there are several (as large as their drawn
+    height lets them: the rows are ``REACH`` of a scale apart; 4 robots at 56-pixel cells below an
+    EXIT label are 25 pixels)."""
     if n <= 1:
-        return 1.0, [(0.5, 0.5)]
+        s = 1.0 - top
+        return s, [(0.5, top + s / 2)]
     k = math.ceil(math.sqrt(n))
     rows = math.ceil(n / k)
-    s = min(1.0 / k, (1.0 - top) / rows)
-    y0 = top + (1.0 - top - rows * s) / 2
-    return s, [((i % k + 0.5) / k, y0 + (i // k + 0.5) * s) for i in range(n)]
+    s = min(1.0 / k, (1.0 - top) / rows / REACH)
+    y0 = top + (1.0 - top - rows * s * REACH) / 2
+    return s, [((i % k + 0.5) / k, y0 + (i // k + 0.5) * s * REACH) for i in range(n)]

@@ -21,7 +21,7 @@ from ..core.level import Cell
 from .paint import Sprite
 from .palette import Theme, robot_colour
 from .panel import LegendRow
-from .robot import icon_scale
+from .robot import CORNER, icon_scale
 from .shapes import Colour
 from .sprites import badge, burst, robot_sprite
 
@@ -49,6 +49,7 @@ class Scene:
     marks: tuple[tuple[Cell, Cell], ...] = ()  # (a robot's cell, the cell another robot kept it from)
     legend: tuple[LegendRow, ...] = ()
     done: bool = False  # the episode or race has ended
+    corner: bool = False  # an overlay is on: a lone robot stands small in its cell's corner, clear of the numbers
 
 
 def as_scene(robots: Scene | Sequence[Cell | None]) -> Scene:
@@ -67,21 +68,38 @@ class Placement:
     scale: float  # 1: a whole cell
 
 
-@lru_cache(maxsize=16)
 def placements(scene: Scene, labelled: frozenset = frozenset(), top: float = 0.0) -> list[Placement]:
-    """Where each robot is drawn, lowest number on top (drawn last); robots sharing a ``labelled``
+    """Where each robot is drawn, lowest number on top (drawn last); robots in a ``labelled``
     cell stand below its label (``top``: the label band's bottom, in cell units)."""
+    return _placements(scene.robots, scene.corner, labelled, top)
+
+
+@lru_cache(maxsize=64)
+def _placements(robots: tuple[RobotView, ...], corner: bool, labelled: frozenset, top: float) -> list[Placement]:
     by_cell: dict[Cell, list[RobotView]] = {}
-    for v in scene.robots:
+    for v in robots:
         by_cell.setdefault(v.cell, []).append(v)
     out = []
     for cell, views in by_cell.items():
+        if len(views) == 1:
+            out.append(lone_placement(views[0], corner, top if cell in labelled else 0.0))
+            continue
         views.sort(key=lambda v: (v.rank == 0, v.rank, v.number))  # finished first, by rank
         scale, slots = icon_scale(len(views), top if cell in labelled else 0.0)
         for v, (u, w) in zip(views, slots):
             out.append(Placement(v, cell[0] + u, cell[1] + w, scale))
     out.sort(key=lambda p: -p.view.number)
     return out
+
+
+@lru_cache(maxsize=8192)
+def lone_placement(view: RobotView, corner: bool, top: float) -> Placement:
+    """A robot alone in its cell (the same object each time: renderers key their caches by it)."""
+    x, y = view.cell
+    if corner:
+        return Placement(view, x + CORNER[1], y + CORNER[2], CORNER[0])
+    scale, ((u, w),) = icon_scale(1, top)
+    return Placement(view, x + u, y + w, scale)
 
 
 def glide(
@@ -96,7 +114,10 @@ def glide(
     ends = {p.view.number: (p.cx, p.cy) for p in placements(scene, labelled, top) if p.view.number in moving}
     at = {}
     for i, v in moving.items():
-        (ax, ay), (bx, by) = (v.came_from[0] + 0.5, v.came_from[1] + 0.5), ends[i]  # type: ignore[index]
+        (bx, by) = ends[i]
+        # from the same spot of the cell it left (its corner, with an overlay)
+        ox, oy = (bx - v.cell[0], by - v.cell[1]) if scene.corner else (0.5, 0.5)
+        ax, ay = v.came_from[0] + ox, v.came_from[1] + oy  # type: ignore[index]
         at[i] = (ax + (bx - ax) * t, ay + (by - ay) * t)
     return at, {i: "moving" for i, v in moving.items() if v.pose == "finished"}
 
@@ -114,19 +135,40 @@ def robot_sprites(scene: Scene, cs: float, theme: Theme, pose_override: dict[int
     out: list[tuple[Sprite, float, float]] = []
     badges = []
     for p in placements(scene, labelled, label_band(int(cs))[1] / cs):
-        v = p.view
-        pose = (pose_override or {}).get(v.number, v.pose)
-        cx, cy = (at or {}).get(v.number, (p.cx, p.cy))
-        out.append((robot_sprite(theme, v.number, v.heading, pose, v.numbered, round(cs * p.scale, 2)), cx * cs, cy * cs))
-        if v.rank:
-            r = max(4.0, cs * 0.13 * max(p.scale, 0.55))
-            badges.append((badge(theme, v.rank, round(r, 2)), (cx + 0.36 * p.scale) * cs, (cy - 0.36 * p.scale) * cs))
+        pose = (pose_override or {}).get(p.view.number, p.view.pose)
+        cx, cy = (at or {}).get(p.view.number, (p.cx, p.cy))
+        robot, rank = placement_sprites(p, cs, theme, pose, cx, cy)
+        out.append(robot)
+        if rank is not None:
+            badges.append(rank)
     for own, other in scene.marks:
-        # at the edge the robot could not cross, a little into the cell it wanted
-        u = own[0] + 0.5 + (other[0] - own[0]) * 0.62
-        w = own[1] + 0.5 + (other[1] - own[1]) * 0.62
-        out.append((burst(theme, round(cs * 0.2, 2)), u * cs, w * cs))
+        out.append((burst(theme, round(cs * BURST[0], 2)), *burst_centre(own, other, cs)))
     return out + badges
+
+
+def placement_sprites(p: Placement, cs: float, theme: Theme, pose: str, cx: float, cy: float) -> tuple[tuple, tuple | None]:
+    """A placed robot's sprite and its rank badge (None while racing), centred at ``(cx, cy)`` cells, in pixels."""
+    v = p.view
+    numbered = v.numbered and not v.rank  # on the podium: its rank only (its number is in the legend)
+    robot = (robot_sprite(theme, v.number, v.heading, pose, numbered, round(cs * p.scale, 2)), cx * cs, cy * cs)
+    if not v.rank:
+        return robot, None
+    # a medal on its chest, where a racing robot's id is: clear of the label above and of the
+    # other robots' faces, large enough for its digit
+    r = max(5.0, cs * p.scale * 0.15)
+    return robot, (badge(theme, v.rank, round(r, 2)), cx * cs, (cy + 0.17 * p.scale) * cs)
+
+
+BURST = (0.15, 0.32)  # a collision's burst: its radius, and how far beside the robots' faces, in cells
+
+
+def burst_centre(own: Cell, other: Cell, cs: float) -> tuple[float, float]:
+    """Where a collision's burst goes: on the edge the robot could not cross, moved along it to
+    below (or beside) the two robots' faces, so both faces stay visible."""
+    dx, dy = other[0] - own[0], other[1] - own[1]
+    u = own[0] + 0.5 + dx * 0.5 + (BURST[1] if dy else 0.0)
+    w = own[1] + 0.5 + dy * 0.5 + (BURST[1] if dx else 0.0)
+    return u * cs, w * cs
 
 
 def colour_of(theme: Theme, number: int) -> Colour:
