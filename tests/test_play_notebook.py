@@ -177,6 +177,7 @@ def test_the_player_offers_a_replay_of_the_episode_that_draws_without_stepping()
         p.press(key)
     assert p.game.terminated and p.replay.widget.layout.display == "flex"
     assert p.replay.slider.max == 4 and p.replay.slider.value == 4  # five scenes: the start and four steps
+    assert "the slider under the buttons replays it" in p.text and "q: quit" not in p.text  # no q in a notebook
     sent, steps = p.canvas.frames_sent, p.game.steps
     p.replay.slider.value = 0
     assert p.canvas.frames_sent > sent and p.game.steps == steps  # drawn again, the env not stepped

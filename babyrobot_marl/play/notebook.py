@@ -65,6 +65,8 @@ FOCUS_STYLE = (  # a canvas (or the element in it) with the focus is framed: the
     f" {{outline: 3px solid {FOCUS}; outline-offset: 2px}}</style>"
 )
 
+NOTEBOOK_OVER_HINT = "r or reset plays again; the slider under the buttons replays it"
+
 BUTTONS = (  # (label, command, css class): the class names stable selectors for tests
     ("\u2190", Action.WEST, "west"), ("\u2191", Action.NORTH, "north"), ("\u2193", Action.SOUTH, "south"),
     ("\u2192", Action.EAST, "east"), ("stay", Action.STAY, "stay"), ("reset", RESTART, "reset"),
@@ -113,6 +115,7 @@ class Player:
         from ipywidgets import HTML, Button, HBox, Layout, VBox
 
         self.game = make_game(env_or_level, robots, policies, seed)
+        self.game.over_hint = NOTEBOOK_OVER_HINT
         if isinstance(self.game, RaceGame):
             self.game.labels = lambda i: f"#{i}"  # the canvas numbers its robots 0, 1, ...
         self.level: Level = self.game.env.level
