@@ -483,7 +483,8 @@ def test_the_canvas_legend_stops_growing_past_eight_robots_and_an_oversized_pane
     c.draw(legend(8), animate=False)
     eight = c.widget.height
     c.draw(legend(300), animate=False)
-    assert c.widget.height == eight and c.frame().shape[0] == c.renderer.frame(legend(8)).shape[0]
+    # never taller than eight robots' legend (a compact legend beyond eight may be shorter)
+    assert c.widget.height == eight and c.frame().shape[0] <= c.renderer.frame(legend(8)).shape[0]
     sent_before, overlay = c.frames_sent, c.overlay
     huge = update_overlay(Overlay(), levels.get("maze-8x8"), panel=["l"] * 20_000)
     with pytest.raises(ValueError, match=r"^panel: 20,000 lines"):
