@@ -175,3 +175,33 @@ def test_the_first_steps_are_paced_as_the_others(page, screenshots):
     times = [round(f["t"] - frames[0]["t"]) for f in frames]
     page.log(f"{name}: canvas changes at {times} ms after it appeared (4 steps a second intended: 250 ms apart)")
     assert len(frames) >= 8, f"fewer changes than steps: {times}"
+
+
+def test_the_player_replays_its_episode_without_stepping(page, screenshots):
+    name = "replay_player"
+    _open(page, screenshots, name, [
+        f"""
+        from babyrobot_marl.play import notebook
+        player = notebook.play("default", seed=0, cell_size={CELL})
+        player
+        """,
+        """
+        for key in ["ArrowRight", "ArrowRight", "s", "s"]:
+            player.press(key)
+        print("over:", player.game.terminated)
+        """,
+    ])  # fmt: skip
+    assert "over: True" in page.outputs_text()
+    start, exit_ = (0, 0), (2, 2)
+    body = THEME.robots[0]
+    page.canvas_pixels(0, ready=lambda rgba: count(cell_box(rgba[..., :3], exit_), body) > 50)
+    _replay_bar_shown(page)
+    before = page.kernel_output("print(player.game.steps, len(player.canvas.history), player.canvas.frames_sent)").strip()
+    steps, scenes, sent = map(int, before.split())
+    assert (steps, scenes) == (4, 5), before
+    _drag_slider_to_start(page)
+    first = page.canvas_pixels(0, ready=lambda rgba: count(cell_box(rgba[..., :3], start), body) > 50)[..., :3]
+    shot(page, screenshots, f"{name}_at_start")
+    assert count(cell_box(first, start), body) > 50 and count(cell_box(first, exit_), body) == 0
+    after = page.kernel_output("print(player.game.steps, len(player.canvas.history), player.canvas.frames_sent)").strip()
+    assert after.split()[:2] == before.split()[:2] and int(after.split()[2]) > sent, f"{before} -> {after}"
