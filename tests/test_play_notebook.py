@@ -168,3 +168,19 @@ def test_the_player_panel_says_where_the_robots_are_in_words_and_frames_the_driv
     single = notebook.play("walls", seed=0)
     assert "Baby Robot is at column 0, row 0" in single.text and single.canvas.marked is None
     assert single.canvas.fit  # no cell size: the canvas fills the column
+
+
+def test_the_player_offers_a_replay_of_the_episode_that_draws_without_stepping():
+    p = notebook.play("default", seed=0)
+    assert p.replay.widget.layout.display == "none"  # no replay during an episode
+    for key in ("ArrowRight", "ArrowRight", "s", "s"):
+        p.press(key)
+    assert p.game.terminated and p.replay.widget.layout.display == "flex"
+    assert p.replay.slider.max == 4 and p.replay.slider.value == 4  # five scenes: the start and four steps
+    assert "the slider under the buttons replays it" in p.text and "q: quit" not in p.text  # no q in a notebook
+    sent, steps = p.canvas.frames_sent, p.game.steps
+    p.replay.slider.value = 0
+    assert p.canvas.frames_sent > sent and p.game.steps == steps  # drawn again, the env not stepped
+    assert [v.cell for v in p.canvas.history[0][0].robots] == [(0, 0)]
+    _button(p, "reset").click()  # a new episode: its own replay, offered when it ends
+    assert p.replay.widget.layout.display == "none" and len(p.canvas.history) == 1

@@ -106,19 +106,23 @@ class OverlayMethods:
         text: Any = KEEP,
         panel: Any = KEEP,
         names: Any = KEEP,
+        label: Any = KEEP,
     ) -> None:
         """Draw values, action values, policy arrows, cell text, a text panel or (a race) the
         robots' names in the legend over the grid (``rgb_array`` frames and the live canvas);
+        ``label`` names the colour bar (default: ``value``, or ``action value``; e.g. ``"gap"``);
         see ``babyrobot_marl.render.overlay``.
 
         Parts not given are kept; ``None`` clears a part. Checked before anything changes.
         """
         parts = {"values": values, "q_values": q_values, "arrows": arrows, "text": text, "panel": panel, "names": names}
+        if label is not KEEP:  # passed on only when given: the overlay keeps its label otherwise
+            parts["label"] = label
         self.drawing.set_overlay(self.render_mode, self._scene, **parts)
 
     def clear_overlay(self) -> None:
         """Remove every overlay."""
-        self.set_overlay(values=None, q_values=None, arrows=None, text=None, panel=None, names=None)
+        self.set_overlay(values=None, q_values=None, arrows=None, text=None, panel=None, names=None, label=None)
 
     @property
     def overlay(self) -> Overlay:

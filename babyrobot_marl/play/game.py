@@ -41,6 +41,8 @@ def outcome_text(action: int, outcome: int | str) -> str:
 class SingleGame:
     """One robot, one step per move. ``seed`` seeds the first episode; restarts go on from it."""
 
+    over_hint = OVER_HINT  # what to do when the episode is over (the notebook player says its own)
+
     def __init__(self, env: BabyRobotEnv, seed: int | None = None):
         if not isinstance(env, BabyRobotEnv):
             raise TypeError(f"env: expected a BabyRobotEnv, got {type(env).__name__}")
@@ -77,7 +79,7 @@ class SingleGame:
 
     def act(self, action: int) -> bool:
         if self.over:
-            self.message = f"the episode is over: {OVER_HINT}"
+            self.message = f"the episode is over: {self.over_hint}"
             return False
         _, reward, self.terminated, self.truncated, info = self.env.step(int(action))
         self.steps += 1
@@ -89,9 +91,9 @@ class SingleGame:
     def status(self) -> list[str]:
         lines = [f"step {self.steps}/{self.env.max_steps}  return {self.ret:g}" + (f"  last: {self.last}" if self.last else "")]
         if self.terminated:
-            lines.append(f"reached the exit in {self.steps} steps, return {self.ret:g}. {OVER_HINT}")
+            lines.append(f"reached the exit in {self.steps} steps, return {self.ret:g}. {self.over_hint}")
         elif self.truncated:
-            lines.append(f"out of steps: truncated after {self.env.max_steps}. {OVER_HINT}")
+            lines.append(f"out of steps: truncated after {self.env.max_steps}. {self.over_hint}")
         if self.message:
             lines.append(self.message)
         return lines
@@ -112,6 +114,8 @@ class RaceGame:
     With ``switchable``, ``switch()`` (TAB) hands the keys to the next racing robot, and they move
     on by themselves when the driven robot finishes.
     """
+
+    over_hint = OVER_HINT  # what to do when the race is over (the notebook player says its own)
 
     def __init__(
         self,
@@ -195,7 +199,7 @@ class RaceGame:
             return False
         racing = self.racing
         if not racing:
-            self.message = f"the race is over: {OVER_HINT}"
+            self.message = f"the race is over: {self.over_hint}"
             return False
         n = self.env.n_robots
         self.driven = next(i for k in range(1, n + 1) if (i := (self.driven + k) % n) in racing)
@@ -206,7 +210,7 @@ class RaceGame:
     def act(self, action: int) -> bool:
         """One race step: the driven robot does ``action`` (if it is still racing), the others their policy."""
         if self.over:
-            self.message = f"the race is over: {OVER_HINT}"
+            self.message = f"the race is over: {self.over_hint}"
             return False
         self._step({self.driven: int(action)} if self.driven_racing else {})
         if self.driven_racing:
@@ -249,7 +253,7 @@ class RaceGame:
         if done:
             lines.append("finished: " + "  ".join(f"{self.glyph(i)} {ordinal(r)}" for r, i in sorted(done)))
         if self.over:
-            lines.append(f"the race is over. {OVER_HINT}")
+            lines.append(f"the race is over. {self.over_hint}")
         if self.message:
             lines.append(self.message)
         return lines

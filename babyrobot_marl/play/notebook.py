@@ -65,6 +65,8 @@ FOCUS_STYLE = (  # a canvas (or the element in it) with the focus is framed: the
     f" {{outline: 3px solid {FOCUS}; outline-offset: 2px}}</style>"
 )
 
+NOTEBOOK_OVER_HINT = "r or reset plays again; the slider under the buttons replays it"
+
 BUTTONS = (  # (label, command, css class): the class names stable selectors for tests
     ("\u2190", Action.WEST, "west"), ("\u2191", Action.NORTH, "north"), ("\u2193", Action.SOUTH, "south"),
     ("\u2192", Action.EAST, "east"), ("stay", Action.STAY, "stay"), ("reset", RESTART, "reset"),
@@ -113,6 +115,7 @@ class Player:
         from ipywidgets import HTML, Button, HBox, Layout, VBox
 
         self.game = make_game(env_or_level, robots, policies, seed)
+        self.game.over_hint = NOTEBOOK_OVER_HINT
         if isinstance(self.game, RaceGame):
             self.game.labels = lambda i: f"#{i}"  # the canvas numbers its robots 0, 1, ...
         self.level: Level = self.game.env.level
@@ -133,7 +136,11 @@ class Player:
                     "arrows/WASD move, space stays, r restarts"
                     + (", TAB drives the next robot (its cell framed in its colour)" if self.is_race else "")
                     + "</small>")  # fmt: skip
-        self.widget = VBox([self.canvas.widget, HBox(buttons), hint, self.panel])
+        from ..render.replay import ReplayBar
+
+        self.replay = self.canvas._replay = ReplayBar(self.canvas)  # shown when an episode ends
+        self._steps = -1  # the game's step count drawn last: less now, a new episode
+        self.widget = VBox([self.canvas.widget, HBox(buttons), self.replay.widget, hint, self.panel])
         self.widget.add_class("babyrobot-player")
         self.still = Still(self.widget, self.canvas.picture, self.canvas.css)
         self._refresh()
@@ -171,6 +178,10 @@ class Player:
         # the env's own scene (poses, bumps, finished robots at their exits), as render_mode="human" draws it
         scene = g.env._scene() if hasattr(g.env, "_scene") else g.robots
         self.canvas.marked = g.driven if self.is_race else None
+        steps = g.steps
+        if steps < self._steps:  # restarted: the replay is of the episode from now on
+            self.canvas.new_episode()
+        self._steps = steps
         self.canvas.draw(scene, g.env.overlay, animate=False)
         self.panel.value = "<pre style='margin:0'>" + html.escape(self.text) + "</pre>"
         self.still.refresh()

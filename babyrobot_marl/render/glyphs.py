@@ -38,6 +38,12 @@ def sizes() -> tuple[int, ...]:
     return tuple(sorted(_atlas()[0]))
 
 
+def size_at_most(size: float) -> int:
+    """The largest size text is drawn at that is <= ``size`` (the atlas holds only ``sizes()``)."""
+    drawable = [s for s in sizes() if s <= size]
+    return drawable[-1] if drawable else sizes()[0]
+
+
 def css_font(size: int) -> str:
     return f"bold {size}px {CSS_FAMILY}"
 

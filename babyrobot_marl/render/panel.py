@@ -22,7 +22,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from .glyphs import advances, cap_height, fit, text_width
+from .glyphs import advances, cap_height, fit, size_at_most, text_width
 from .paint import Sprite, Stamp, flatten
 from .palette import Theme, colour_map
 from .shapes import Colour, Fill, Op, Text, rect, round_rect
@@ -234,7 +234,7 @@ def _colour_bar(width: int, h: int, size: int, vr: tuple, theme: Theme) -> list[
     lo, hi = scale.lo, scale.hi
     cap = cap_height(size)[1]
     pad = max(4, size // 2)
-    small = max(7, int(size * 0.85))
+    small = size_at_most(max(7, size * 0.85))  # a 2x canvas asks for sizes the atlas lacks (27, 45)
     title = scale.label
     ends = [scale.format(lo), scale.format(hi)]
     x0 = pad + text_width(title, size) + 2 * pad + text_width(ends[0], small) / 2

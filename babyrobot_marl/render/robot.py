@@ -139,7 +139,7 @@ def robot(
 
     # marks on top: stars when bumped, a glint on glass, confetti when finished
     if pose == "bumped":
-        for sx, sy, r in ((dx * 0.26 + 0.22, -0.42, 0.11), (dx * 0.26 - 0.2, -0.47, 0.08)):
+        for sx, sy, r in ((dx * 0.26 + 0.24, -0.33, 0.1), (dx * 0.26 - 0.22, -0.36, 0.075)):
             p.fill(star(sx, sy, r, r * 0.45), (255, 200, 40))
             p.fill(star(sx, sy, r * 0.5, r * 0.22), (255, 250, 210))
     elif pose == "glass":

@@ -75,6 +75,42 @@ _WIDGETS_SETTLED = """() => document.querySelectorAll('.jp-OutputArea-output').l
 _MARKER_SHOWN = """(m) => Array.from(document.querySelectorAll('.jp-OutputArea-output')).some(o => o.innerText.includes(m))"""
 
 
+# Run code in the focused notebook's kernel and return its printed text (a promise Playwright awaits).
+_KERNEL_RUN = """async (code) => {
+  const k = window.jupyterapp.shell.currentWidget.sessionContext.session.kernel;
+  const future = k.requestExecute({code, silent: false, store_history: false});
+  let out = '';
+  future.onIOPub = (msg) => {
+    if (msg.header.msg_type === 'stream') out += msg.content.text;
+    if (msg.header.msg_type === 'error') out += msg.content.ename + ': ' + msg.content.evalue;
+  };
+  await future.done;
+  return out;
+}"""
+
+# At each animation frame: the first canvas output on the page, its pixels summed up (every 7th
+# pixel: a robot moving changes many), noted when the sum or its opacity changed.
+_RECORD_CANVAS = """() => {
+  const frames = window.__babyrobotFrames = [];
+  const tick = (t) => {
+    const c = Array.from(document.querySelectorAll('.jp-OutputArea-output canvas'))
+      .find(c => c.width > 0 && c.height > 0 && c.getBoundingClientRect().width > 0);
+    if (c) {
+      const d = c.getContext('2d').getImageData(0, 0, c.width, c.height).data;
+      let drawn = true, sig = 0;
+      for (let i = 0; i < d.length; i += 28) {
+        if (d[i + 3] !== 255) drawn = false;
+        sig = (sig * 31 + d[i] + 3 * d[i + 1] + 7 * d[i + 2]) >>> 0;
+      }
+      const last = frames[frames.length - 1];
+      if (!last || last.sig !== sig || last.drawn !== drawn) frames.push({t, drawn, sig});
+    }
+    if (frames.length < 5000) requestAnimationFrame(tick);
+  };
+  requestAnimationFrame(tick);
+}"""
+
+
 def _quiet(message: str) -> None:
     pass
 
@@ -120,12 +156,15 @@ class NotebookPage:
             self._pw.stop()
             self._pw = None
 
-    def run_all(self, notebook: str, marker: str, timeout: float = WAIT) -> None:
-        """Open ``notebook`` (relative to the server root), run all cells, wait for ``marker`` in an output."""
+    def run_all(self, notebook: str, marker: str, timeout: float = WAIT, before: Callable[[], None] | None = None) -> None:
+        """Open ``notebook`` (relative to the server root), run all cells, wait for ``marker`` in an output.
+        ``before()`` is called once the page is loaded, before the cells run (e.g. ``record_canvas``)."""
         page, ms = self.page, timeout * 1000
         self.log(f"{notebook}: opening")
         page.goto(self.lab.url(f"lab/tree/{notebook}", reset=""), timeout=ms)
         page.wait_for_function(_KERNEL_IDLE, timeout=ms, polling=200)
+        if before is not None:
+            before()
         self.log(f"{notebook}: kernel ready, running all cells")
         page.evaluate("() => window.jupyterapp.commands.execute('notebook:run-all-cells')")
         try:
@@ -197,6 +236,20 @@ class NotebookPage:
                     raise AssertionError(f"no canvas output #{index} (found {got['count']}); outputs:\n{self.outputs_text()}")
                 return last
             time.sleep(0.3)
+
+    def kernel_output(self, code: str) -> str:
+        """What ``code`` prints, run in the kernel of the notebook in focus (no cell added)."""
+        return self.page.evaluate(_KERNEL_RUN, code)
+
+    def record_canvas(self) -> None:
+        """From now on, at every animation frame of the page, note the first canvas output's content
+        when it changes (``recorded_frames``): when it appeared, whether it was drawn (opaque)."""
+        self.page.evaluate(_RECORD_CANVAS)
+
+    def recorded_frames(self) -> list[dict]:
+        """``[{t, drawn, sig}]``: each change of the canvas seen (``t``: the animation frame's time in
+        ms, ``drawn``: every pixel opaque, ``sig``: a checksum of its pixels), the first when it appeared."""
+        return self.page.evaluate("() => window.__babyrobotFrames || []")
 
     def canvas_size(self, index: int = 0) -> dict:
         """The ``index``-th canvas output's backing store and CSS size, and the page's devicePixelRatio."""
