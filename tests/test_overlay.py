@@ -391,3 +391,96 @@ def test_a_horizontal_arrow_does_not_run_under_the_robot_in_its_corner(cs, actio
     arrow = (under == th.arrow).all(axis=2)
     assert arrow.sum() >= cs // 4  # there is an arrow
     assert ((shown == th.arrow).all(axis=2) & arrow).sum() == arrow.sum()  # all of it still shows
+
+
+def _q_case(name: str, cs: int, theme: str) -> BabyRobotEnv:
+    """An env with action values and the best actions as arrows: value iteration's on a level,
+    or ("ties") every tie on maze-8x8 with the widest numbers that show at that size (one
+    decimal, ``-8.8``, from 48 px; at 32 px only whole numbers of one digit fit beside the walls)."""
+    from babyrobot_marl import planning
+
+    env = BabyRobotEnv(level="maze-8x8" if name == "ties" else name, render_mode="rgb_array", cell_size=cs, theme=theme)
+    env.reset(seed=0)
+    h, w = env.level.height, env.level.width
+    if name == "ties":
+        rng = np.random.default_rng(1)
+        q = np.round(rng.uniform(-9.9, -1.1, size=(h, w, 5)), 1) if cs >= 48 else rng.integers(-15, 0, size=(h, w, 5)) * 1.0
+        combos = [(a,) for a in (1, 2, 3, 4)] + [(1, 3), (2, 4), (2, 3), (1, 4), (3, 4), (1, 2), (1, 2, 3), (1, 2, 3, 4)]
+        arrows = np.zeros((h, w, 5), dtype=bool)
+        for k, (y, x) in enumerate(np.ndindex(h, w)):
+            arrows[y, x, list(combos[k % len(combos)])] = True
+    else:
+        sol = planning.value_iteration(planning.model(env.level), gamma=1.0)
+        q = sol.q.reshape(h, w, 5).copy()
+        q[np.isnan(sol.value_grid)] = np.nan
+        arrows = sol.best_actions
+    env.set_overlay(q_values=q, arrows=arrows)
+    return env
+
+
+def _number_boxes(ops) -> list:
+    """The boxes drawn under each number (the fills just before its text, an edge included; not arrows)."""
+    from babyrobot_marl.render.shapes import Text
+
+    out = []
+    for i, op in enumerate(ops):
+        j = i - 1
+        while isinstance(op, Text) and j >= 0 and isinstance(ops[j], Fill) and len(ops[j].points) != 7:
+            out.append(ops[j])
+            j -= 1
+    return out
+
+
+@pytest.mark.parametrize("level", ["mixed-8x8", "walls", "ties"])
+@pytest.mark.parametrize("theme", ["light", "dark"])
+@pytest.mark.parametrize("cs", [32, 48, 64])
+def test_action_value_boxes_never_lie_under_arrows(cs, theme, level):
+    """Issue 26 (review): the longer arrows ran over the action values' numbers. No pixel the
+    rasteriser touches for an arrow (its dark edge included) is touched by a number's box."""
+    from babyrobot_marl.render.paint import coverage
+
+    env = _q_case(level, cs, theme)
+    r = env.unwrapped.drawing.renderer
+    ops = annotate.ink_ops(env.unwrapped.overlay, cs, THEMES[theme], r.labelled, r.exits)
+    h, w = env.level.height * cs, env.level.width * cs
+    arrows = np.zeros((h, w), dtype=bool)
+    for op in ops:
+        if isinstance(op, Fill) and len(op.points) == 7:  # the arrow shapes: 7 corners
+            arrows |= coverage(op.points, 0, 0, w, h) > 0
+    boxes = _number_boxes(ops)
+    assert arrows.sum() > 0 and len(boxes) >= 8
+    for b in boxes:
+        covered = coverage(b.points, 0, 0, w, h) > 0
+        at = b.points.mean(axis=0) // cs
+        assert not (covered & arrows).any(), (level, cs, theme, "cell", tuple(at.astype(int)))
+
+
+@pytest.mark.parametrize("cs", [32, 48, 64])
+def test_with_action_values_the_best_numbers_are_ringed_and_lone_vertical_arrows_stay_a_third_of_the_cell(cs):
+    """Where the arrows must stay short (the E and W numbers share the middle row), each best
+    action's number is ringed in the arrow's white, and only those; a lone N or S arrow still
+    spans a third of the cell from 48 px (at 32 px two-digit numbers leave it room or none)."""
+    from babyrobot_marl.render.shapes import Text
+
+    env = _q_case("mixed-8x8", cs, "light")
+    r = env.unwrapped.drawing.renderer
+    ov = env.unwrapped.overlay
+    ops = annotate.ink_ops(ov, cs, LIGHT, r.labelled, r.exits)
+    ringed, plain = 0, 0
+    for i, t in enumerate(ops):
+        if not isinstance(t, Text):
+            continue
+        x, y = int(t.x // cs), int(t.y // cs)
+        u, v = t.x / cs - x, t.y / cs - y
+        action = min({Action.NORTH: v, Action.SOUTH: 1 - v, Action.WEST: u, Action.EAST: 1 - u}.items(), key=lambda kv: kv[1])[0]
+        ring = isinstance(ops[i - 2], Fill) and ops[i - 2].colour == LIGHT.arrow and len(ops[i - 2].points) != 7
+        assert ring == bool(ov.arrows[y, x, action]), ((x, y), action)
+        ringed, plain = ringed + ring, plain + (not ring)
+    assert ringed >= 8 and plain >= 8
+    if cs >= 48:
+        lone = [(x, y) for y, x in zip(*np.nonzero(ov.arrows[:, :, 1:].sum(axis=2) == 1)) if ov.arrows[y, x, [1, 3]].any()]
+        shapes = [s for s in arrow_shapes(ops) if len(s.points) == 7]  # not the rings
+        assert len(lone) >= 4
+        for x, y in lone:
+            (s,) = [s for s in shapes if (s.points.mean(axis=0) // cs == (x, y)).all()]
+            assert np.ptp(s.points[:, 1]) >= cs / 3 - 1, ((x, y), cs)

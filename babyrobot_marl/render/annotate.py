@@ -22,6 +22,7 @@ overlay is on (``robot.CORNER``), clear of every number.
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import NamedTuple
 
 import numpy as np
 
@@ -40,6 +41,8 @@ _TRIANGLES = {  # centre-to-corner triangles, cell units
     Action.SOUTH: ((1.0, 1.0), (0.0, 1.0), (0.5, 0.5)),
     Action.WEST: ((0.0, 1.0), (0.0, 0.0), (0.5, 0.5)),
 }
+RING = 1.0  # the white ring round a best action's number, pixels
+NUMBER_GAP = RING + 1.5  # pixels kept between an action value's box and an arrow (no pixel shared, ring included)
 TEXT_BAND = (0.76, 0.97)  # cell text, at the bottom
 Box = tuple[float, float, float, float]  # x0, y0, x1, y1: pixels in a cell
 ROBOT_RIGHT = CORNER[1] + 0.36 * CORNER[0]  # the right edge of a robot in its corner (arms out), cell units
@@ -88,20 +91,25 @@ def ink_ops(overlay: Overlay, cs: int, theme: Theme, labelled: frozenset = froze
     fmt = scale.format if scale is not None else format_value
     has_values = overlay.values is not None and bool(np.isfinite(overlay.values).any())
     layout = _box_layout(overlay.values, cs, fmt) if has_values else None  # type: ignore[arg-type]
+    numbers = q_labels(overlay.q_values, cs, labelled, exits, fmt) if overlay.q_values is not None else {}
     if overlay.arrows is not None:
         for y, x in zip(*np.nonzero(overlay.arrows[:, :, 1:].any(axis=2))):
             actions = [a for a in DIRECTIONS if overlay.arrows[y, x, a]]
             x0, y0, x1, y1 = arrow_region(cs, layout, (int(x), int(y)) in labelled)
+            here = numbers.get((int(x), int(y)), [])
             if all(a in (Action.EAST, Action.WEST) for a in actions):  # clear of the robot's corner:
-                if ROBOT_TOP * cs - y0 >= 0.4 * cs:
-                    y1 = min(y1, ROBOT_TOP * cs)  # above it, as long as ever (no value box)
+                if ROBOT_TOP * cs - y0 >= 0.4 * cs and not here:
+                    y1 = min(y1, ROBOT_TOP * cs)  # above it, as long as ever (no value box, no numbers)
                 else:
-                    x0 = max(x0, ROBOT_RIGHT * cs)  # right of it (under a value box)
+                    x0 = max(x0, ROBOT_RIGHT * cs)  # right of it (the W number is there anyway)
             region = (x * cs + x0, y * cs + y0, x * cs + x1, y * cs + y1)
-            for tx, ty, dx, dy, length in arrow_lanes(actions, region):
+            boxes = [(lb.action, lb.box(NUMBER_GAP if lb.action in actions else NUMBER_GAP - RING)) for lb in here]
+            lanes = q_arrow_lanes(actions, region, boxes) if boxes else arrow_lanes(actions, region)
+            for tx, ty, dx, dy, length in lanes:
                 ops += arrow(tx, ty, dx, dy, length, theme)
-    if overlay.q_values is not None:
-        ops += _q_numbers(overlay.q_values, cs, theme, labelled, exits, fmt)
+    best = overlay.arrows
+    for (x, y), labels in numbers.items():  # the best actions' numbers stand out (their arrows are short)
+        ops += [op for lb in labels for op in lb.ops(theme, best is not None and bool(best[y, x, lb.action]))]
     if layout is not None:
         ops += _value_boxes(overlay.values, cs, theme, layout, labelled, fmt)  # type: ignore[arg-type]
     for (x, y), s in overlay.text.items():
@@ -166,12 +174,16 @@ def arrow_lanes(actions: list[int], box: Box) -> list[tuple[float, float, float,
     return out
 
 
+def arrow_sizes(length: float) -> tuple[float, float, float, float]:
+    """An arrow's ``(edge, shaft width, head length, tip)`` in pixels for its ``length``."""
+    edge = max(1.0, length * 0.06)
+    head = max(3.0, min(length * 0.4, length - 2 * edge))
+    return edge, max(2.0, length * 0.16), head, length - edge * 1.6  # the dark edge ends at ``length``
+
+
 def arrow(tx: float, ty: float, dx: float, dy: float, length: float, theme: Theme) -> list[Op]:
     """An arrow ``length`` pixels long from its tail ``(tx, ty)`` pointing ``(dx, dy)``, white on a dark edge."""
-    edge = max(1.0, length * 0.06)
-    w = max(2.0, length * 0.16)
-    head = max(3.0, min(length * 0.4, length - 2 * edge))
-    tip = length - edge * 1.6  # the dark edge ends at ``length``
+    edge, w, head, tip = arrow_sizes(length)
 
     def shape(grow: float) -> Points:
         # along the arrow (a) and across it (b), east-pointing, then turned
@@ -181,6 +193,17 @@ def arrow(tx: float, ty: float, dx: float, dy: float, length: float, theme: Them
         return np.column_stack([tx + pts[:, 0] * dx - pts[:, 1] * dy, ty + pts[:, 0] * dy + pts[:, 1] * dx])
 
     return [Fill(shape(edge), theme.arrow_edge), Fill(shape(0.0), theme.arrow)]
+
+
+def arrow_boxes(tx: float, ty: float, dx: float, dy: float, length: float) -> tuple[Box, Box]:
+    """The rectangles round an arrow's shaft and its head (dark edge included), in pixels."""
+    edge, w, head, tip = arrow_sizes(length)
+    out = []
+    for a0, a1, b in ((0.0, tip - head, w / 2 + edge), (tip - head, length, head * 0.6 + edge)):
+        xs = (tx + a0 * dx, tx + a1 * dx) if dx else (tx - b, tx + b)
+        ys = (ty + a0 * dy, ty + a1 * dy) if dy else (ty - b, ty + b)
+        out.append((min(xs), min(ys), max(xs), max(ys)))
+    return out[0], out[1]
 
 
 def _box_layout(values: np.ndarray, cs: int, fmt: Callable[[float], str] = format_value) -> tuple[int, float, float] | None:
@@ -234,27 +257,126 @@ def q_label_position(action: int, x: int, y: int, cs: int, w: float, h: float, t
     return (x * cs + d if action == Action.WEST else (x + 1) * cs - d), (y + 0.5) * cs
 
 
-def _q_numbers(q: np.ndarray, cs: int, theme: Theme, labelled: frozenset = frozenset(), exits: frozenset = frozenset(),
-               fmt: Callable[[float], str] = format_value) -> list[Op]:  # fmt: skip
+class QLabel(NamedTuple):
+    """An action value's number as drawn: its action, centre, box size (pixels), type size, text."""
+
+    action: int
+    cx: float
+    cy: float
+    w: float
+    h: float
+    size: int
+    text: str
+
+    def box(self, grow: float = 0.0) -> Box:
+        return self.cx - self.w / 2 - grow, self.cy - self.h / 2 - grow, self.cx + self.w / 2 + grow, self.cy + self.h / 2 + grow
+
+    def ops(self, theme: Theme, best: bool = False) -> list[Op]:
+        """A dark box with light text; a best action's (one with an arrow) opaque in a ring of the
+        arrow's white (``RING`` pixels, inside the gap kept to arrows), so the best numbers stand out
+        where the arrows must stay short."""
+        x0, y0, x1, y1 = self.box()
+        if not best:
+            return [Fill(round_rect(x0, y0, x1, y1, 2), theme.value_box, 0.6), self._text(theme.value_text)]
+        ring = round_rect(x0 - RING, y0 - RING, x1 + RING, y1 + RING, 2 + RING)
+        return [Fill(ring, theme.arrow), Fill(round_rect(x0, y0, x1, y1, 2), theme.value_box), self._text(theme.value_text)]
+
+    def _text(self, colour: tuple[int, int, int]) -> Text:
+        return Text(self.cx, self.cy, self.text, self.size, colour)
+
+
+def q_labels(q: np.ndarray, cs: int, labelled: frozenset = frozenset(), exits: frozenset = frozenset(),
+             fmt: Callable[[float], str] = format_value) -> dict[tuple[int, int], list[QLabel]]:  # fmt: skip
+    """Each cell's action-value numbers where they fit (the largest type that does), by cell ``(x, y)``."""
     band = label_band(cs)[1] + 1
-    ops: list[Op] = []
+    out: dict[tuple[int, int], list[QLabel]] = {}
     for action in DIRECTIONS:
         for y, x in zip(*np.nonzero(np.isfinite(q[:, :, action]))):
-            if (int(x), int(y)) in exits:
+            c = (int(x), int(y))
+            if c in exits:
                 continue
             s = fmt(float(q[y, x, action]))
-            top = band if (int(x), int(y)) in labelled else 0.0
             for size in _sizes_down(min(22, max(7, int(cs * 0.16)))):
-                cap = cap_height(size)[1]
-                w, h = text_width(s, size) + 2, cap + 2
-                at = q_label_position(action, int(x), int(y), cs, w, h, top)
+                w, h = text_width(s, size) + 2, cap_height(size)[1] + 2
+                at = q_label_position(action, c[0], c[1], cs, w, h, band if c in labelled else 0.0)
                 if at is not None:
-                    ops.append(
-                        Fill(round_rect(at[0] - w / 2, at[1] - h / 2, at[0] + w / 2, at[1] + h / 2, 2), theme.value_box, 0.6)
-                    )
-                    ops.append(Text(at[0], at[1], s, size, theme.value_text))
+                    out.setdefault(c, []).append(QLabel(int(action), at[0], at[1], w, h, size, s))
                     break
-    return ops
+    return out
+
+
+Lane = tuple[float, float, float, float, float]  # an arrow: tail x, tail y, dx, dy, length
+
+
+def q_arrow_lanes(actions: list[int], region: Box, numbers: list[tuple[int, Box]]) -> list[Lane]:
+    """Arrows in a cell with action values, clear of every number's box (``numbers``: by action,
+    grown by the gap to keep): in the middle the numbers leave free, each as long as fits.
+
+    The E and W numbers sit on the cell's middle row, so a horizontal arrow has only the gap
+    between them (short at 48 px; the best numbers are highlighted for that). One arrow: centred;
+    E and W tied: one above the other; a horizontal and a vertical one: the horizontal one
+    centred, the vertical one from past its head outwards; other ties: from a hub in the middle.
+    """
+    x0, y0, x1, y1 = region
+    for action, (bx0, by0, bx1, by1) in numbers:  # the middle the numbers leave free
+        if action == Action.NORTH:
+            y0 = max(y0, by1)
+        elif action == Action.SOUTH:
+            y1 = min(y1, by0)
+        elif action == Action.WEST:
+            x0 = max(x0, bx1)
+        else:
+            x1 = min(x1, bx0)
+    cx, cy = (x0 + x1) / 2, (y0 + y1) / 2
+    if len(actions) == 1:
+        dx, dy = DIRECTIONS[actions[0]]  # type: ignore[index]
+        reach = min(x1 - x0, 0.86 * (region[2] - region[0])) if dx else min(y1 - y0, 0.86 * (region[3] - region[1]))
+        lanes = [(cx - dx * reach / 2, cy - dy * reach / 2, dx, dy, reach)]
+    elif sorted(actions) == [Action.EAST, Action.WEST]:
+        lanes = arrow_lanes(actions, (x0, y0, x1, y1))
+    elif len(actions) == 2 and any(a in (Action.EAST, Action.WEST) for a in actions):  # an L: --> with ^ above it
+        hz, v = sorted(actions, key=lambda a: a not in (Action.EAST, Action.WEST))
+        first = q_arrow_lanes([hz], region, numbers)
+        if not first:
+            return q_arrow_lanes([v], region, numbers)
+        edge, _, head, _ = arrow_sizes(first[0][4])
+        clear = head * 0.6 + edge + 1.5  # from the middle row to past the horizontal arrow's head
+        _, dy = DIRECTIONS[v]  # type: ignore[index]
+        far = y0 if dy < 0 else y1
+        lanes = [first[0], (cx, cy + dy * clear, 0.0, dy, abs(far - cy) - clear)]
+    else:
+        gap = 0.1 * min(x1 - x0, y1 - y0)
+        lanes = []
+        for a in actions:
+            dx, dy = DIRECTIONS[a]  # type: ignore[index]
+            reach = (x1 - cx if dx > 0 else cx - x0) if dx else (y1 - cy if dy > 0 else cy - y0)
+            lanes.append((cx + dx * gap, cy + dy * gap, dx, dy, reach - gap))
+    fitted = [_fit_lane(lane, region, [b for _, b in numbers]) for lane in lanes]
+    return [lane for lane in fitted if lane is not None]
+
+
+def _fit_lane(lane: Lane, region: Box, keep_out: list[Box]) -> Lane | None:
+    """The lane shortened about its middle until its arrow (shaft, head, dark edge) is inside
+    ``region`` and clear of every ``keep_out`` box; None if not even a 6-pixel arrow fits (its
+    number, highlighted, still shows the best action)."""
+    tx, ty, dx, dy, length = lane
+    mx, my = tx + dx * length / 2, ty + dy * length / 2
+    while length >= 6.0:
+        tx, ty = mx - dx * length / 2, my - dy * length / 2
+        parts = arrow_boxes(tx, ty, dx, dy, length)
+        inside = all(_within(p, region) for p in parts)
+        if inside and not any(_overlap(p, k) for p in parts for k in keep_out):
+            return tx, ty, dx, dy, length
+        length -= 0.5
+    return None
+
+
+def _within(a: Box, b: Box) -> bool:
+    return b[0] - 0.01 <= a[0] and a[2] <= b[2] + 0.01 and b[1] - 0.01 <= a[1] and a[3] <= b[3] + 0.01
+
+
+def _overlap(a: Box, b: Box) -> bool:
+    return a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]
 
 
 def _sizes_down(largest: int) -> list[int]:
