@@ -50,6 +50,11 @@ outside the grid, 4 exit; `robot` 1 when another racing robot is on the cell; ea
 walls on all sides. In `"nearest"`, distance is Manhattan (ties to the lower robot number) and
 a missing robot (fewer than `k` others racing) is `[2W - 1, 2H - 1]`. Names and codes:
 `babyrobot_marl.core.observe` (`TERRAIN`, `EDGE`, `LOCAL_FEATURES`).
+`hint=True` (with `observe="local"`): the row ends with the goal hint of the robot's cell, 5
+numbers (nvec 2 each), one per action in the order above: 1 if the action is optimal for one
+robot alone (`babyrobot_marl.planning.optimal_actions`: value iteration on the level; other
+robots ignored), else 0; all 0 on the exit. Planned once per level (each level drawn at reset
+too), not per step.
 A finished robot's `[x, y]` is the exit it took; it is off the board (it blocks nobody, and
 local windows and nearest lists do not show it).
 
@@ -130,13 +135,17 @@ known ones (PettingZoo's `api_test` resets with `options={"options": 1}`).
 race_v0.parallel_env(level="race-2", n_robots=2, collisions="block", max_cycles=None,
                      start="level", finished="remove", rules=None, render_mode=None,
                      cell_size=32, theme="light", animation_frames=4, observe="global",
-                     view_radius=None, k=None, obs_encoding="multidiscrete", **rule_overrides)
+                     view_radius=None, k=None, obs_encoding="multidiscrete", hint=False, **rule_overrides)
 ```
 
 * `level`: a built-in name (`babyrobot_marl.levels.names()`), a level text or a `Level`; or
-  levels drawn at every reset from the env's seeded generator: a maze family `"maze-WxH-*"`,
-  `babyrobot_marl.levels.sources.maze_family(W, H, seeds=...)`, or a callable
-  `f(np_random) -> Level | name | text` (one size for all; not for the batch and vector envs).
+  levels drawn at every reset from the env's seeded generator: `"maze:A..B"` (square mazes, the
+  side drawn from `A..B`, e.g. `"maze:8..16"`; one size: `"maze:16..16"`), a maze family
+  `"maze-WxH-*"`, `babyrobot_marl.levels.sources.maze_family(W, H, seeds=...)` or
+  `maze_range_family(A, B, seeds=...)`, or a callable `f(np_random) -> Level | name | text` (one
+  size for all); not for the batch and vector envs. With `"maze:A..B"` the env is built on a
+  `BxB` maze: `W`, `H` in the observation spaces, `max_cycles` and the frame size are the
+  largest level's (a smaller level's coordinates fit inside; its frames are its own size).
 * `n_robots`: how many robots race (`robot_0` ... `robot_{n-1}`).
 * `collisions`: `"block"`, `"bounce"` or `"pass"` (overrides `rules.collisions`).
 * `max_cycles`: steps before the race is truncated (default `max(100, 4 * W * H)`).
@@ -146,6 +155,7 @@ race_v0.parallel_env(level="race-2", n_robots=2, collisions="block", max_cycles=
 * `finished`: `"remove"` or `"freeze"` (above).
 * `observe`: `"global"`, `"local"` (with `view_radius`) or `"nearest"` (with `k`) (above);
   `view_radius` or `k` given to another mode is a `ValueError`.
+* `hint`: `True` adds the goal hint to `"local"` rows (above); with another mode a `ValueError`.
 * `rules` / keyword overrides: any `Rules` field, e.g. `win_bonus=0`, `glass_pass_prob=1`; any
   other keyword is Python's own `TypeError` (`... got an unexpected keyword argument 'x'`).
 * `obs_encoding`: `"multidiscrete"` (default), `"box"` or `"onehot"` (Observations above), for any `observe` mode.

@@ -75,6 +75,13 @@ RACES = {
     "eight-local-onehot-pass-remove": dict(
         level=EIGHT, n_robots=8, observe="local", view_radius=1, obs_encoding="onehot", collisions="pass"
     ),
+    # the goal hint; level families by spec: a maze of a new size at each reset (issue 27)
+    "four-local-hint-bounce": dict(level="race-4", n_robots=4, observe="local", hint=True, collisions="bounce"),
+    "four-family-local-hint-onehot": dict(
+        level="maze:6..10", n_robots=4, start="random", observe="local", view_radius=1, hint=True, obs_encoding="onehot"
+    ),
+    "four-family-global-freeze": dict(level="maze:5..8", n_robots=4, start="random", finished="freeze"),
+    "four-family-nearest-box": dict(level="maze:5..8", n_robots=4, start="random", observe="nearest", k=2, obs_encoding="box"),
 }
 RACE_IDS = list(RACES)
 
@@ -199,6 +206,9 @@ RACE_GYM = {
         collisions="bounce",
     ),
     "seven-global-pass": dict(level=EIGHT, opponents=["shortest"] * 3 + ["random"] * 4, collisions="pass"),
+    "two-family-local-hint": dict(
+        level="maze:6..9", opponents=["shortest", "random"], start="random", observe="local", hint=True
+    ),
 }
 SINGLE = {
     "default": {},

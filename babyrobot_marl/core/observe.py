@@ -408,3 +408,41 @@ def make_observer(table: Table, observe: str = "global", view_radius: int | None
         return Observer("local", view.nvec, view, 0, xy, w, h)
     k = int(DEFAULT_K if k is None else k)
     return Observer("nearest", nearest_nvec(w, h, k), None, k, xy, w, h)
+
+
+HINT_BITS = 5  # the goal hint: one bit per action (core.actions.Action order)
+
+
+def observer_for(observer: Observer, table: Table, width: int, height: int) -> Observer:
+    """``observer``'s mode, radius and ``k`` on another level (``table``: a level a race drew at reset,
+    its radius checked on the level the env was built on), its ``[x, y]`` sized for ``width x height``
+    (the largest level the env draws: the observation space stays the same)."""
+    w, h = table.level.width, table.level.height
+    ids = np.arange(table.n_cells)
+    xy = np.stack([ids % w, ids // w], axis=1)
+    if observer.view is not None:
+        view = local_view(table, observer.view.radius)
+        return Observer("local", np.array([width, height, *view.nvec[2:]], dtype=np.int64), view, 0, xy, w, h)
+    # "nearest": offsets [dx + width - 1, dy + height - 1] on the largest level's scale, missing ones its last values
+    return Observer("nearest", nearest_nvec(width, height, observer.k), None, observer.k, xy, width, height)
+
+
+@dataclass(frozen=True, eq=False)
+class HintObserver(Observer):
+    """An observer whose rows end with the goal hint of the robot's cell: ``hints[cell]``, one bit per action."""
+
+    hints: np.ndarray  # (cells, HINT_BITS) 0/1
+
+    def __call__(self, cells: np.ndarray, racing: np.ndarray) -> np.ndarray:
+        rows = super().__call__(cells, racing)
+        return np.concatenate([rows, self.hints.take(np.asarray(cells), axis=0).astype(np.int64)], axis=-1)
+
+
+def with_hint(observer: Observer, hints: np.ndarray) -> HintObserver:
+    """``observer`` with the goal hint: ``hints`` ``(cells, HINT_BITS)`` (or ``(H, W, HINT_BITS)``) of 0/1,
+    appended to each robot's row (``nvec`` 2 each). A finished robot sees its exit's hint: all 0."""
+    if isinstance(observer, HintObserver):
+        raise ValueError("hint: this observer has a hint already")
+    hints = np.asarray(hints).reshape(-1, HINT_BITS)
+    nvec = np.concatenate([observer.nvec, np.full(HINT_BITS, 2, dtype=np.int64)])
+    return HintObserver(observer.mode, nvec, observer.view, observer.k, observer.xy, observer.width, observer.height, hints)

@@ -154,3 +154,12 @@ def check_sb3_autoreset(mode: object) -> None:
             f"autoreset_mode: a Stable-Baselines3 VecEnv always resets an env in the step it ends (its last "
             f"observation in infos[k]['terminal_observation']), which is 'same-step'; got {mode!r}"
         )
+
+
+def check_hint(hint: object, observe: object) -> bool:
+    """``hint``: a bool, ``True`` only with ``observe="local"`` (the goal hint follows the local window)."""
+    if not isinstance(hint, (bool, np.bool_)):
+        raise ValueError(f"hint: must be True or False, got {hint!r}")
+    if hint and observe != "local":
+        raise ValueError(f"hint: the goal hint is for observe='local' (it follows the local window), got observe={observe!r}")
+    return bool(hint)

@@ -15,18 +15,19 @@ from ..core.actions import N_ACTIONS
 from ..core.batch import BatchRace
 from ..core.checks import check_action, check_count, check_global_view, check_seed, check_view_numbers
 from ..core.level import Cell, Level
-from ..core.observe import global_gather, make_observer
+from ..core.observe import Observer, global_gather, make_observer, observer_for, with_hint
 from ..core.outcomes import FINISHED, START
 from ..core.race import race_step
 from ..core.rng import new_key
 from ..core.rules import COLLISION_MODES, Rules, resolve_rules
-from ..core.table import compile_level
+from ..core.table import Table, compile_level
 from ..levels.sources import LevelPicker
+from ..planning.hint import optimal_actions
 from ..render.ansi import frame, robot_glyph
 from ..render.checks import check_animation_frames, check_cell_size, check_fps, check_frame_size
 from ..render.rgb import Theme, resolve_theme
 from ..render.scene import Scene
-from .checks import check_cells, check_options, check_render_mode
+from .checks import check_cells, check_hint, check_options, check_render_mode
 from .drawing import EnvDrawing, OverlayMethods
 from .encodings import Encoder
 from .scenes import race_scene
@@ -39,7 +40,7 @@ FINISHED_MODES = ("remove", "freeze")
 _INT, _ACTIONS = frozenset({int}), frozenset(range(N_ACTIONS))
 _ARGS = (
     "level", "n_robots", "collisions", "max_cycles", "start", "finished", "rules", "render_mode", "cell_size", "theme",
-    "animation_frames", "render_fps", "observe", "view_radius", "k", "obs_encoding",
+    "animation_frames", "render_fps", "observe", "view_radius", "k", "obs_encoding", "hint",
 )
 
 
@@ -71,6 +72,7 @@ class RaceEnv(OverlayMethods, ParallelEnv):
         view_radius: int | None = None,
         k: int | None = None,
         obs_encoding: str = "multidiscrete",
+        hint: bool = False,
         **rule_overrides: Any,
     ):
         self.levels = LevelPicker(level)  # level= a family or a callable: drawn per reset
@@ -84,6 +86,9 @@ class RaceEnv(OverlayMethods, ParallelEnv):
         self.table = compile_level(self.level, self.rules)
         self._observer_of = partial(make_observer, observe=observe, view_radius=view_radius, k=k)
         self.observe, self._observer = observe, self._observer_of(self.table)  # None: "global"
+        self._first_observer, self.hint = self._observer, check_hint(hint, observe)
+        if self.hint:  # the goal hint: planned once per level (planning.hint, cached)
+            self._observer = with_hint(self._observer, optimal_actions(self.level, self.rules))
         self.n_robots = n = check_count(n_robots, "n_robots")
         self.max_cycles = default_max_steps(self.level) if max_cycles is None else check_count(max_cycles, "max_cycles")
         if start not in START_MODES:
@@ -449,9 +454,20 @@ class RaceEnv(OverlayMethods, ParallelEnv):
         self.level, self.table = level, compile_level(level, self.rules)
         self._lists = self.table.lists
         self._reward_at = self._lists.reward.__getitem__
-        self._observer = self._observer_of(self.table)
+        self._observer = self._drawn_observer(self.table)
         self._fixed_starts, self._free = self._placement(self.n_robots)
         self.drawing.new_level(level)
+        # the cells' [x, y] (a family of sizes: each level has its own cells, inside the largest's space)
+        self._xy = [self.table.cell_xy(c) for c in range(self.table.n_cells)]
+        self._xy_arrays = [np.array(xy, dtype=np.int64) for xy in self._xy]
+        self._xyf = np.array([(*xy, 0) for xy in self._xy] + [(*xy, 1) for xy in self._xy], dtype=np.int64)
+
+    def _drawn_observer(self, table: Table) -> Observer | None:
+        """The observer on a level drawn at reset: the first's mode and radius, sized for the largest level, the hint if asked."""
+        if self._first_observer is None:
+            return None
+        observer = observer_for(self._first_observer, table, *self.levels.largest)
+        return with_hint(observer, optimal_actions(table.level, self.rules)) if self.hint else observer
 
     def _placement(self, n: int) -> tuple[list[int], list[int]]:
         return placement(self.table, self.start, n)

@@ -19,7 +19,7 @@ from .spec import StepLimitSpec
 
 _ARGS = (
     "level", "opponents", "collisions", "max_cycles", "start", "rules", "render_mode", "cell_size", "theme",
-    "animation_frames", "render_fps", "observe", "view_radius", "k", "obs_encoding",
+    "animation_frames", "render_fps", "observe", "view_radius", "k", "obs_encoding", "hint",
 )
 
 

@@ -19,6 +19,27 @@ def check_maze_size(value: object, name: str) -> int:
     return check_int(value, name, 1, MAX_MAZE_SIDE, message="{name}: a maze side is an integer in 1..{hi}, got {shown}")
 
 
+FAMILY_FORM = (
+    "'maze:A..B' (square mazes, the side drawn from A..B, 2 <= A <= B <= 256; e.g. 'maze:8..16', one size 'maze:16..16')"
+)
+
+
+def check_family_sides(low: object, high: object) -> tuple[int, int]:
+    """The sides of a family of square mazes ``maze:A..B``: integers with ``2 <= A <= B <= MAX_MAZE_SIDE``
+    (a 1x1 maze has no room for a start and an exit)."""
+    try:
+        a = check_int(low, "level", 2, MAX_MAZE_SIDE)
+        b = check_int(high, "level", a, MAX_MAZE_SIDE)
+    except ValueError:
+        raise ValueError(f"level: a level family is {FAMILY_FORM}, got sides {shown(low)}..{shown(high)}") from None
+    return a, b
+
+
+def bad_family(spec: str) -> str:
+    """The error line of a malformed family spec (``maze:...``)."""
+    return f"level: a level family is {FAMILY_FORM}, got {shown(spec)}"
+
+
 def check_maze_seed(value: object) -> int:
     """A maze seed: an integer >= 0."""
     return check_int(value, "seed", 0, message="{name}: a maze seed is an integer >= 0, got {shown}")

@@ -1,15 +1,21 @@
-"""Levels drawn per reset: ``level=`` a maze family (``"maze-16x16-*"``) or a callable, seeded by the env.
-``LevelPicker`` is the race's part that draws them.
+"""Levels drawn per reset: ``level=`` a maze family (``"maze:8..16"``, ``"maze-16x16-*"``) or a callable,
+seeded by the env. ``LevelPicker`` is the race's part that draws them.
 
+    race_v0.parallel_env(level="maze:8..16", n_robots=4, start="random", observe="local")  # sides 8..16
     race_v0.parallel_env(level="maze-16x16-*", n_robots=8, start="random", observe="local")
     race_v0.parallel_env(level=maze_family(16, 16, seeds=range(1000)), ...)   # a fixed training set
     race_v0.parallel_env(level=lambda rng: my_generator(rng), ...)           # any Level, name or text
 
 At every reset the env draws its level from its own seeded generator (``np_random``), after the
-seed and before the starts: same seed, same level, same race. All levels of a source must have
-one size (the observation spaces hold ``W`` and ``H``); the first level is drawn at construction
-from a generator of its own (seed 0) only to learn that size. The batch engine and the vector
-envs run one level for all their envs and refuse drawn levels.
+seed and before the starts: same seed, same level, same race. A family of sizes (``"maze:A..B"``,
+``maze_range_family``) draws the side, then the maze seed; the env is built on its largest level
+(observation spaces, step limit, picture size: every level it draws fits). Other sources must draw
+levels of one size (the observation spaces hold ``W`` and ``H``); their first level is drawn at
+construction from a generator of its own (seed 0) only to learn that size. The batch engine and
+the vector envs run one level for all their envs and refuse drawn levels.
+
+Training and evaluation draw their mazes from disjoint seeds: ``TRAIN_MAZE_SEEDS`` and
+``EVAL_MAZE_SEEDS`` (the fast trainer and ``babyrobot-marl evaluate``), so evaluation mazes are unseen.
 """
 
 from __future__ import annotations
@@ -22,11 +28,15 @@ import numpy as np
 
 from ..core.level import Level
 from . import builtin, mazes
+from .checks import bad_family, check_family_sides
 from .resolve import resolve_level
 
 LevelSource = Callable[[np.random.Generator], Level]
 _FAMILY = re.compile(r"maze-(\d+)x(\d+)-\*")
-FAMILY_SEEDS = 2**31  # "maze-WxH-*" draws its maze seed from 0 .. FAMILY_SEEDS - 1
+_RANGE = re.compile(r"maze:(\d{1,9})\.\.(\d{1,9})")  # "maze:A..B"
+FAMILY_SEEDS = 2**31  # "maze-WxH-*" and "maze:A..B" draw their maze seed from 0 .. FAMILY_SEEDS - 1
+TRAIN_MAZE_SEEDS = range(0, 2**30)  # the fast trainer's mazes
+EVAL_MAZE_SEEDS = range(2**30, 2**31)  # evaluation's mazes: never trained on
 
 
 def maze_family(width: int, height: int, seeds: Sequence[int] | range | None = None) -> LevelSource:
@@ -43,9 +53,45 @@ def maze_family(width: int, height: int, seeds: Sequence[int] | range | None = N
     return draw
 
 
+def maze_range_family(low: int, high: int, seeds: Sequence[int] | range | None = None) -> LevelSource:
+    """Square mazes of side ``low..high`` (``"maze:A..B"``): each draw takes the side, then the maze seed
+    from ``seeds`` (default: 0 .. 2**31 - 1), both from the generator it is given (the env's).
+
+    Its attributes: ``family`` (the spec, ``"maze:8..16"``), ``largest`` (``(W, H)`` of the largest
+    level it draws) and ``first()`` (a level of that size: what an env is built on).
+    """
+    low, high = check_family_sides(low, high)
+    pool = range(FAMILY_SEEDS) if seeds is None else seeds
+    if len(pool) == 0:
+        raise ValueError("seeds: an empty set of maze seeds")
+
+    def draw(rng: np.random.Generator) -> Level:
+        side = int(rng.integers(low, high + 1))
+        return builtin.get(f"maze-{side}x{side}-s{int(pool[int(rng.integers(len(pool)))])}")
+
+    draw.family = f"maze:{low}..{high}"  # type: ignore[attr-defined]
+    draw.largest = (high, high)  # type: ignore[attr-defined]
+    draw.first = lambda: builtin.get(f"maze-{high}x{high}-s{int(pool[0])}")  # type: ignore[attr-defined]
+    return draw
+
+
+def parse_level_family(spec: str, seeds: Sequence[int] | range | None = None) -> LevelSource | None:
+    """The family of ``spec`` if it is ``"maze:A..B"`` (``None`` if ``spec`` is not a family spec);
+    a ``ValueError`` naming ``level`` and the allowed form for a malformed ``"maze:..."``."""
+    if not isinstance(spec, str) or not spec.startswith("maze:"):
+        return None
+    m = _RANGE.fullmatch(spec)
+    if m is None:
+        raise ValueError(bad_family(spec))
+    return maze_range_family(int(m[1]), int(m[2]), seeds)
+
+
 def level_source(level: Any) -> LevelSource | None:
     """The drawing function of ``level=`` (``None`` for one fixed level: a name, a text or a ``Level``)."""
     if isinstance(level, str):
+        family = parse_level_family(level)
+        if family is not None:
+            return family
         if "\n" in level or not level.endswith("*"):
             return None
         m = _FAMILY.fullmatch(level)
@@ -54,6 +100,8 @@ def level_source(level: Any) -> LevelSource | None:
         return maze_family(int(m[1]), int(m[2]))
     if isinstance(level, Level) or not callable(level):
         return None
+    if getattr(level, "family", None) is not None:  # maze_family, maze_range_family: returns Levels, keeps its attributes
+        return level
     def draw(rng: np.random.Generator) -> Level:
         got = level(rng)
         if not isinstance(got, (str, Level)):
@@ -66,13 +114,18 @@ def level_source(level: Any) -> LevelSource | None:
 class LevelPicker:
     """The race's levels, a part the env holds: one fixed level, or a source drawn from at each reset.
 
-    ``first`` is the level the env is built on (for a source: drawn from a generator of its own,
-    seed 0, only to learn the size); ``fixed`` says whether there is nothing to draw.
+    ``first`` is the level the env is built on (a family of sizes: one of its largest size; another
+    source: drawn from a generator of its own, seed 0, only to learn the size); ``fixed`` says
+    whether there is nothing to draw; ``largest`` is ``(W, H)`` of the largest level it draws.
     """
 
     def __init__(self, level: Any) -> None:
         self.source = level_source(level)
-        self.first: Level = resolve_level(level if self.fixed else self.source(np.random.default_rng(0)))
+        first = getattr(self.source, "first", None)  # a family of sizes: built on its largest
+        self.first: Level = resolve_level(
+            level if self.fixed else first() if first is not None else self.source(np.random.default_rng(0))
+        )
+        self.largest: tuple[int, int] = getattr(self.source, "largest", (self.first.width, self.first.height))
 
     @property
     def fixed(self) -> bool:
@@ -84,10 +137,16 @@ class LevelPicker:
             raise ValueError(f"level: {what} runs one level in all its envs; drawn levels are for parallel_env and env")
 
     def draw(self, rng: np.random.Generator, current: Level) -> Level | None:
-        """A new level from ``rng`` (the env's generator), the size of ``current``; None for a fixed level."""
+        """A new level from ``rng`` (the env's generator), the size of ``current`` (a family of sizes: at
+        most ``largest``); None for a fixed level."""
         if self.fixed:
             return None
         level = self.source(rng)
+        if hasattr(self.source, "largest"):
+            w, h = self.largest
+            if level.width > w or level.height > h:
+                raise ValueError(f"level: drawn levels must fit in {w}x{h}, got {level.width}x{level.height}")
+            return level
         if (level.width, level.height) != (current.width, current.height):
             raise ValueError(
                 f"level: drawn levels must all be {current.width}x{current.height} (the observation spaces hold the size), "

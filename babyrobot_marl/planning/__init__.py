@@ -5,10 +5,12 @@
 >>> sol.value_grid, sol.policy_grid, sol.best_actions  # draw with env.unwrapped.set_overlay(...)
 
 ``model`` reads the same compiled tables the simulator steps with; ``policy_evaluation``,
-``policy_iteration`` and ``value_iteration`` are vectorised numpy over its sparse arrays.
+``policy_iteration`` and ``value_iteration`` are vectorised numpy over its sparse arrays;
+``optimal_actions`` is the race envs' goal hint.
 """
 
 from .dp import Solution, policy_evaluation, policy_iteration, q_values, value_iteration
+from .hint import optimal_actions
 from .mdp import Model, model
 from .text import policy_text, value_text
 
@@ -16,6 +18,7 @@ __all__ = [
     "Model",
     "Solution",
     "model",
+    "optimal_actions",
     "policy_evaluation",
     "policy_iteration",
     "policy_text",

@@ -1,0 +1,36 @@
+"""The goal hint (``hint=True`` on the race envs): in each cell, the optimal actions of one robot.
+
+``optimal_actions(level)`` is ``uint8[H, W, 5]``, 1 where the action (``Action`` order: STAY,
+NORTH, EAST, SOUTH, WEST) is optimal for the one-robot model of the level (value iteration on
+``model(level, rules)``, ties within the planner's ``tie_tol``; other robots ignored), 0 on
+exits, blocked cells and cells that reach no exit. It is what POGEMA-style learned agents get as
+their goal direction. Planned once per level and rules (cached): an env on a fixed level plans
+it once, an env drawing levels plans each new one.
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+from typing import Any
+
+import numpy as np
+
+from ..core.level import Level
+from ..core.rules import Rules, resolve_rules
+from ..levels.resolve import resolve_level
+from .dp import value_iteration
+from .mdp import model
+
+HINT_CACHE = 64  # levels whose hints are kept (a family of mazes draws a new one at most resets)
+
+
+def optimal_actions(level: str | Level, rules: Rules | dict[str, Any] | None = None) -> np.ndarray:
+    """``uint8[H, W, 5]``: 1 where the action is optimal from that cell for one robot (read-only, cached)."""
+    return _optimal(resolve_level(level), resolve_rules(rules, {}))
+
+
+@lru_cache(maxsize=HINT_CACHE)
+def _optimal(level: Level, rules: Rules) -> np.ndarray:
+    best = value_iteration(model(level, rules)).best_actions.astype(np.uint8)
+    best.setflags(write=False)  # shared by every env on this level
+    return best
