@@ -155,7 +155,8 @@ class BatchRace:
         # start pools: consecutive runs of ``free`` (one per level of an atlas); a reset draws a pool, then starts in it
         counts = np.asarray([len(self.free)] if pools is None else pools, dtype=np.int64)
         if counts.sum() != len(self.free) or (pools is not None and (counts < 1).any()):
-            raise ValueError(f"pools: the sizes of runs of free cells, each >= 1, summing to {len(self.free)}, got {list(counts)}")
+            raise ValueError(f"pools: the sizes of runs of free cells, each >= 1, summing to {len(self.free)}, "
+                             f"got {counts.tolist()}")
         self.pool_count, self.pool_first = counts, np.cumsum(counts) - counts
         self.pool = np.zeros(n_envs, dtype=np.int64)  # each env's pool in its current episode
         self.start = start
@@ -223,7 +224,8 @@ class BatchRace:
                 picks = (rng.random((k, 1)) * np.reshape(count, (-1, 1))).astype(np.int64)
             else:  # distinct cells: the ``need`` smallest of uniform keys, the pool's cells only
                 u = rng.random((k, int(np.max(count))))
-                u[np.arange(u.shape[1]) >= np.reshape(count, (-1, 1))] = 2.0
+                if self.pool_count.size > 1:
+                    u[np.arange(u.shape[1]) >= np.reshape(count, (-1, 1))] = 2.0
                 picks = np.argpartition(u, need - 1, axis=1)[:, :need]
             drawn = self.free[np.reshape(first, (-1, 1)) + picks]
             self.cells[envs] = drawn if self.start == "single" or not len(self.fixed) else np.concatenate(

@@ -213,7 +213,9 @@ class WindowPolicy(TrainedPolicy):
         radius = observer.view.radius if getattr(e, "observe", "global") == "local" else None
         hint = bool(getattr(e, "hint", False))
         if radius != self.form.radius or hint != self.form.hint:
-            shown_env = f"observe={getattr(e, 'observe', 'global')!r}" + (f", view_radius={radius}, hint={hint}" if radius is not None else "")
+            shown_env = f"observe={getattr(e, 'observe', 'global')!r}"
+            if radius is not None:
+                shown_env += f", view_radius={radius}, hint={hint}"
             raise ValueError(f"policy: trained on observe='local', view_radius={self.form.radius}, hint={self.form.hint}; "
                              f"this env has {shown_env}")
         if self.form.near and radius < max(abs(dx) + abs(dy) for dx, dy in self.form.near):
@@ -264,7 +266,7 @@ def save_policy(result: Any, path: str | os.PathLike) -> str:
         "width": level.width,
         "height": level.height,
         "level": level.to_ascii(),
-        "level_name": level.name or "",
+        "level_name": getattr(result, "family", None) or level.name or "",
         "n_robots": result.n_robots,
         "observation": observation_form(result),
         "net_arch": list(result.config.net_arch),

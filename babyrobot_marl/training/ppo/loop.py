@@ -21,7 +21,7 @@ from ...core.batch import BatchRace
 from ...core.checks import check_int
 from ...core.level import Level
 from ...levels.resolve import resolve_level
-from ...levels.sources import level_source
+from ...levels.sources import TRAIN_MAZE_SEEDS, level_source, parse_level_family
 from ..checks import check_finite
 from ..deps import torch_module
 from .config import PPOConfig, known_settings
@@ -103,7 +103,9 @@ def train_ppo(
     n = check_int(n_robots, "n_robots", 1)
     total = check_int(timesteps, "timesteps", 1)
     check_int(seed, "seed", 0)
-    source = level_source(level)  # a level family: an atlas of its levels, the net reading local windows
+    # a level family ("maze:8..16": its mazes from the training seeds): an atlas of its levels, the net reading local windows
+    source = parse_level_family(level, TRAIN_MAZE_SEEDS) if isinstance(level, str) else None
+    source = source or level_source(level)
     family = None if source is None else Family(source, n, cfg, seed, env_kwargs or {})
     if family is None:
         level = resolve_level(level)

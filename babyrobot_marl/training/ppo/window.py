@@ -223,12 +223,13 @@ class Family:
                         **kwargs)
         self.rules = probe.rules
         w, h = getattr(source, "largest", (first.width, first.height))
-        self.max_steps = int(max_cycles) if max_cycles is not None else default_max_steps(Level(w, h, exits=[(0, 0)]))  # a level of the largest size
+        largest = Level(w, h, exits=[(0, 0)])  # the step limit of the family's envs: their largest level's
+        self.max_steps = int(max_cycles) if max_cycles is not None else default_max_steps(largest)
         if n_robots > 1 and cfg.near_radius > cfg.view_radius:
             raise ValueError(f"near_radius: a robot sees the robots within its window; near_radius {cfg.near_radius} "
                              f"exceeds view_radius {cfg.view_radius}")
         self.form = window_form(cfg, n_robots)
-        self.spec = str(getattr(source, "family", "a level family"))
+        self.spec = str(getattr(source, "family", None) or first.name or "a level family")
         self.first = first
 
     def atlas(self, size: int) -> Atlas:
