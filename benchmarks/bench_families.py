@@ -3,7 +3,7 @@
     python benchmarks/bench_families.py --level maze:8..16 --robots 4 --hint --seconds 600       # issue 27 target (a)
     python benchmarks/bench_families.py --level maze:8..16 --robots 4 --seconds 600              # (b): no hint
     python benchmarks/bench_families.py --level maze:16..16 --robots 32 --hint --collisions bounce --seconds 600  # (c)
-    python benchmarks/bench_families.py --level maze:8..8 --robots 2 --hint --seconds 5 --episodes 20  # a smoke run
+    python benchmarks/bench_families.py --quick     # CI's smoke run: maze:8..8, 2 robots, hint, 3 s, 10 races
 
 Training: ``train_ppo(level, n_robots, config=PPOConfig(view_radius=2, hint=...))`` for ``--seconds`` of
 wall-clock training time (rollouts and updates), mazes from ``TRAIN_MAZE_SEEDS`` (an atlas of 64 on the batch
@@ -66,7 +66,10 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--save", default=None)
     p.add_argument("--load", default=None, help="evaluate this saved policy instead of training")
     p.add_argument("--min-success", type=float, default=None)
+    p.add_argument("--quick", action="store_true", help="a smoke run: maze:8..8, 2 robots, hint, 3 s, 10 races")
     args = p.parse_args(argv)
+    if args.quick:
+        args.level, args.robots, args.hint, args.seconds, args.episodes = "maze:8..8", 2, True, 3.0, 10
     from babyrobot_marl.training.policy import load_policy
     from babyrobot_marl.training.ppo import PPOConfig, train_ppo
 
@@ -94,7 +97,7 @@ def main(argv: list[str] | None = None) -> int:
     print(f"{args.episodes} races on unseen mazes ({args.level}, EVAL_MAZE_SEEDS), {args.robots} robots each, "
           f"collisions {args.collisions}; success and all-reached: Wilson 95%; makespan: mean, 95% interval")
     print(f"{'robots':18s} {'success_rate':>22s} {'all_reached_rate':>22s} {'makespan':>24s}")
-    greedy = None
+    greedy: float | None = None
     sampled = type(policy)(policy.net, policy.form, policy.n_robots, deterministic=False, seed=args.seed)
     for name, who in (("policy (greedy)", policy), ("policy (sampled)", sampled), ("shortest", "shortest"),
                       ("random", "random")):
