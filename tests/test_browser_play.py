@@ -9,8 +9,6 @@ canvas pixels (drawn by the same renderer).
 
 from __future__ import annotations
 
-import re
-
 import numpy as np
 
 from babyrobot_marl.core.actions import Action
@@ -46,10 +44,11 @@ def wait_panel(page, text: str) -> str:
     return panel_text(page)
 
 
-def robots_in_panel(text: str) -> str:
-    m = re.search(r"robots at (\[.*\])", text)
-    assert m, text
-    return m[1]
+def where_text(game) -> str:
+    """The panel's lines saying where the robots are, for ``game`` (the same game replayed here)."""
+    from babyrobot_marl.play.notebook import where
+
+    return "\n".join(where(game))
 
 
 def assert_robot_pixels(img: np.ndarray, level, robots) -> None:
@@ -76,26 +75,29 @@ def test_player_buttons_and_keys_move_the_robot_where_the_game_predicts(page, sc
         """,
     ])  # fmt: skip
     p = page.page
-    assert "step 0/" in wait_panel(page, "robots at [(0, 0)]")
+    assert "step 0/" in wait_panel(page, "Baby Robot is at column 0, row 0")
     p.locator(".babyrobot-east").first.click()
     wait_panel(page, "step 1/")
     p.locator(".babyrobot-east").first.click()
     wait_panel(page, "step 2/")
     canvas = p.locator(".jp-OutputArea-output canvas").first
     canvas.click(position={"x": 5, "y": 5})  # the focus: keys now go to the game
+    outline = p.evaluate("""() => { const k = document.querySelector('.babyrobot-player .babyrobot-keys');
+      return [k, k.querySelector('canvas')].filter(e => e).map(e => getComputedStyle(e).outlineStyle); }""")
+    assert "solid" in outline, f"no focus frame on the canvas with the keys: {outline}"  # issue 26: a visible focus
     for k, key in enumerate(["ArrowDown", "s", "x", " "]):
         p.keyboard.press(key)
         wait_panel(page, "that key does nothing" if key == "x" else f"step {3 + k - (key == ' ')}/")
     game = make_game("walls", seed=0)
     for a in (Action.EAST, Action.EAST, Action.SOUTH, Action.SOUTH, Action.STAY):
         game.act(a)
-    text = wait_panel(page, f"robots at {game.robots}")
+    text = wait_panel(page, where_text(game))
     assert f"step 5/{game.env.max_steps}  return {game.ret:g}  last: STAY -> stayed" in text
     img = page.canvas_pixels(0)[..., :3]
     shot(page, screenshots, "play_single")
     assert_robot_pixels(img, game.env.level, game.robots)
     p.keyboard.press("r")  # restart: back at the start
-    wait_panel(page, "robots at [(0, 0)]")
+    wait_panel(page, "Baby Robot is at column 0, row 0")
     assert "step 0/" in panel_text(page)
 
 
@@ -111,10 +113,11 @@ def test_race_tab_hands_the_keys_to_the_next_robot(page, screenshots):
     wait_panel(page, "you drive #0 (robot_0)")
     p.locator(".jp-OutputArea-output canvas").first.click(position={"x": 5, "y": 5})
     game = make_game("race-4", policies="shortest", seed=0)
+    game.labels = lambda i: f"#{i}"  # as the player numbers them
     for key in ["ArrowRight", "Tab", " ", "ArrowDown"]:
         p.keyboard.press(key)
         game.command({"ArrowRight": Action.EAST, "Tab": "switch", " ": Action.STAY, "ArrowDown": Action.SOUTH}[key])
-        wait_panel(page, f"robots at {game.robots}")
+        wait_panel(page, where_text(game))
     text = wait_panel(page, "you drive #1 (robot_1)")
     assert f"step {game.steps}/" in text
     img = page.canvas_pixels(0)[..., :3]
@@ -151,7 +154,7 @@ def test_editor_builds_a_level_by_clicks_and_plays_it(page, screenshots):
     click(100, 38, "+ + +-+")  # the line under (2, 0): a wall, the exit is walled in
     assert row(3) == "|  p|E|"
     verdict = p.locator(".babyrobot-verdict").inner_text()
-    assert "cannot reach any exit" in verdict and "line 2, column 2" in verdict
+    assert "the start (column 0, row 0) cannot reach an exit" in verdict and "line 2" not in verdict
     assert p.locator(".babyrobot-play-it button, button.babyrobot-play-it").first.is_disabled()
     click(100, 38, "+ + +*+")  # wall -> glass: the exit can be reached again
     p.wait_for_function("() => document.querySelector('.babyrobot-verdict').innerText.includes('ok: a 3x2 level')",
@@ -159,5 +162,5 @@ def test_editor_builds_a_level_by_clicks_and_plays_it(page, screenshots):
     text = p.locator(".babyrobot-level-text").inner_text().strip()
     assert text == "+-+-+-+\n|S   p|\n+ + +*+\n|  p|E|\n+-+-+-+"
     p.locator(".babyrobot-play-it").first.click()
-    wait_panel(page, "robots at [(0, 0)]")
+    wait_panel(page, "Baby Robot is at column 0, row 0")
     shot(page, screenshots, "edit_level")

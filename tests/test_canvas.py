@@ -61,8 +61,8 @@ def make(animation_frames=3, level="maze-8x8", cs=32, ratio=2) -> live.LiveCanva
 
 def test_the_backing_store_is_twice_the_css_size_for_hidpi_screens():
     c = make(cs=40)
-    assert (c.widget.width, c.widget.height) == (8 * 40 * 2, 8 * 40 * 2)
-    assert (c.widget.layout.width, c.widget.layout.height) == ("320px", "320px")
+    assert c.widget.width == 8 * 40 * 2 and c.widget.height == 8 * 40 * 2 + c._reserved(Scene())
+    assert (c.widget.layout.width, c.widget.layout.height) == ("320px", f"{c.widget.height // 2}px")
     one = make(cs=40, ratio=1)
     assert one.widget.width == 320
     with pytest.raises(ValueError, match="^pixel_ratio"):
@@ -152,12 +152,37 @@ def test_a_client_connecting_gets_everything_redrawn(sent):
     assert "fillStyledPolygons" in [n for m in sent for n in names(m)]
 
 
-def test_a_panel_or_a_legend_makes_the_canvas_taller_in_whole_css_pixels():
+def test_a_panel_taller_than_the_reserved_one_makes_the_canvas_taller_in_whole_css_pixels():
     c = make()
     h = c.widget.height
     c.draw([(1, 1)], update_overlay(Overlay(), levels.get("maze-8x8"), panel=["a", "b"]))
-    assert c.widget.height > h + 40 and c.widget.height % 2 == 0
+    assert c.widget.height > h and c.widget.height % 2 == 0
     assert c.widget.layout.height == f"{c.widget.height // 2}px"
+    taller = c.widget.height
+    c.draw([(1, 1)], Overlay())  # the panel gone: the canvas keeps its height (nothing below it jumps)
+    assert c.widget.height == taller
+
+
+def test_the_canvas_keeps_a_colour_bar_height_from_the_start_so_values_do_not_make_it_grow(sent):
+    c = make()
+    h = c.widget.height
+    assert h > 8 * 64  # the reserved strip under the grid
+    c.draw([(1, 1)], update_overlay(Overlay(), levels.get("maze-8x8"), values=np.arange(64.0).reshape(8, 8)))
+    assert c.widget.height == h
+    assert c.picture().shape[0] == h  # the still is as tall as the canvas
+
+
+def test_a_canvas_without_a_cell_size_fills_90_percent_of_the_column_with_the_pixels_for_it():
+    c = live.LiveCanvas(RgbRenderer(levels.get("maze-8x8")), fps=0, fit=True)
+    assert (c.widget.layout.width, c.widget.layout.height) == ("90%", "auto")
+    # no wider than its backing store's pixels (90% of a 1,032-pixel column is 929), nor than 80% of the window's height
+    assert c.widget.layout.max_width.startswith(f"min({c.width}px, calc(80vh * 0.") and c.width >= 929
+    assert c.widget.width == 2 * c.width
+    tall = live.LiveCanvas(RgbRenderer(levels.get("maze-8x8").__class__(width=4, height=40, exits=[(0, 0)])), fps=0, fit=True)
+    assert tall.grid_height <= live.FIT_HEIGHT  # capped for tall levels
+    assert f"calc(80vh * {tall.hi.width / tall.widget.height:.4f})" in tall.css
+    env = BabyRobotEnv(level="maze-8x8", render_mode="rgb_array")
+    assert env.drawing.fit and not BabyRobotEnv(level="maze-8x8", cell_size=32).drawing.fit
 
 
 def test_human_mode_outside_jupyter_prints_the_text_frame(capsys):
@@ -172,7 +197,7 @@ class FakeHandle:
     def __init__(self):
         self.updates = []
 
-    def update(self, data, raw=False):
+    def update(self, data, raw=False, metadata=None):
         self.updates.append(data)
 
 
@@ -185,7 +210,7 @@ def jupyter(monkeypatch, sent):
     handles: list[FakeHandle] = []
     bundles: list[dict] = []
 
-    def display(obj, raw=False, display_id=None):
+    def display(obj, raw=False, display_id=None, metadata=None):
         bundles.append(obj)
         handles.append(FakeHandle())
         return handles[-1]
@@ -200,13 +225,23 @@ def decode(bundle) -> np.ndarray:
     return np.array(Image.open(io.BytesIO(base64.b64decode(bundle["image/png"]))))
 
 
-def test_human_mode_in_jupyter_shows_a_canvas_whose_output_carries_a_png_of_the_frame(jupyter):
+def test_human_mode_in_jupyter_shows_a_canvas_and_a_still_of_its_frame_at_twice_its_css_size(jupyter):
     bundles, handles = jupyter
     env = BabyRobotEnv(level="maze-8x8", render_mode="human", animation_frames=0, render_fps=0)
     env.reset(seed=0)
-    assert env.canvas is not None and len(bundles) == 1
-    assert "application/vnd.jupyter.widget-view+json" in bundles[0] and "text/plain" in bundles[0]
-    assert (decode(bundles[0]) == env.canvas.frame()).all()
+    assert env.canvas is not None and len(bundles) == 2
+    view, still = bundles
+    assert set(view) == {"application/vnd.jupyter.widget-view+json", "text/plain"} and view["text/plain"] == ""
+    assert view["application/vnd.jupyter.widget-view+json"]["model_id"] == env.canvas.view.model_id
+    png = decode(still)
+    assert (png == env.canvas.picture()).all() and png.shape[1] == 2 * env.canvas.width
+    c = env.canvas
+    assert (png[: c.hi.grid_height] == c.hi.frame(c.scene)[: c.hi.grid_height]).all()  # rgb_array's picture, at 2x
+    # the HTML of the still: the same PNG, and the style that shows either it or the live canvas
+    uid = c._still.uid
+    assert f'class="babyrobot-still-{uid}"' in still["text/html"] and still["image/png"] in still["text/html"]
+    assert f".jp-OutputArea:has(.babyrobot-live-{uid})" in still["text/html"]
+    assert f"babyrobot-live-{uid}" in c.view._dom_classes
     env.step(3)
     assert [v.cell for v in env.canvas.scene.robots] == [env.robot_cell]
     env.set_overlay(values=np.zeros((8, 8)))
@@ -219,16 +254,23 @@ def test_the_png_is_refreshed_when_an_episode_ends_and_when_the_env_closes(jupyt
     env.reset(seed=0)
     for a in (2, 2, 3):
         env.step(a)
-    assert handles[0].updates == []
+    assert handles[1].updates == []
     env.step(3)  # reaches the exit
-    assert len(handles[0].updates) == 1
+    assert len(handles[1].updates) == 1
     rgb = BabyRobotEnv(level="default", render_mode="rgb_array")
     rgb.reset(seed=0)
     for a in (2, 2, 3, 3):
         rgb.step(a)
-    assert (decode(handles[0].updates[-1]) == rgb.render()).all()  # what rgb_array shows for the same state
+    c = env.canvas
+    hi = BabyRobotEnv(level="default", render_mode="rgb_array", cell_size=c.hi.cell_size)
+    hi.reset(seed=0)
+    for a in (2, 2, 3, 3):
+        hi.step(a)
+    shown = decode(handles[1].updates[-1])
+    assert (shown[: c.hi.grid_height] == hi.render()[: c.hi.grid_height]).all()  # what rgb_array shows for the same state
+    assert (c.frame() == rgb.render()).all()
     env.close()
-    assert len(handles[0].updates) == 2
+    assert len(handles[1].updates) == 2
 
 
 def test_race_human_mode_draws_every_robot_with_the_legend_and_snapshots_the_final_ranks(jupyter):
@@ -240,9 +282,9 @@ def test_race_human_mode_draws_every_robot_with_the_legend_and_snapshots_the_fin
     rng = np.random.default_rng(0)
     while env.agents:
         env.step({a: int(rng.integers(5)) for a in env.agents})
-    assert handles[0].updates  # the race's end
-    final = decode(handles[0].updates[-1])
-    assert final.shape[0] > env.unwrapped.level.height * env.unwrapped.cell_size  # the legend, with the ranks
+    assert handles[1].updates  # the race's end
+    final = decode(handles[1].updates[-1])
+    assert final.shape[0] > c.hi.grid_height  # the legend, with the ranks
 
 
 def test_an_env_with_a_canvas_still_pickles_and_the_copy_has_none(jupyter):
@@ -447,3 +489,45 @@ def test_the_canvas_legend_stops_growing_past_eight_robots_and_an_oversized_pane
     with pytest.raises(ValueError, match=r"^panel: 20,000 lines"):
         c.draw(legend(3), huge)
     assert c.frames_sent == sent_before and c.overlay is overlay  # nothing drawn, nothing changed
+
+
+def test_the_race_legend_changes_with_the_frame_that_shows_the_robots_where_they_end(jupyter):
+    """The legend (a rank, a return) is of the step the robots finish moving in: drawn after
+    the step's last in-between frame, never before its first."""
+    env = race_v0.parallel_env(level="race-corridor", n_robots=2, render_mode="human", animation_frames=3, render_fps=0)
+    env.reset(seed=0)
+    c = env.unwrapped.canvas
+    calls: list[tuple] = []
+    draw_robots, draw_top = c._draw_robots, c._draw_top
+    c._draw_robots = lambda scene, at=None, poses=None: (calls.append(("robots", at)), draw_robots(scene, at, poses))[1]
+    c._draw_top = lambda scene=None, force=False: (calls.append(("legend", (scene or c.scene).legend)), draw_top(scene, force))[1]
+    env.step({a: 2 for a in env.agents})  # both robots move east: three in-between frames
+    kinds = [k for k, _ in calls]
+    assert kinds.count("robots") == 3 and kinds[-1] == "legend", kinds
+    assert calls[-1][1] == c.scene.legend
+
+
+def test_after_an_episode_the_replay_bar_shows_its_scenes_on_the_same_canvas_without_stepping(jupyter, sent):
+    env = race_v0.parallel_env(level="race-corridor", n_robots=2, render_mode="human", animation_frames=0, render_fps=0)
+    env.reset(seed=0)
+    c = env.unwrapped.canvas
+    bar = c._replay
+    assert bar.widget.layout.display == "none"  # nothing to replay during the race
+    rng = np.random.default_rng(0)
+    scenes = [c.scene]
+    while env.agents:
+        env.step({a: int(rng.integers(5)) for a in env.agents})
+        scenes.append(c.scene)
+    assert bar.widget.layout.display == "flex" and bar.slider.max == len(c.history) - 1 == bar.play.max
+    assert [s for s, _ in c.history] == [s for k, s in enumerate(scenes) if k == 0 or s != scenes[k - 1]]
+    final, t = c.scene, env.unwrapped._t
+    sent.clear()
+    bar.slider.value = 0  # the slider (the play button moves it in the browser) draws the start again
+    assert sent and any("fillStyledPolygons" in names(m) for m in sent)
+    assert env.unwrapped._t == t and c.scene is final  # the env was not stepped; the live scene is kept
+    drawn = []
+    c._draw_robots = lambda scene, at=None, poses=None: drawn.append(scene)
+    bar.slider.value = 1
+    assert drawn == [c.history[1][0]]
+    env.reset(seed=1)  # a new episode: the bar goes until it ends
+    assert bar.widget.layout.display == "none" and len(c.history) == 1

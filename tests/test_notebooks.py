@@ -37,7 +37,7 @@ PROBE = """
 import hashlib, json
 from babyrobot_marl.render.canvas import shown_canvases
 print("FRAMES " + json.dumps({
-    c.widget.model_id: [hashlib.sha256(c.frame().tobytes()).hexdigest(), list(c.frame().shape)] for c in shown_canvases()
+    c.view.model_id: [hashlib.sha256(c.picture().tobytes()).hexdigest(), list(c.picture().shape)] for c in shown_canvases()
 }))
 """
 
@@ -98,10 +98,16 @@ def test_notebook_runs_top_to_bottom(name, monkeypatch, tmp_path):
     if name in SHOWS_CANVAS:
         views = [o for o in outputs if WIDGET_VIEW in o.get("data", {})]
         assert views, f"{name} showed no live canvas (no widget view among its outputs)"
+    stills = []
     for view in views if name in CANVAS_ONLY else []:
-        # every canvas output also carries a PNG: the rgb_array frame of the canvas's final state
-        assert "image/png" in view.data, "a canvas output without a PNG: a saved notebook would show only text"
-        png = np.array(Image.open(io.BytesIO(base64.b64decode(view.data["image/png"]))).convert("RGB"))
+        # every canvas output is followed by its still: a PNG of the canvas's final picture (at 2x),
+        # which a notebook reopened anywhere shows (issue 26)
+        k = outputs.index(view)
+        still = outputs[k + 1] if k + 1 < len(outputs) else {}
+        assert "image/png" in still.get("data", {}), "a canvas output without a still: a saved notebook would show only text"
+        assert "babyrobot-still-" in still.data["text/html"]
+        stills.append(still)
+        png = np.array(Image.open(io.BytesIO(base64.b64decode(still.data["image/png"]))).convert("RGB"))
         model = view.data[WIDGET_VIEW]["model_id"]
         assert model in frames, "a canvas shown but not tracked"
         assert frames[model] == [hashlib.sha256(png.tobytes()).hexdigest(), list(png.shape)]
@@ -109,5 +115,6 @@ def test_notebook_runs_top_to_bottom(name, monkeypatch, tmp_path):
         from nbconvert import HTMLExporter
 
         html, _ = HTMLExporter().from_notebook_node(nb)
-        for view in views:
-            assert f"data:image/png;base64,{view.data['image/png'][:64]}" in html
+        for still in stills:
+            assert f"data:image/png;base64,{still.data['image/png'][:64]}" in html
+        assert "IPython.core.display" not in html  # a GIF or image shown, not its Python repr

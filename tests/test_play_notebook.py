@@ -55,7 +55,7 @@ def test_the_player_takes_an_env_made_by_gymnasium_or_pettingzoo():
         notebook.play("race-4", robots=0)
     with pytest.raises(TypeError, match="play\\(\\) got an unexpected keyword argument 'polices'; known: robots, policies"):
         notebook.play("race-4", polices="shortest")
-    with pytest.raises(TypeError, match="edit\\(\\) got an unexpected keyword argument 'size'; known: race, cell_size"):
+    with pytest.raises(TypeError, match="edit\\(\\) got an unexpected keyword argument 'size'; known: race, cell_size, theme"):
         notebook.edit(size=(3, 3))
     with pytest.raises(ValueError, match="width: the editor takes an integer in 1..64, got 0"):
         notebook.edit((0, 3))
@@ -97,7 +97,8 @@ def test_the_editor_builds_a_level_from_clicks_and_plays_it():
     assert e.text == "+-+-+-+\n|S   p|\n+ + + +\n|   |E|\n+-+-+-+"
     assert e.level.small_puddles == frozenset({(2, 0)}) and "ok: a 3x2 level" in e.verdict.value
     e.click_edge((2, 0), (2, 1))  # the exit walled off: the verdict names the unreachable start
-    assert "cannot reach any exit" in e.verdict.value and e.play_button.disabled
+    assert "the start (column 0, row 0) cannot reach an exit: click a wall on the way" in e.verdict.value
+    assert e.play_button.disabled
     with pytest.raises(ValueError, match="cannot reach any exit"):
         _ = e.level
     e.click_edge((2, 0), (2, 1))  # wall -> glass: reachable again
@@ -114,3 +115,56 @@ def test_the_editor_starts_from_a_level_and_counts_race_starts():
     for _ in range(3):
         e.click_cell((1, 0))
     assert e.text.splitlines()[1][3] == "2" and "3 starts" in e.verdict.value
+
+
+def test_the_editor_draws_the_level_as_the_game_does_at_twice_its_css_size():
+    """Same renderer and theme as the game (START and EXIT in the game's colours, not flat ones)."""
+    from babyrobot_marl.render.rgb import RgbRenderer
+
+    for theme in ("light", "dark"):
+        e = notebook.edit("walls", cell_size=40, theme=theme)
+        assert (e.picture() == RgbRenderer(e.level, 80, theme).frame(())).all()
+        assert e.canvas.width == 2 * e.level.width * 40 and e.canvas.layout.width == f"{e.level.width * 40}px"
+
+
+def test_a_missing_exit_is_asked_for_in_plain_words_and_outlines_no_cell():
+    from babyrobot_marl.render.rgb import RgbRenderer
+
+    e = notebook.edit((3, 2), cell_size=40)
+    e.click_cell((2, 1))  # the exit -> floor: no exit
+    assert "the level needs an exit: click a cell, then press E" in e.verdict.value
+    assert "line 1" not in e.verdict.value and e._bad_cell is None
+    start = (0, 0)
+    box = lambda img: img[start[1] * 80 : (start[1] + 1) * 80, start[0] * 80 : (start[0] + 1) * 80]  # noqa: E731
+    assert (box(e.picture()) == box(RgbRenderer(notebook.ed.sketch(e.draft), 80).frame(()))).all()
+    assert not (box(e.picture()) == (0xE0, 0x31, 0x31)).all(axis=2).any()  # no red on START
+    e.click_cell((1, 1))  # floor -> small puddle, and the cell is the one the keys change
+    e.press("E")
+    assert e.text.splitlines()[3] == "|  E  |" and "ok: a 3x2 level" in e.verdict.value
+
+
+def test_the_player_under_the_editor_follows_every_edit():
+    e = notebook.edit((3, 2), cell_size=40)
+    first = e.play(seed=0)
+    e.click_cell((1, 0))  # a small puddle: a new level, a new player of it
+    assert e.player is not first and e.player.level == e.level and e.player_box.children == (e.player.widget,)
+    e.click_cell((2, 1))  # no exit: no player, and why
+    assert e.player is None and "needs an exit" in e.player_box.children[0].value
+    e.press("e")
+    assert e.player is not None and e.player.level.exits == frozenset({(2, 1)})
+
+
+def test_the_player_panel_says_where_the_robots_are_in_words_and_frames_the_driven_robot():
+    p = notebook.play("race-4", policies="shortest", seed=0, cell_size=32)
+    assert "robots at" not in p.text and "None" not in p.text and "(you) is at column" in p.text
+    img = p.canvas.picture()
+    you = p.game.robots[p.game.driven]
+    cs = p.canvas.hi.cell_size
+    colour = p.canvas.hi.theme.robots[p.game.driven]
+    frame = img[you[1] * cs : you[1] * cs + 8, you[0] * cs : (you[0] + 1) * cs]  # the top bar of its cell's frame
+    assert (frame == colour).all(axis=2).sum() > cs
+    p.press("Tab")
+    assert p.canvas.marked == p.game.driven == 1
+    single = notebook.play("walls", seed=0)
+    assert "Baby Robot is at column 0, row 0" in single.text and single.canvas.marked is None
+    assert single.canvas.fit  # no cell size: the canvas fills the column

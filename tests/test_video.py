@@ -111,3 +111,20 @@ def test_episode_frames_with_in_between_frames_glide_and_end_each_step_on_its_re
     assert not (smooth[1] == smooth[0]).all() and not (smooth[1] == smooth[4]).all()  # in between
     with pytest.raises(ValueError, match="^animation_frames"):
         episode_frames(env, lambda obs: 2, seed=0, animation_frames=-1)
+
+
+def test_a_gif_shows_in_nbconvert_html_not_as_its_python_repr(tmp_path):
+    """nbconvert's HTML has no image/gif renderer: ``Gif`` carries the same image as HTML too."""
+    pytest.importorskip("nbconvert")
+    import nbformat
+    from nbconvert import HTMLExporter
+
+    from babyrobot_marl.render.video import Gif
+
+    path = save_gif(episode_frames(BabyRobotEnv(level="default", render_mode="rgb_array", cell_size=64),
+                                   lambda obs: 3, seed=0, max_steps=3), tmp_path / "e.gif")  # fmt: skip
+    nb = nbformat.v4.new_notebook()
+    out = nbformat.v4.new_output("display_data", data=Gif(path)._repr_mimebundle_())
+    nb.cells = [nbformat.v4.new_code_cell("Gif(path)", outputs=[out])]
+    html, _ = HTMLExporter().from_notebook_node(nb)
+    assert 'src="data:image/gif;base64,' in html and "IPython.core.display.Image object" not in html

@@ -13,6 +13,7 @@ from collections.abc import Callable
 
 from .. import policies
 from ..core.checks import check_batch, shown
+from ..levels.sources import parse_level_family
 from ..training.policy import is_policy_spec
 
 MAX_RACES = 100_000  # races of one `race --races N`: run one after another, each kept for the table
@@ -86,6 +87,16 @@ def output_path(text: str) -> str:
     return text
 
 
+def level_spec(text: str) -> str:
+    """``--level``: a name, a file or a family spec ``maze:A..B``; a malformed family spec is refused
+    here, before any work (the level itself is read by the command)."""
+    try:
+        parse_level_family(text)
+    except ValueError as err:
+        raise argparse.ArgumentTypeError(str(err).removeprefix("level: ")) from None
+    return text
+
+
 def policy_spec(text: str) -> str:
     """``--policy``: a scripted policy, ``keys`` (you drive), or the path of a saved policy."""
     if text != "keys" and not is_policy_spec(text):
@@ -155,3 +166,17 @@ def check_train_args(args: argparse.Namespace, n_envs: int, family: bool = False
     check_batch(n_envs, n, obs, what="--n-envs")
     if n > 1:  # the final evaluation races every race at once in one batch
         check_batch(args.episodes or 100, n, obs, what="--episodes")
+
+
+_RACE_FLAGS = {"n_robots": "--robots", "level": "--level", "collisions": "--collisions"}
+
+
+def check_race_flags(level: str, robots: int, collisions: str) -> None:
+    """The race's own checks (robots that fit on the level, the level itself) before any episode, naming the flags."""
+    from ..envs.race import RaceEnv
+
+    try:
+        RaceEnv(level=level, n_robots=robots, collisions=collisions, start="random", observe="nearest", k=1)
+    except ValueError as err:
+        name, _, rest = str(err).partition(":")
+        raise ValueError(f"{_RACE_FLAGS[name]}:{rest}" if name in _RACE_FLAGS else str(err)) from None

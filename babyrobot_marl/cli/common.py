@@ -8,7 +8,7 @@ import os
 from typing import NoReturn, TextIO
 
 from ..play.screen import DEFAULT_DELAY, Display, isatty
-from .checks import non_negative_int, seconds
+from .checks import level_spec, non_negative_int, seconds
 
 PROG = "babyrobot-marl"
 EXIT_USAGE = 2  # bad input, as argparse uses
@@ -34,8 +34,10 @@ def add_level_arg(p: argparse.ArgumentParser, default: str = "default") -> None:
     p.add_argument(
         "--level",
         default=default,
-        metavar="NAME|FILE",
-        help=f"a built-in level (see '{PROG} levels'), maze-WxH[-sSEED], or the path of a level text file (default: {default})",
+        type=level_spec,
+        metavar="NAME|FILE|maze:A..B",
+        help=f"a built-in level (see '{PROG} levels'), maze-WxH[-sSEED], the path of a level text file, or maze:A..B: "
+        f"a new square maze of side A..B for every episode, drawn from --seed (default: {default})",
     )
 
 

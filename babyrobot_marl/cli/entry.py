@@ -9,10 +9,10 @@ import sys
 from importlib import metadata
 
 from ..training.deps import MissingTrainExtraError
-from . import levels, play, race, solve, train
+from . import evaluate, levels, play, race, solve, train
 from .common import EXIT_INTERRUPTED, EXIT_USAGE, PROG, Parser, one_line
 
-COMMANDS = (levels, play, race, solve, train)  # each: add_parser(sub) and run(args, out)
+COMMANDS = (levels, play, race, solve, train, evaluate)  # each: add_parser(sub) and run(args, out)
 
 
 def _version() -> str:

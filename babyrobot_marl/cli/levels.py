@@ -8,7 +8,19 @@ from typing import TextIO
 from ..core.level import Level
 from ..levels import get, names
 from ..levels.files import load_level
+from ..levels.sources import parse_level_family
 from .common import PROG
+
+
+def level_of(spec: str, seed: int | None) -> Level:
+    """The one level of ``--level`` for a command that runs one: a name or a file, or for a family spec
+    (``maze:A..B``) the level drawn from it by a generator seeded with ``seed``, as an env seeded so draws it."""
+    family = parse_level_family(spec)
+    if family is None:
+        return load_level(spec)
+    from ..envs.starts import new_generator
+
+    return family(new_generator(seed))
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:

@@ -10,12 +10,12 @@ from typing import TextIO
 from ..core.actions import Action
 from ..core.outcomes import OUTCOME_NAMES
 from ..envs.single import BabyRobotEnv
-from ..levels.files import load_level
 from ..play.screen import animate
 from ..render.ansi import frame
 from ..training.policy import make_policy
 from .checks import policy_spec, positive_int
 from .common import add_display_args, add_level_arg, add_seed_arg, display_of, fresh_seed
+from .levels import level_of
 
 
 @dataclass
@@ -72,9 +72,9 @@ def _episode_frames(env: BabyRobotEnv, policy: Callable, summary: EpisodeSummary
 
 
 def run(args: argparse.Namespace, out: TextIO) -> int:
-    level = load_level(args.level)
-    env = BabyRobotEnv(level=level, max_steps=args.max_steps)
     seed = fresh_seed() if args.seed is None else args.seed
+    level = level_of(args.level, seed)  # maze:A..B: the maze the seed draws
+    env = BabyRobotEnv(level=level, max_steps=args.max_steps)
     if args.policy == "keys":  # the keyboard game: babyrobot_marl.play.terminal
         from ..play.terminal import play_keys
 

@@ -10,6 +10,7 @@ from typing import TextIO
 from ..core.rules import COLLISION_MODES
 from ..envs.race import START_MODES, RaceEnv
 from ..levels.files import load_level
+from ..levels.sources import parse_level_family
 from ..play.screen import animate
 from ..render.ansi import robot_glyph
 from ..training.policy import make_policy
@@ -88,7 +89,8 @@ def _results_table(results: list[RobotResult]) -> str:
 
 
 def run(args: argparse.Namespace, out: TextIO) -> int:
-    level = load_level(args.level)
+    family = parse_level_family(args.level) is not None  # maze:A..B: a new maze every race, drawn by the env
+    level = args.level if family else load_level(args.level)
     if len(args.policies) not in (1, args.robots):
         raise ValueError(f"policies: give one policy for all robots or one per robot ({args.robots}), got {len(args.policies)}")
     # The env checks the robots against the level's starts and free cells before anything per robot exists.
@@ -105,6 +107,8 @@ def run(args: argparse.Namespace, out: TextIO) -> int:
         kw = {"collisions": args.collisions, "start": args.start, "max_cycles": args.max_cycles}
         out.write(f"{run_races(level, _race_policies(names, env), args.races, seed, **kw).table()}\nseed {seed}\n")
         return 0
+    if family:  # the scripted robots plan on the level this seed draws (the race below resets with it again)
+        env.reset(seed=seed)
     robot_policies = [make_policy(name, env.table, seed=seed + 7919 * (i + 1), env=env) for i, name in enumerate(names)]
     if args.human is not None and args.human < args.robots:
         names[args.human] = "keys"
@@ -121,8 +125,9 @@ def run(args: argparse.Namespace, out: TextIO) -> int:
         watch_race(env, robot_policies, seed, frames, names, display.delay, display.colour, out)
     else:
         animate(frames, display, out)
+    name = f"{env.level.name} (from {args.level})" if family else level.name or args.level
     out.write(
-        f"\nrace on {level.name or args.level}, {args.robots} robots, collisions {args.collisions}, seed {seed}, "
+        f"\nrace on {name}, {args.robots} robots, collisions {args.collisions}, seed {seed}, "
         f"{env.elapsed_steps} steps\n\n{_results_table(results)}\n"
     )
     return 0

@@ -5,9 +5,9 @@ from __future__ import annotations
 import argparse
 from typing import TextIO
 
-from ..levels.files import load_level
-from .checks import int_at_least, positive_float, probability
+from .checks import int_at_least, non_negative_int, positive_float, probability
 from .common import add_level_arg
+from .levels import level_of
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
@@ -24,13 +24,15 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
         "--theta", type=positive_float, default=1e-9, metavar="T", help="stop when no value moves by T (default: 1e-9)"
     )
     p.add_argument("--decimals", type=int_at_least(0), default=1, metavar="N", help="decimals of the values (default: 1)")
+    p.add_argument("--seed", type=non_negative_int, default=0, metavar="N",
+                   help="with --level maze:A..B: the seed that draws the maze, as an env reset with it does (default: 0)")
     p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace, out: TextIO) -> int:
     from ..planning import model, policy_iteration, policy_text, value_iteration, value_text
 
-    level = load_level(args.level)
+    level = level_of(args.level, args.seed)  # maze:A..B: the maze the seed draws
     m = model(level)
     solve = value_iteration if args.method == "value" else policy_iteration
     sol = solve(m, gamma=args.gamma, theta=args.theta)

@@ -25,11 +25,13 @@ from ..render.scene import Scene
 class EnvDrawing:
     """The drawing part of an env: one level at one cell size and theme, its overlay, its live
     canvas (None until shown) and its renderer (made on first use: large levels make large images).
-    ``robots``: the legend's rows (a race's robots; 0: no legend)."""
+    ``robots``: the legend's rows (a race's robots; 0: no legend); ``fit``: the live canvas fills
+    the notebook column (the env was given no ``cell_size``)."""
 
-    def __init__(self, level: Level, cell_size: int | None, theme: Theme, animation_frames: int, robots: int = 0) -> None:
+    def __init__(self, level: Level, cell_size: int | None, theme: Theme, animation_frames: int, robots: int = 0,
+                 fit: bool = False) -> None:  # fmt: skip
         self.level, self.cell_size, self.theme = level, cell_size, theme
-        self.animation_frames, self.robots = animation_frames, robots
+        self.animation_frames, self.robots, self.fit = animation_frames, robots, fit
         self.overlay = Overlay()
         self.canvas: Any = None  # render.canvas.LiveCanvas once shown
         self._renderer: RgbRenderer | None = None
@@ -55,16 +57,19 @@ class EnvDrawing:
         return self.renderer.frame(scene, self.overlay)
 
     def show(self, scene: Callable[[], Scene], text_frame: Callable[[], str], animate: bool, fps: float) -> None:
-        """The live canvas in a notebook (made and shown on first use), else the text frame printed."""
+        """The live canvas in a notebook (made and shown on first use, its first frame drawn before it
+        is shown), else the text frame printed. A frame drawn without ``animate`` starts an episode."""
         if self.canvas is None:
             from ..render.canvas import LiveCanvas, notebook_available
 
             if notebook_available():
-                self.canvas = LiveCanvas(self.renderer, self.animation_frames, fps)
+                self.canvas = LiveCanvas(self.renderer, self.animation_frames, fps, fit=self.fit)
                 self.canvas.draw(scene(), self.overlay, animate=False)
                 self.canvas.show()
                 return
         if self.canvas is not None:
+            if not animate:
+                self.canvas.new_episode()
             self.canvas.draw(scene(), self.overlay, animate=animate)
         else:
             print(text_frame(), flush=True)

@@ -104,7 +104,7 @@ class RaceEnv(OverlayMethods, ParallelEnv):
         self.animation_frames = check_animation_frames(animation_frames)
         if render_fps is not None:  # this env's own metadata: the class's stays as it is
             self.metadata = {**type(self).metadata, "render_fps": check_fps(render_fps)}
-        self.drawing = EnvDrawing(self.level, self.cell_size, self.theme, self.animation_frames, robots=n)
+        self.drawing = EnvDrawing(self.level, self.cell_size, self.theme, self.animation_frames, robots=n, fit=cell_size is None)
         self._np_random: np.random.Generator | None = None  # made at first use (np_random)
 
         w, h = self.level.width, self.level.height

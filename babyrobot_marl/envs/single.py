@@ -149,7 +149,7 @@ class BabyRobotEnv(OverlayMethods, gym.Env):
         self.animation_frames = check_animation_frames(animation_frames)
         if render_fps is not None:  # this env's own metadata: the class's stays as it is
             self.metadata = {**type(self).metadata, "render_fps": check_fps(render_fps)}
-        self.drawing = EnvDrawing(self.level, self.cell_size, self.theme, self.animation_frames)
+        self.drawing = EnvDrawing(self.level, self.cell_size, self.theme, self.animation_frames, fit=cell_size is None)
 
         w, h = self.level.width, self.level.height
         self.action_space = spaces.Discrete(N_ACTIONS)

@@ -18,9 +18,19 @@ figure can take (counts of steps and collisions >= 0, steps to finish >= 1, rank
 a mean near a bound gets a one-sided interval, never one that reaches past it. Race ``i`` resets the env with
 seed ``seed + i``; a ``"random"`` robot ``k`` of race ``i`` draws from ``default_rng([seed, i, k])``,
 so every figure is reproducible.
+
+``evaluate(policy, level="maze:8..16", n_robots=4, episodes=200, seed=0)`` runs a policy's crowd
+beside the shortest-path and random robots on the same seeded episodes (mazes from
+``EVAL_MAZE_SEEDS``, never trained on) and gives POGEMA's metrics: ``success_rate``,
+``all_reached_rate``, ``sum_of_costs``, ``makespan``, each with a 95% interval inside its range
+(``experiments.evaluate``; the command line's ``babyrobot-marl evaluate``).
 """
 
+from .evaluate import Episode, Evaluation, crowd_metrics, evaluate
 from .races import Policy, RaceRecord, RaceStats, run_races, summary
 from .stats import Z95, Metric, mean_interval, wilson
 
-__all__ = ["Z95", "Metric", "Policy", "RaceRecord", "RaceStats", "mean_interval", "run_races", "summary", "wilson"]
+__all__ = [
+    "Z95", "Episode", "Evaluation", "Metric", "Policy", "RaceRecord", "RaceStats", "crowd_metrics", "evaluate", "mean_interval",
+    "run_races", "summary", "wilson",
+]

@@ -135,8 +135,8 @@ def run_races(
 
 
 def _level_name(level: Any, env: RaceEnv) -> str:
-    if isinstance(level, str) and level.endswith("*"):
-        return level  # a family
+    if isinstance(level, str) and not env.levels.fixed:
+        return level  # a family: "maze-WxH-*", "maze:A..B"
     if isinstance(level, (str, Level)):
         return env.level.name or "custom level"
     return getattr(level, "family", "drawn levels")

@@ -191,3 +191,71 @@ def hit(px: float, py: float, cell_size: int, width: int, height: int, margin: f
         a, b = ((x, y - 1), (x, y)) if fv < 0.5 else ((x, y), (x, y + 1))
         return ("edge", a, b) if a[1] >= 0 and b[1] < height else None
     return ("cell", (x, y))
+
+
+KEY_KINDS = {"e": "E", "s": "start", "b": "#", "#": "#", "p": "p", "P": "P", " ": " ", "f": " ", "Delete": " ", "Backspace": " "}
+
+
+def set_cell(draft: Draft, cell: Cell, kind: str, race: bool | None = None) -> Draft:
+    """The cell turned into ``kind`` (one of ``CELL_CYCLE``: a key pressed on a cell clicked)."""
+    if kind not in CELL_CYCLE:
+        raise ValueError(f"kind: one of {', '.join(map(repr, CELL_CYCLE))}, got {kind!r}")
+    w, h = size(draft)
+    x, y = check_editor_cell(cell, w, h)
+    ch = cell_char(draft, (x, y))
+    now = "start" if ch == "S" or ch.isdigit() else " " if ch == "." else ch
+    if now == kind:
+        return draft
+    slot = (2 * y + 1, 2 * x + 1)
+    if now == "start":
+        draft = cycle_cell(draft, (x, y), race)  # the start leaves (race starts renumbered)
+    if kind == "start":
+        return cycle_cell(_set(draft, slot, "#"), (x, y), race)  # the cycle's rules: one S, race starts numbered
+    return _set(draft, slot, kind)
+
+
+def advice(draft: Draft) -> tuple[str, Cell | None]:
+    """What a learner reads under the editor, and the cell to outline (None: none): "ok: ..." for a
+    level, else what is missing and how to fix it, in the editor's own terms (clicks and keys)."""
+    level, message, _ = verdict(draft)
+    if level is not None:
+        return message, None
+    if "missing exit" in message:
+        return "the level needs an exit: click a cell, then press E", None
+    m = re.search(r"start (\d+) at \((\d+), (\d+)\) cannot reach any exit", message)
+    if m:
+        k, x, y = int(m[1]), int(m[2]), int(m[3])
+        who = f"start {k}" if is_race(draft) else "the start"
+        return (f"{who} (column {x}, row {y}) cannot reach an exit: click a wall on the way "
+                "until it opens (wall, glass, open)", (x, y))  # fmt: skip
+    return re.sub(r"^line \d+, column \d+: ", "", message), error_cell(message)
+
+
+class Sketch(Level):
+    """A draft as drawn, without the checks a level to play must pass (an exit, every start
+    reaching one): what the editor shows while a level is being made."""
+
+    def _validate(self) -> None:
+        pass
+
+
+def sketch(draft: Draft) -> Level:
+    """The draft's cells and edges as a ``Level`` to draw (a ``Sketch``: not necessarily playable)."""
+    w, h = size(draft)
+    kinds: dict[str, set] = {"#": set(), "p": set(), "P": set(), "E": set()}
+    starts = sorted(_starts(draft))
+    for y in range(h):
+        for x in range(w):
+            ch = cell_char(draft, (x, y))
+            if ch in kinds:
+                kinds[ch].add((x, y))
+    walls, glass = set(), set()
+    for i, line in enumerate(draft[1:-1], start=1):
+        for j, ch in enumerate(line[1:-1], start=1):
+            if (i + j) % 2 == 0 or ch == " ":
+                continue  # cells, corners, open edges
+            edge = (((j - 2) // 2, i // 2), (j // 2, i // 2)) if i % 2 else ((j // 2, (i - 2) // 2), (j // 2, i // 2))
+            (glass if ch == "*" else walls).add(edge)
+    return Sketch(width=w, height=h, walls=frozenset(walls), glass=frozenset(glass), blocked=frozenset(kinds["#"]),
+                  small_puddles=frozenset(kinds["p"]), large_puddles=frozenset(kinds["P"]),
+                  starts=tuple(c for _, c in starts), exits=frozenset(kinds["E"]))  # fmt: skip

@@ -13,8 +13,10 @@ objects display themselves in a cell, and can be driven from Python too
 (``player.press("ArrowUp")``, ``editor.click_cell((1, 2))``), which is what a test without a
 browser does.
 
-Keys reach the canvas once it has the focus (click it): arrows or WASD move, space stays,
-``r`` restarts, TAB drives the next robot of a race.
+Keys reach the canvas once it has the focus (click it; a blue frame shows it has): arrows or
+WASD move, space stays, ``r`` restarts, TAB drives the next robot of a race (the driven robot's
+cell is framed in its colour). Each widget is shown with a still of its picture
+(``render.still``): a saved notebook reopened with a new kernel shows it.
 """
 
 from __future__ import annotations
@@ -32,12 +34,13 @@ from ..envs.single import BabyRobotEnv
 from ..levels.resolve import resolve_level
 from ..render.canvas import LiveCanvas
 from ..render.rgb import RgbRenderer
+from ..render.still import Still
 from . import editor as ed
 from .checks import check_keywords, check_robots
-from .game import RaceGame, SingleGame
+from .game import RaceGame, SingleGame, ordinal
 
 PLAY_ARGS = ("robots", "policies", "seed", "cell_size", "theme")
-EDIT_ARGS = ("race", "cell_size")
+EDIT_ARGS = ("race", "cell_size", "theme")
 
 
 def play(env_or_level: Any = "default", **kwargs: Any) -> Player:
@@ -52,9 +55,15 @@ def play(env_or_level: Any = "default", **kwargs: Any) -> Player:
 
 def edit(level_or_size: Any = (5, 5), **kwargs: Any) -> Editor:
     """The level editor, on a blank ``(width, height)`` grid or on a level to change. Keywords: ``race``
-    (numbered starts), ``cell_size``. ``.level`` and ``.text`` give the result; "play it" plays it."""
+    (numbered starts), ``cell_size``, ``theme``. ``.level`` and ``.text`` give the result; "play it" plays it."""
     check_keywords("edit", kwargs, EDIT_ARGS)
     return Editor(level_or_size, **kwargs)
+
+FOCUS = "#1c7ed6"  # the frame of a canvas that has the keys
+FOCUS_STYLE = (  # a canvas (or the element in it) with the focus is framed: the keys go to it
+    "<style>.babyrobot-keys:focus, .babyrobot-keys:focus-within, .babyrobot-keys canvas:focus"
+    f" {{outline: 3px solid {FOCUS}; outline-offset: 2px}}</style>"
+)
 
 BUTTONS = (  # (label, command, css class): the class names stable selectors for tests
     ("\u2190", Action.WEST, "west"), ("\u2191", Action.NORTH, "north"), ("\u2193", Action.SOUTH, "south"),
@@ -98,7 +107,7 @@ class Player:
         robots: int | None = None,
         policies: str | Sequence[str] = "random",
         seed: int | None = None,
-        cell_size: int = 40,
+        cell_size: int | None = None,
         theme: str = "light",
     ):
         from ipywidgets import HTML, Button, HBox, Layout, VBox
@@ -107,8 +116,10 @@ class Player:
         if isinstance(self.game, RaceGame):
             self.game.labels = lambda i: f"#{i}"  # the canvas numbers its robots 0, 1, ...
         self.level: Level = self.game.env.level
-        self.canvas = LiveCanvas(RgbRenderer(self.level, cell_size, theme), animation_frames=0, fps=0)
+        renderer = RgbRenderer(self.level, cell_size, theme)
+        self.canvas = LiveCanvas(renderer, animation_frames=0, fps=0, fit=cell_size is None)
         self.canvas.widget.on_key_down(self._on_key)
+        self.canvas.widget.add_class("babyrobot-keys")
         buttons = []
         specs = list(BUTTONS) + ([("next robot (TAB)", SWITCH, "switch")] if self.is_race else [])
         for label, cmd, name in specs:
@@ -118,17 +129,22 @@ class Player:
             buttons.append(b)
         self.panel = HTML()
         self.panel.add_class("babyrobot-panel")
-        hint = HTML("<small>click the grid, then: arrows/WASD move, space stays, r restarts"
-                    + (", TAB drives the next robot" if self.is_race else "") + "</small>")  # fmt: skip
+        hint = HTML(FOCUS_STYLE + "<small>click the picture (a blue frame shows it has the keys), then: "
+                    "arrows/WASD move, space stays, r restarts"
+                    + (", TAB drives the next robot (its cell framed in its colour)" if self.is_race else "")
+                    + "</small>")  # fmt: skip
         self.widget = VBox([self.canvas.widget, HBox(buttons), hint, self.panel])
+        self.widget.add_class("babyrobot-player")
+        self.still = Still(self.widget, self.canvas.picture, self.canvas.css)
         self._refresh()
 
     @property
     def is_race(self) -> bool:
         return isinstance(self.game, RaceGame)
 
-    def _repr_mimebundle_(self, **kwargs: Any) -> Any:
-        return self.widget._repr_mimebundle_(**kwargs)
+    def _ipython_display_(self) -> None:
+        """Shown in a cell: the widget, and a still of its picture for the saved notebook."""
+        self.still.show()
 
     # ------------------------------------------------------------------ input
     def _on_key(self, key: str, shift: bool = False, ctrl: bool = False, meta: bool = False) -> None:
@@ -154,35 +170,54 @@ class Player:
                 self._names = names
         # the env's own scene (poses, bumps, finished robots at their exits), as render_mode="human" draws it
         scene = g.env._scene() if hasattr(g.env, "_scene") else g.robots
+        self.canvas.marked = g.driven if self.is_race else None
         self.canvas.draw(scene, g.env.overlay, animate=False)
         self.panel.value = "<pre style='margin:0'>" + html.escape(self.text) + "</pre>"
+        self.still.refresh()
 
     @property
     def text(self) -> str:
-        """The panel as plain text: steps, returns, the last move, and where the robots are."""
+        """The panel as plain text: steps, returns, the last move, and where each robot is."""
         g = self.game
         lines = list(g.status())
         if self.is_race:
             others = ", ".join(f"{g.glyph(i)} {getattr(p, 'name', 'policy')}" for i, p in enumerate(g.policies) if i != g.driven)
             lines.insert(1, f"you drive {g.glyph(g.driven)} (robot_{g.driven}); the others: {others}")
-        lines.append(f"robots at {g.robots}")
-        return "\n".join(lines)
+        return "\n".join([*lines, *where(g)])
+
+
+def where(game: SingleGame | RaceGame) -> list[str]:
+    """Where the robots are, in words: one line each (a race), or Baby Robot's line."""
+    if isinstance(game, SingleGame):
+        x, y = game.robots[0]
+        return [f"Baby Robot is at column {x}, row {y}"]
+    ranks = game.env.ranks
+    out = []
+    for i, cell in enumerate(game.robots):
+        who = f"{game.glyph(i)}" + (" (you)" if i == game.driven else "")
+        if ranks[i]:
+            out.append(f"{who} finished {ordinal(ranks[i])}")
+        elif cell is None:
+            out.append(f"{who} is out of the race")
+        else:
+            out.append(f"{who} is at column {cell[0]}, row {cell[1]}")
+    return out
 
 
 # ---------------------------------------------------------------------- the level editor
-EDITOR_COLOURS = {
-    " ": "#ffffff", "p": "#a9d3f5", "P": "#4a90d9", "#": "#4d4d4d", "E": "#f5c542", "start": "#8fd18f",
-}  # fmt: skip
-WALL, GLASS, GRID, ERROR = "#1f1f1f", "#3fa7d6", "#d9d9d9", "#e03131"
+ERROR = "#e03131"  # the outline of the cell a message points at
+OK = "#2b8a3e"
 
 
 class Editor:
-    """Click a cell to cycle floor, small puddle, large puddle, blocked, start, exit; click between two
-    cells to cycle open, wall, glass. Width and height boxes resize; the parser's verdict shows live
-    (with the cell at fault outlined); ``level`` and ``text`` give the result; "play it" opens it in a
-    ``Player`` below."""
+    """Click a cell to cycle floor, small puddle, large puddle, blocked, start, exit (or click it and
+    press a key: E exit, S start, B blocked, p / P puddles, F or space floor); click between two
+    cells to cycle open, wall, glass. Width and height boxes resize. The level is drawn as the game
+    draws it (same renderer and theme, two device pixels per CSS pixel); under it, what is missing in
+    plain words (the cell at fault outlined). ``level`` and ``text`` give the result; "play it" opens
+    it in a ``Player`` below, which follows every edit."""
 
-    def __init__(self, level_or_size: Any = (5, 5), race: bool | None = None, cell_size: int = 40):
+    def __init__(self, level_or_size: Any = (5, 5), race: bool | None = None, cell_size: int = 48, theme: str = "light"):
         from ipycanvas import Canvas
         from ipywidgets import HTML, BoundedIntText, Button, Checkbox, HBox, Layout, VBox
 
@@ -192,12 +227,17 @@ class Editor:
             self.draft = ed.from_level(resolve_level(level_or_size))
             if race is not None:
                 self.draft = ed.with_race(self.draft, race)
-        self.cell_size = int(cell_size)
+        self.cell_size, self.theme, self.ratio = int(cell_size), theme, 2
         self.player: Player | None = None
-        self._syncing, self._bad_cell = False, None
+        self._playing = False  # "play it" was clicked: a player follows the edits
+        self._syncing, self._bad_cell, self._selected = False, None, None
+        self._image = None
         w, h = ed.size(self.draft)
-        self.canvas = Canvas(width=w * self.cell_size, height=h * self.cell_size)
-        self.canvas.on_mouse_down(self.click)
+        self.canvas = Canvas(width=w * self.cell_size * self.ratio, height=h * self.cell_size * self.ratio)
+        self.canvas.add_class("babyrobot-keys")
+        # the mouse is reported in the backing store's pixels: the editor thinks in CSS pixels
+        self.canvas.on_mouse_down(lambda x, y: self.click(x / self.ratio, y / self.ratio))
+        self.canvas.on_key_down(self._on_key)
         self.canvas.on_client_ready(lambda *_: self._draw())
         box = Layout(width="150px")
         self.width_box = BoundedIntText(value=w, min=1, max=ed.MAX_SIDE, description="width", layout=box)
@@ -214,12 +254,17 @@ class Editor:
         self.text_view = HTML()
         self.text_view.add_class("babyrobot-level-text")
         self.player_box = VBox()
+        hint = HTML(FOCUS_STYLE + "<small>click a cell to change it (or click it, then press E exit, S start, "
+                    "B blocked, P puddle, F floor); click the line between two cells: wall, glass, open</small>")  # fmt: skip
         controls = HBox([self.width_box, self.height_box, self.race_box, self.play_button])
-        self.widget = VBox([controls, HBox([self.canvas, self.text_view]), self.verdict, self.player_box])
+        self.widget = VBox([controls, HBox([self.canvas, self.text_view]), hint, self.verdict, self.player_box])
+        self.widget.add_class("babyrobot-editor")
+        self.still = Still(self.widget, self.picture)
         self._set(self.draft)
 
-    def _repr_mimebundle_(self, **kwargs: Any) -> Any:
-        return self.widget._repr_mimebundle_(**kwargs)
+    def _ipython_display_(self) -> None:
+        """Shown in a cell: the widget, and a still of the level drawn for the saved notebook."""
+        self.still.show()
 
     # ------------------------------------------------------------------ results
     @property
@@ -234,7 +279,7 @@ class Editor:
 
     # ------------------------------------------------------------------ edits
     def click(self, px: float, py: float) -> None:
-        """A click at canvas pixel ``(px, py)``: a cell or an edge changes; the border and corners do nothing."""
+        """A click at ``(px, py)`` CSS pixels: a cell or an edge changes; the border and corners do nothing."""
         w, h = ed.size(self.draft)
         target = ed.hit(px, py, self.cell_size, w, h)
         if target is None:
@@ -245,16 +290,24 @@ class Editor:
             self.click_edge(target[1], target[2])
 
     def click_cell(self, cell: tuple[int, int]) -> None:
+        self._selected = cell
         self._set(ed.cycle_cell(self.draft, cell, self.race_box.value))
 
     def click_edge(self, a: tuple[int, int], b: tuple[int, int]) -> None:
         self._set(ed.cycle_edge(self.draft, a, b))
 
+    def press(self, key: str) -> None:
+        """A key by its browser name, as if typed on the canvas: it sets the cell clicked last."""
+        self._on_key(key)
+
     def resize(self, width: int, height: int) -> None:
+        self._selected = None
         self._set(ed.resize(self.draft, width, height))
 
     def play(self, **kwargs: Any) -> Player | None:
-        """Open the level in a ``Player`` under the editor (None, with the verdict, if it is not valid)."""
+        """Open the level in a ``Player`` under the editor (None, with the verdict, if it is not valid);
+        from then on the player follows every edit."""
+        self._playing, self._play_args = True, kwargs
         level, _, _ = ed.verdict(self.draft)
         if level is None:
             return None
@@ -262,11 +315,21 @@ class Editor:
         self.player_box.children = (self.player.widget,)
         return self.player
 
+    def _on_key(self, key: str, shift: bool = False, ctrl: bool = False, meta: bool = False) -> None:
+        kind = ed.KEY_KINDS.get(key, ed.KEY_KINDS.get(key.lower()) if len(key) == 1 else None)
+        if ctrl or meta or kind is None or self._selected is None:
+            return
+        if key == "p" and shift:
+            kind = "P"
+        self._set(ed.set_cell(self.draft, self._selected, kind, self.race_box.value))
+
     def _on_size(self, _change: dict) -> None:
         if not self._syncing:
             self.resize(int(self.width_box.value), int(self.height_box.value))
 
     def _set(self, draft: ed.Draft) -> None:
+        from ipywidgets import HTML
+
         self.draft = draft
         w, h = ed.size(draft)
         self._syncing = True  # the boxes show the draft's size without resizing it again
@@ -274,52 +337,52 @@ class Editor:
             self.width_box.value, self.height_box.value = w, h
         finally:
             self._syncing = False
-        level, message, cell = ed.verdict(draft)
-        self._bad_cell = cell
-        colour = "#2b8a3e" if level is not None else ERROR
+        level = ed.verdict(draft)[0]
+        message, self._bad_cell = ed.advice(draft)
+        colour = OK if level is not None else ERROR
         self.verdict.value = f"<pre style='margin:0;color:{colour}'>" + html.escape(message) + "</pre>"
         self.text_view.value = "<pre style='margin:0 0 0 12px'>" + html.escape(self.text) + "</pre>"
         self.play_button.disabled = level is None
+        self._image = None
         self._draw()
+        if self._playing:  # the player below plays the level as it is now
+            if level is not None:
+                self.play(**self._play_args)
+            else:
+                self.player = None
+                why = html.escape(message)
+                self.player_box.children = (HTML(f"<small>the player comes back when the level is ready: {why}</small>"),)
+        self.still.refresh()
+
+    def picture(self) -> Any:
+        """The level as the game draws it (at two device pixels per CSS pixel), the cell at fault
+        outlined in red and the cell clicked last framed in blue."""
+        import numpy as np
+
+        if self._image is None:
+            cs = self.cell_size * self.ratio
+            img = RgbRenderer(ed.sketch(self.draft), cs, self.theme).frame(())
+            t = max(3, cs // 16)
+            for cell, colour in ((self._selected, FOCUS), (self._bad_cell, ERROR)):
+                if cell is not None:
+                    x0, y0 = cell[0] * cs + t, cell[1] * cs + t
+                    rgb = np.array([int(colour[k : k + 2], 16) for k in (1, 3, 5)], dtype=np.uint8)
+                    img[y0 : y0 + t, x0 : x0 + cs - 2 * t] = rgb
+                    img[y0 + cs - 3 * t : y0 + cs - 2 * t, x0 : x0 + cs - 2 * t] = rgb
+                    img[y0 : y0 + cs - 2 * t, x0 : x0 + t] = rgb
+                    img[y0 : y0 + cs - 2 * t, x0 + cs - 3 * t : x0 + cs - 2 * t] = rgb
+            self._image = img
+        return self._image
 
     def _draw(self) -> None:
+        import numpy as np
         from ipycanvas import hold_canvas
 
-        cs, d = self.cell_size, self.draft
-        w, h = ed.size(d)
+        img = self.picture()
         c = self.canvas
+        h, w = img.shape[:2]
         with hold_canvas():
-            if (c.width, c.height) != (w * cs, h * cs):
-                c.width, c.height = w * cs, h * cs
-            c.clear()
-            c.font = f"bold {max(10, cs // 2)}px sans-serif"
-            c.text_align, c.text_baseline = "center", "middle"
-            for y in range(h):
-                for x in range(w):
-                    ch = ed.cell_char(d, (x, y))
-                    kind = "start" if ch == "S" or ch.isdigit() else " " if ch == "." else ch
-                    c.fill_style = EDITOR_COLOURS.get(kind, "#ffffff")
-                    c.fill_rect(x * cs, y * cs, cs, cs)
-                    if kind in ("start", "E"):
-                        c.fill_style = "#1f1f1f"
-                        c.fill_text(ch, (x + 0.5) * cs, (y + 0.5) * cs)
-            c.line_width = 1
-            c.stroke_style = GRID
-            for x in range(1, w):
-                c.stroke_line(x * cs, 0, x * cs, h * cs)
-            for y in range(1, h):
-                c.stroke_line(0, y * cs, w * cs, y * cs)
-            t = max(3, cs // 10)
-            for i, line in enumerate(d):
-                for j, ch in enumerate(line):
-                    if (i + j) % 2 == 0 or ch == " ":
-                        continue  # cells, corners, open edges
-                    c.fill_style = GLASS if ch == "*" else WALL
-                    if i % 2 == 1:  # a vertical edge at x = j // 2
-                        c.fill_rect(j // 2 * cs - t / 2, (i // 2) * cs - t / 2, t, cs + t)
-                    else:  # a horizontal edge at y = i // 2
-                        c.fill_rect((j // 2) * cs - t / 2, i // 2 * cs - t / 2, cs + t, t)
-            if self._bad_cell is not None:
-                x, y = self._bad_cell
-                c.stroke_style, c.line_width = ERROR, 3
-                c.stroke_rect(x * cs + 3, y * cs + 3, cs - 6, cs - 6)
+            if (c.width, c.height) != (w, h):
+                c.width, c.height = w, h
+            c.layout.width, c.layout.height = f"{w // self.ratio}px", f"{h // self.ratio}px"
+            c.put_image_data(np.concatenate([img, np.full((h, w, 1), 255, dtype=np.uint8)], axis=2), 0, 0)

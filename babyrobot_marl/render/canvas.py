@@ -14,10 +14,16 @@ size so it is crisp on HiDPI screens:
    the colour bar, the race legend, redrawn when they change.
 
 Both renderers draw the same operations (``paint``), so the canvas and ``rgb_array`` show the
-same picture. The output also carries a PNG of the latest frame (``rgb_array``'s), refreshed
-when an episode ends, when the env closes and after every notebook cell that changed it
-(``snapshot``): a notebook saved and reopened without a kernel, or shown on GitHub or
-nbviewer, still shows the picture.
+same picture. Without a ``cell_size`` of its own (``fit``) the canvas fills about 90% of the
+notebook column (less for tall levels) and its backing store has the pixels for that. The panel's
+height is kept from the start (a colour bar's, and the legend's), so the canvas does not grow
+when an overlay comes.
+
+Shown with a still of its latest frame (``still.Still``), refreshed when an episode ends, when
+the env closes and after every notebook cell that changed it (``snapshot``): a notebook saved
+and reopened, in JupyterLab with a new kernel, on GitHub, nbviewer or in nbconvert's HTML,
+shows the picture. After an episode a slider and a play button under the canvas replay its
+steps (``replay``) from the scenes kept, without stepping the env.
 
 ``on_client_ready`` redraws everything when a browser (re)connects. Needs the ``notebook``
 extra (ipycanvas, ipywidgets, orjson); imported lazily. Every number sent is a Python number.
@@ -25,9 +31,7 @@ extra (ipycanvas, ipywidgets, orjson); imported lazily. Every number sent is a P
 
 from __future__ import annotations
 
-import base64
 import time
-import zlib
 from collections import deque
 from collections.abc import Sequence
 from typing import Any
@@ -35,16 +39,21 @@ from typing import Any
 import numpy as np
 
 from ..core.level import Cell
-from .checks import MAX_ANIMATION_FRAMES, check_animation_frames, check_fps  # noqa: F401
+from .checks import MAX_ANIMATION_FRAMES, MAX_CELL_SIZE, MIN_CELL_SIZE, check_animation_frames, check_fps  # noqa: F401
 from .glyphs import baseline_y, css_font, origin
 from .overlay import Overlay
 from .paint import Stamp
 from .rgb import RgbRenderer
 from .scene import Scene, as_scene, glide, robot_sprites
 from .shapes import Fill, Op, Text
+from .still import Still, png_bytes  # noqa: F401  (png_bytes: read as canvas.png_bytes)
 
 PIXEL_RATIO = 2
 REDRAW_AFTER = 1.0  # seconds after a browser (re)connects: everything drawn once more
+FIT_WIDTH, FIT_HEIGHT = 940, 940  # CSS pixels: a fitted canvas's largest grid (90% of a 1,032-pixel column)
+FIT_SHARE = "90%"  # of the notebook column, a fitted canvas's width
+FIT_VIEW = 80  # percent of the window's height a fitted canvas may take (tall levels are narrower)
+MAX_REPLAY = 10_000  # scenes an episode's replay keeps (the latest)
 MAX_TRACKED = 16  # canvases whose saved PNG is refreshed after each cell (the most recent ones)
 _shown: deque[LiveCanvas] = deque(maxlen=MAX_TRACKED)
 _hooked = False
@@ -89,17 +98,10 @@ def notebook_available() -> bool:
     return True
 
 
-def png_bytes(img: np.ndarray) -> bytes:
-    """``uint8[H, W, 3]`` as a PNG file (zlib from the standard library: no image package needed)."""
-    h, w = img.shape[:2]
-    raw = np.concatenate([np.zeros((h, 1), dtype=np.uint8), img.reshape(h, w * 3)], axis=1).tobytes()
-
-    def chunk(kind: bytes, data: bytes) -> bytes:
-        body = kind + data
-        return len(data).to_bytes(4, "big") + body + zlib.crc32(body).to_bytes(4, "big")
-
-    header = w.to_bytes(4, "big") + h.to_bytes(4, "big") + bytes([8, 2, 0, 0, 0])
-    return b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header) + chunk(b"IDAT", zlib.compress(raw, 6)) + chunk(b"IEND", b"")
+def fit_cell_size(level: Any) -> int:
+    """The CSS cell size of a canvas fitted to the notebook column (capped for tall levels)."""
+    cs = min(FIT_WIDTH // level.width, FIT_HEIGHT // level.height)
+    return int(np.clip(cs, MIN_CELL_SIZE, MAX_CELL_SIZE // PIXEL_RATIO))
 
 
 def _css(colour: Sequence[int], alpha: float = 1.0) -> str:
@@ -115,10 +117,13 @@ class LiveCanvas:
     ``fps``: steps per second (0: as fast as drawn); frames are sent at most
     ``fps * max(1, animation_frames)`` a second, measured from the frame before, so the
     time a program spends between steps is not added to it; ``animation_frames``: frames
-    per step (0: robots jump); ``pixel_ratio``: backing-store pixels per CSS pixel.
+    per step (0: robots jump); ``pixel_ratio``: backing-store pixels per CSS pixel; ``fit``:
+    the canvas fills about 90% of the notebook column (``renderer``'s cell size is then only
+    the ``rgb_array`` frames'); else each cell is ``renderer.cell_size`` CSS pixels.
     """
 
-    def __init__(self, renderer: RgbRenderer, animation_frames: int = 4, fps: float = 4.0, pixel_ratio: int = PIXEL_RATIO):
+    def __init__(self, renderer: RgbRenderer, animation_frames: int = 4, fps: float = 4.0, pixel_ratio: int = PIXEL_RATIO,
+                 fit: bool = False):  # fmt: skip
         from ipycanvas import MultiCanvas
 
         self.renderer = renderer
@@ -126,20 +131,25 @@ class LiveCanvas:
         self.fps = check_fps(fps, "fps")
         if isinstance(pixel_ratio, bool) or pixel_ratio not in (1, 2):
             raise ValueError(f"pixel_ratio: must be 1 or 2, got {pixel_ratio!r}")
-        self.ratio = pixel_ratio
-        self.hi = renderer if pixel_ratio == 1 else RgbRenderer(renderer.level, renderer.cell_size * pixel_ratio, renderer.theme)
-        self.width, self.grid_height = renderer.width, renderer.grid_height  # CSS pixels
-        self.widget = MultiCanvas(3, width=self.width * self.ratio, height=self.grid_height * self.ratio)
-        self._set_css_size(self.grid_height)
+        self.ratio, self.fit = pixel_ratio, bool(fit)
+        css_cell = fit_cell_size(renderer.level) if self.fit else renderer.cell_size
+        same = css_cell * pixel_ratio == renderer.cell_size
+        self.hi = renderer if same else RgbRenderer(renderer.level, css_cell * pixel_ratio, renderer.theme)
+        self.width, self.grid_height = self.hi.width // self.ratio, self.hi.grid_height // self.ratio  # CSS pixels
+        self.widget = MultiCanvas(3, width=self.hi.width, height=self.hi.grid_height)
         self.scene = Scene()
         self.overlay = Overlay()
         self.frames_sent = 0  # hold_canvas batches sent (tests, benchmarks)
         self._static: np.ndarray | None = None  # what layer 0 shows
         self._drawn: list[tuple] | None = None  # the keys of the panel's pieces on layer 2
         self._due = 0.0  # time.monotonic() at which the next robot frame may be sent
-        self._handle: Any = None  # the display handle whose PNG ``snapshot`` refreshes
+        self._still: Still | None = None  # the still shown with the canvas (``show``)
+        self.view: Any = self.widget  # what ``show`` displays: the canvas, and the replay bar under it
+        self._replay: Any = None  # the replay bar (``show``)
+        self.history: deque[tuple[Scene, Overlay]] = deque(maxlen=MAX_REPLAY)  # this episode's scenes
         self._styles = _Styles()
-        self._snapped: tuple[Scene, Overlay] | None = None  # what the output's PNG shows
+        self._snapped: tuple[Scene, Overlay] | None = None  # what the still shows
+        self.marked: int | None = None  # the robot whose cell is framed in its colour (the one a player drives)
         # each layer is its own canvas in the browser, ready in its own time: each redraws itself,
         # and everything is drawn once more a moment later (a reloading page may drop the first
         # commands: the widget that carries them to the layers is not always ready before them)
@@ -148,37 +158,68 @@ class LiveCanvas:
         layers[1].on_client_ready(lambda *_: self._on_ready(lambda: self._draw_robots(self.scene)))
         layers[2].on_client_ready(lambda *_: self._on_ready(lambda: self._draw_top(force=True)))
         self._redraw_due = False
+        self._set_height(self.hi.grid_height + self._reserved(self.scene))
         self._draw_static()
         self._draw_top()
 
     # ------------------------------------------------------------------ public
-    def show(self) -> None:
-        """Display the canvas in the current notebook cell (with a PNG of the frame for saved notebooks)."""
-        from IPython.display import display
+    @property
+    def css(self) -> str:
+        """The CSS of the canvas's size (its still has the same)."""
+        if self.fit:
+            return f"width: {FIT_SHARE}; max-width: {self._max_width()}; height: auto"
+        return f"width: {self.width}px; height: {self.widget.height // self.ratio}px"
 
-        self._handle = display(self._bundle(), raw=True, display_id=True)
+    def show(self) -> None:
+        """Display the canvas in the current notebook cell, with a still of its frame for saved notebooks
+        and a replay bar (shown when an episode ends)."""
+        from ipywidgets import VBox
+
+        from .replay import ReplayBar
+
+        self._replay = ReplayBar(self)
+        self.view = VBox([self.widget, self._replay.widget])
+        self._still = Still(self.view, self.picture, self.css, self.ratio)
+        self._snapped = (self.scene, self.overlay)
+        self._still.show()
         _track(self)
 
     def snapshot(self, only_if_changed: bool = False) -> None:
-        """Refresh the PNG that the output carries (the frame ``rgb_array`` gives for the same
-        state); done when an episode ends, when the env closes and after each notebook cell."""
-        if self._handle is None or (only_if_changed and self._snapped == (self.scene, self.overlay)):
+        """Refresh the still shown with the canvas (the frame ``rgb_array`` gives for the same
+        state, at the canvas's resolution); done when an episode ends, when the env closes and
+        after each notebook cell."""
+        if self._still is None or (only_if_changed and self._snapped == (self.scene, self.overlay)):
             return
-        self._handle.update(self._bundle(), raw=True)
+        self._snapped = (self.scene, self.overlay)
+        self._still.css = self.css
+        self._still.refresh()
 
     def frame(self) -> np.ndarray:
         """The ``rgb_array`` frame of what the canvas shows."""
         return self.renderer.frame(self.scene, self.overlay)
 
+    def picture(self) -> np.ndarray:
+        """What the canvas shows, at its backing store's resolution (the panel's reserved strip included)."""
+        img = self.hi.frame(self.scene, self.overlay)
+        for f in self._marks(self.scene):  # axis-aligned bars: painted as they are
+            (x0, y0), (x1, y1) = f.points.min(axis=0).astype(int), f.points.max(axis=0).astype(int)
+            img[y0:y1, x0:x1] = f.colour
+        if img.shape[0] < self.widget.height:
+            pad = np.empty((self.widget.height - img.shape[0], *img.shape[1:]), dtype=np.uint8)
+            pad[:] = self.hi.theme.panel
+            img = np.concatenate([img, pad])
+        return img
+
     def draw(self, robots: Scene | Sequence[Cell | None], overlay: Overlay | None = None, animate: bool = True) -> None:
         """Show ``robots`` (a ``Scene``, or robot ``i`` at ``robots[i]``), gliding from where they
-        came from unless ``animate`` is False; redraw the overlay and panel if they changed."""
+        came from unless ``animate`` is False; redraw the overlay and panel if they changed. The
+        panel (the race's legend) changes with the frame that shows the robots where they end."""
         scene = as_scene(robots)
         self.renderer.check_frame(overlay or self.overlay, scene)  # the whole frame within the limit: nothing drawn else
         if overlay is not None:
-            self.set_overlay(overlay, scene)
+            self.set_overlay(overlay, self.scene, top=False)
+        self._sync_static()  # a replay may have left another overlay's cells there
         self.scene = scene
-        self._draw_top()
         steps = self.animation_frames if animate else 0
         if steps == 0 or not glide(scene, 0.0)[0]:  # nobody moved
             self._pace(1.0 / self.fps if animate and self.fps > 0 else 0.0)
@@ -188,18 +229,43 @@ class LiveCanvas:
                 self._pace(1.0 / (self.fps * steps) if self.fps > 0 else 0.0)
                 at, poses = glide(scene, k / steps, self.hi.labelled, self.hi.label_top)
                 self._draw_robots(scene, at, poses)
+        self._draw_top()
+        self._record(scene)
         if scene.done:
             self.snapshot()
 
-    def set_overlay(self, overlay: Overlay, scene: Scene | None = None) -> None:
+    def new_episode(self) -> None:
+        """Forget the replay of the episode before (an env's reset)."""
+        self.history.clear()
+        if self._replay is not None:
+            self._replay.hide()
+
+    def replay(self, index: int) -> None:
+        """Show the episode's ``index``-th scene (0: its start) as it was drawn; the env is not stepped."""
+        scene, overlay = self.history[index]
+        live, self.overlay = self.overlay, overlay
+        try:
+            self._sync_static()
+            self._draw_robots(scene)
+            self._draw_top(scene)
+        finally:
+            self.overlay = live
+
+    def set_overlay(self, overlay: Overlay, scene: Scene | None = None, top: bool = True) -> None:
         """Show ``overlay``: the bottom layer again if its cells changed, the panel if it did."""
         if overlay is self.overlay:
             return
         self.renderer.check_frame(overlay, scene or self.scene)
-        old, self.overlay = self.overlay, overlay
-        if self.renderer.static(overlay) is not self.renderer.static(old) or self._static is None:
-            self._draw_static()
-        self._draw_top(scene)
+        self.overlay = overlay
+        self._sync_static()
+        if top:
+            self._draw_top(scene)
+
+    def _record(self, scene: Scene) -> None:
+        if not self.history or self.history[-1] != (scene, self.overlay):
+            self.history.append((scene, self.overlay))
+        if scene.done and self._replay is not None:
+            self._replay.offer(len(self.history))
 
     def _on_ready(self, draw_layer: Any) -> None:
         draw_layer()
@@ -226,15 +292,25 @@ class LiveCanvas:
         self._draw_robots(self.scene)
 
     # ------------------------------------------------------------------ layers
-    def _bundle(self) -> dict[str, Any]:
-        self._snapped = (self.scene, self.overlay)
-        data = dict(self.widget._repr_mimebundle_())  # the widget view and its text
-        data["image/png"] = base64.b64encode(png_bytes(self.frame())).decode("ascii")
-        return data
+    def _reserved(self, scene: Scene) -> int:
+        """The panel's height kept from the start: a colour bar's (an overlay of values may
+        come), and the legend's, in backing-store pixels."""
+        from .panel import panel_sections
 
-    def _set_css_size(self, height: int) -> None:
-        self.widget.layout.width = f"{self.width}px"
-        self.widget.layout.height = f"{height}px"
+        r = self.hi
+        return sum(sec.height for sec in panel_sections(r.width, r.cell_size, r.theme, (), (0.0, 1.0), scene.legend, self.ratio))
+
+    def _set_height(self, height: int) -> None:
+        """The backing store's height (resizing clears every layer) and the CSS size with it."""
+        self.widget.height = height
+        self.widget.layout.width = f"{self.width}px" if not self.fit else FIT_SHARE
+        self.widget.layout.max_width = self._max_width() if self.fit else None
+        self.widget.layout.height = "auto" if self.fit else f"{height // self.ratio}px"
+
+    def _max_width(self) -> str:
+        """A fitted canvas's widest: its backing store's (never blurred up) and, for a tall level,
+        what keeps it within ``FIT_VIEW`` percent of the window's height."""
+        return f"min({self.width}px, calc({FIT_VIEW}vh * {self.hi.width / self.widget.height:.4f}))"
 
     def _pace(self, interval: float) -> None:
         """Wait until the next frame is due, then set the one after ``interval`` seconds later."""
@@ -250,6 +326,23 @@ class LiveCanvas:
         self.frames_sent += 1
         return hold_canvas()
 
+    def _marks(self, scene: Scene) -> list[Fill]:
+        """The frame round the ``marked`` robot's cell, in its colour (under the robots)."""
+        from .palette import robot_colour
+
+        view = next((v for v in scene.robots if v.number == self.marked), None)
+        if view is None:
+            return []
+        cs = self.hi.cell_size
+        x0, y0, t = view.cell[0] * cs, view.cell[1] * cs, max(2, cs // 16)
+        colour = robot_colour(self.hi.theme, view.number)
+        return [Fill(p, colour) for p in _frame_bars(x0 + t, y0 + t, x0 + cs - t, y0 + cs - t, t)]
+
+    def _sync_static(self) -> None:
+        """Layer 0 again if it does not show the overlay's cells."""
+        if self._static is None or self.hi.static(self.overlay) is not self._static:
+            self._draw_static()
+
     def _draw_static(self) -> None:
         img = self._static = self.hi.static(self.overlay)
         rgba = np.concatenate([img, np.full(img.shape[:2] + (1,), 255, dtype=np.uint8)], axis=2)  # RGBA: sent as PNG
@@ -259,7 +352,8 @@ class LiveCanvas:
 
     def _draw_top(self, scene: Scene | None = None, force: bool = False) -> None:
         """Labels and panel (layer 2): only the strips of the panel whose content changed (a
-        legend row's return, say), everything when the panel's height changed or ``force``."""
+        legend row's return, say), everything when the canvas's height changed or ``force``.
+        The canvas never shrinks and keeps a colour bar's height from the start."""
         from .annotate import value_range
         from .panel import panel_sections, shifted
 
@@ -267,16 +361,15 @@ class LiveCanvas:
         r = self.hi
         sections = panel_sections(r.width, r.cell_size, r.theme, self.overlay.panel, value_range(self.overlay),
                                   scene.legend, self.ratio)  # fmt: skip
-        height = sum(sec.height for sec in sections)
-        drawn = self._drawn if not force and r.grid_height + height == self.widget.height else None
-        if r.grid_height + height != self.widget.height:
-            self.widget.height = r.grid_height + height  # resizing clears every layer
-            self._set_css_size(self.grid_height + height // self.ratio)
+        height = max(r.grid_height + sum(sec.height for sec in sections), self.widget.height)
+        drawn = self._drawn if not force and height == self.widget.height else None
+        if height != self.widget.height:
+            self._set_height(height)
             self._draw_static()
             self._draw_robots(self.scene)
         if force or drawn is None:
             self._styles.reset()
-        ops: list[Op] = [] if drawn is not None else list(r.labels)
+        ops: list[Op] = [] if drawn is not None else [Fill(_rect(0, r.grid_height, r.width, height), r.theme.panel), *r.labels]
         now: list[tuple] = []
         y = r.grid_height
         for k, sec in enumerate(sections):
@@ -290,6 +383,8 @@ class LiveCanvas:
                 ops.append(Fill(_rect(x0, y, x1, y + sec.height), sec.background))
                 ops += [shifted(op, y) for op in build()]
             y += sec.height
+        if drawn is not None and len(drawn) > len(now) and y < height:  # strips gone: their place blank
+            ops.append(Fill(_rect(0, y, r.width, height), r.theme.panel))
         self._drawn = now
         if not ops:
             return
@@ -303,8 +398,11 @@ class LiveCanvas:
                      poses: dict[int, str] | None = None) -> None:  # fmt: skip
         layer = self.widget[1]
         sprites = robot_sprites(scene, self.hi.cell_size, self.hi.theme, poses, at, self.hi.labelled)
+        marks = self._marks(scene)
         with self._hold():
             layer.clear()
+            if marks:
+                _send(layer, marks, self._styles)
             if not sprites:
                 return
             # the polygons of all robots in one call (drawn in order), then their numbers
@@ -317,6 +415,13 @@ class LiveCanvas:
             texts = [Text(t.x + x, t.y + y, t.text, t.size, t.colour, t.align, t.baseline, t.alpha)
                      for s, x, y in sprites for t in s.texts]  # fmt: skip
             _send(layer, texts, self._styles)
+
+
+def _frame_bars(x0: int, y0: int, x1: int, y1: int, t: int) -> list[np.ndarray]:
+    from .shapes import rect
+
+    return [rect(x0, y0, x1, y0 + t), rect(x0, y1 - t, x1, y1),
+            rect(x0, y0 + t, x0 + t, y1 - t), rect(x1 - t, y0 + t, x1, y1 - t)]  # fmt: skip
 
 
 class _Styles:

@@ -92,3 +92,20 @@ def episode_frames(
             if terminated or truncated:
                 break
     return frames
+
+
+class Gif:
+    """A GIF file shown in a notebook cell: as ``image/gif`` and as HTML of the same image, so that
+    nbconvert's HTML (which has no ``image/gif`` renderer), GitHub and JupyterLab all show it
+    animated, at its own size. ``display(Gif(path))`` or a cell ending with ``Gif(path)``."""
+
+    def __init__(self, path: str | Path):
+        self.path = Path(path)
+        self.data = self.path.read_bytes()
+
+    def _repr_mimebundle_(self, include: Any = None, exclude: Any = None) -> dict[str, str]:
+        import base64
+
+        b64 = base64.b64encode(self.data).decode("ascii")
+        tag = f'<img src="data:image/gif;base64,{b64}" alt="{self.path.name}">'
+        return {"image/gif": b64, "text/html": tag, "text/plain": f"GIF {self.path.name}"}

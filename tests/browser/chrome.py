@@ -68,6 +68,10 @@ _CANVAS_OPAQUE = f"""(index) => {{
   return true;
 }}"""
 
+# No widget output still "Loading widget..." (the manager has restored, or failed to restore, each model).
+_WIDGETS_SETTLED = """() => document.querySelectorAll('.jp-OutputArea-output').length > 0 && !Array.from(
+  document.querySelectorAll('.jp-OutputArea-output')).some(o => o.innerText.includes('Loading widget'))"""
+
 _MARKER_SHOWN = """(m) => Array.from(document.querySelectorAll('.jp-OutputArea-output')).some(o => o.innerText.includes(m))"""
 
 
@@ -148,6 +152,19 @@ class NotebookPage:
         page.wait_for_function(_KERNEL_IDLE, timeout=ms, polling=200)
         page.wait_for_function(_MARKER_SHOWN, arg=marker, timeout=ms, polling=200)
         self.log(f"{notebook}: reopened, kernel connected")
+
+    def reopen_with_a_new_kernel(self, notebook: str, timeout: float = WAIT) -> None:
+        """Save the notebook, end its kernel, open it again: a learner coming back to it another day
+        (the saved file, signed by this server, is trusted; a new kernel that ran nothing)."""
+        page, ms = self.page, timeout * 1000
+        self.save(timeout)
+        self.lab.shutdown_sessions()
+        self.log(f"{notebook}: saved, kernel shut down, opening it again")
+        page.goto(self.lab.url(f"lab/tree/{notebook}"), timeout=ms)
+        page.wait_for_function(_KERNEL_IDLE, timeout=ms, polling=200)
+        # the widget manager has looked for the outputs' models: each widget output is drawn or says why not
+        page.wait_for_function(_WIDGETS_SETTLED, timeout=ms, polling=200)
+        self.log(f"{notebook}: reopened with a new kernel")
 
     def outputs_text(self) -> str:
         return self.page.evaluate(

@@ -137,6 +137,13 @@ class LabServer:
             with contextlib.suppress(urllib.error.HTTPError):
                 self._api("DELETE", f"kernels/{kernel['id']}")
 
+    def shutdown_sessions(self) -> None:
+        """End every notebook session and its kernel: the next page opening a notebook starts a new kernel."""
+        for session in self._api("GET", "sessions"):
+            with contextlib.suppress(urllib.error.HTTPError):
+                self._api("DELETE", f"sessions/{session['id']}")
+        self.shutdown_kernels()
+
     def stop(self) -> None:
         """Kernels first, then SIGINT twice (the server asks to confirm the first), then SIGKILL what is left."""
         proc, self.proc = self.proc, None

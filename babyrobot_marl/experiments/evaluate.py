@@ -1,0 +1,190 @@
+"""A policy beside the shortest-path and random robots on the same seeded episodes (``babyrobot-marl evaluate``).
+
+    from babyrobot_marl.experiments import evaluate
+    ev = evaluate(None, level="maze:8..16", n_robots=4, episodes=200, seed=0)  # None: the two baselines only
+    print(ev.table()); ev.plot(); ev.metrics["shortest"]["success_rate"]
+
+Every crowd plays the same episodes: episode ``i`` resets its env with ``seed + i``, so each draws
+the same level (a family spec draws from ``EVAL_MAZE_SEEDS``: mazes the fast trainer never saw)
+and the same starts (``start="random"``). All robots of a crowd act with one policy. Metrics
+(POGEMA's), each with a 95% interval inside its range:
+
+- ``success_rate``: the share of robots that reached the exit (Wilson, over robot-episodes);
+- ``all_reached_rate``: the share of episodes in which every robot did (Wilson, over episodes);
+- ``sum_of_costs``: the mean over episodes of the robots' summed steps (a robot that did not
+  finish costs the episode's length), in ``[0, n_robots * limit]``;
+- ``makespan``: the mean steps until the last robot finished or the episode ended, in ``[0, limit]``;
+
+means with the normal approximation, clipped to the range (one episode: the whole range).
+``limit`` is the step limit (``max_cycles``: the largest level's default for a family).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from .. import policies as policy_module
+from ..core.checks import check_int
+from ..envs.race import RaceEnv
+from ..levels.sources import EVAL_MAZE_SEEDS, parse_level_family
+from .stats import mean_interval, wilson
+
+METRICS = ("success_rate", "all_reached_rate", "sum_of_costs", "makespan")
+BASELINES = ("shortest", "random")
+Policy = Callable[[np.ndarray], int]
+
+
+@dataclass
+class Episode:
+    """One episode of a crowd: its level, length and each robot's finishing step (0: did not finish)."""
+
+    seed: int
+    level: str
+    steps: int
+    finish_steps: list[int]
+
+
+def crowd_metrics(episodes: list[Episode], n_robots: int, limit: int) -> dict[str, float]:
+    """The four metrics and their ``_low``/``_high`` bounds, plain floats (JSON-ready)."""
+    n = len(episodes)
+    reached = sum(1 for e in episodes for f in e.finish_steps if f)
+    all_reached = sum(1 for e in episodes if all(e.finish_steps))
+    costs = [sum(f or e.steps for f in e.finish_steps) for e in episodes]
+    makespans = [max(e.finish_steps) if all(e.finish_steps) else e.steps for e in episodes]
+    out: dict[str, float] = {}
+    for name, (value, low, high) in (
+        ("success_rate", (reached / (n * n_robots), *wilson(reached, n * n_robots))),
+        ("all_reached_rate", (all_reached / n, *wilson(all_reached, n))),
+        ("sum_of_costs", _mean(costs, n_robots * limit)),
+        ("makespan", _mean(makespans, limit)),
+    ):
+        out[name], out[f"{name}_low"], out[f"{name}_high"] = value, low, high
+    return out
+
+
+def _mean(values: list[int], top: float) -> tuple[float, float, float]:
+    m, low, high = mean_interval(values, lo=0.0, hi=top)
+    return (m, 0.0, float(top)) if math.isnan(low) else (m, low, high)  # one episode: nothing known beyond the range
+
+
+@dataclass
+class Evaluation:
+    """The crowds' metrics (``metrics[name][metric]``), their episodes, and the settings they ran with."""
+
+    level: str
+    n_robots: int
+    collisions: str
+    limit: int
+    episodes: dict[str, list[Episode]]
+    metrics: dict[str, dict[str, float]]
+
+    def table(self) -> str:
+        """One row per crowd: each metric as ``value [low, high]``."""
+        rows = [["robots", *METRICS]]
+        for name, m in self.metrics.items():
+            rows.append([name] + [_shown(k, m[k], m[f"{k}_low"], m[f"{k}_high"]) for k in METRICS])
+        widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
+        n = len(next(iter(self.episodes.values())))
+        head = (f"{n} episodes on {self.level}, {self.n_robots} robots, collisions {self.collisions}, "
+                f"step limit {self.limit}; 95% intervals in brackets")
+        return "\n".join([head] + ["  ".join(c.ljust(w) for c, w in zip(r, widths)).rstrip() for r in rows])
+
+    def json(self) -> str:
+        """``{"policy": M, "shortest": M, "random": M}`` on one line."""
+        return json.dumps(self.metrics, separators=(", ", ": "))
+
+    def plot(self, axes: Any = None) -> Any:
+        """The four metrics per crowd with their 95% intervals, one panel each (matplotlib, imported here)."""
+        try:
+            import matplotlib.pyplot as plt
+        except ImportError as err:
+            raise ImportError("Evaluation.plot needs matplotlib: pip install 'babyrobot_marl[plot]'") from err
+        if axes is None:
+            _, axes = plt.subplots(1, len(METRICS), figsize=(3.0 * len(METRICS), 3.2), layout="constrained")
+        names = list(self.metrics)
+        x = np.arange(len(names))
+        for ax, k, top in zip(axes, METRICS, (1.05, 1.05, None, None)):
+            v = np.array([self.metrics[n][k] for n in names])
+            err = np.array([[self.metrics[n][k] - self.metrics[n][f"{k}_low"] for n in names],
+                            [self.metrics[n][f"{k}_high"] - self.metrics[n][k] for n in names]])
+            ax.bar(x, v, 0.6, yerr=err, capsize=4, color=[f"C{i}" for i in range(len(names))])
+            ax.set_xticks(x, names)
+            ax.set_title(k.replace("_", " "))
+            if top is not None:
+                ax.set_ylim(0, top)
+            else:
+                ax.set_ylabel("steps")
+        n = len(next(iter(self.episodes.values())))
+        axes[0].figure.suptitle(f"{n} episodes on {self.level}, {self.n_robots} robots, collisions {self.collisions} "
+                                "(bars: 95% intervals)")
+        return axes
+
+
+def _shown(metric: str, v: float, low: float, high: float) -> str:
+    f = ".3f" if metric.endswith("_rate") else ".1f"  # rates to 3 decimals, mean steps to one
+    return f"{v:{f}} [{low:{f}}, {high:{f}}]"
+
+
+def evaluate(
+    policy: Policy | None,
+    level: Any = "maze:8..16",
+    n_robots: int = 4,
+    episodes: int = 200,
+    seed: int = 0,
+    collisions: str = "block",
+    policy_env: Mapping[str, Any] | None = None,
+    name: str = "policy",
+    **env_kwargs: Any,
+) -> Evaluation:
+    """``policy`` (every robot acting with it), the shortest-path robots and random robots on the same
+    ``episodes`` seeded episodes; returns their metrics with 95% intervals (``Evaluation``).
+
+    ``policy``: a callable ``observation -> action``, or ``None`` for the two baselines only; one with
+    ``for_env(env)`` (a ``TrainedPolicy``) is bound to its env at every episode. ``policy_env``: the
+    observation form it reads (``observe``, ``view_radius``, ``k``, ``obs_encoding``, ``hint``);
+    ``level``: a level name, text or ``Level``, or a family spec ``"maze:A..B"`` (drawn from
+    ``EVAL_MAZE_SEEDS``); ``env_kwargs``: more race arguments (``max_cycles``, ``rules``...), the
+    same for every crowd. Robots start at random cells (``start="random"``).
+    """
+    n_robots, episodes, seed = check_int(n_robots, "n_robots", 1), check_int(episodes, "episodes", 1), check_int(seed, "seed", 0)
+    family = parse_level_family(level, EVAL_MAZE_SEEDS) if isinstance(level, str) else None
+    kw = {"n_robots": n_robots, "collisions": collisions, "start": "random", **env_kwargs}
+    envs = {n: RaceEnv(level=family or level, observe="nearest", k=1, **kw) for n in BASELINES}  # [x, y] is all they read
+    crowds: dict[str, Policy | str] = dict(zip(BASELINES, BASELINES))
+    if policy is not None:
+        envs = {name: RaceEnv(level=family or level, **dict(policy_env or {}), **kw), **envs}
+        crowds = {name: policy, **crowds}
+        _bound(policy, envs[name])  # a policy that cannot read this env fails here, before any episode
+    limit = envs[BASELINES[0]].max_cycles
+    runs = {n: [_episode(envs[n], crowds[n], seed + i, i) for i in range(episodes)] for n in crowds}
+    label = level if isinstance(level, str) and family is not None else envs[BASELINES[0]].level.name or "custom level"
+    metrics = {n: crowd_metrics(r, n_robots, limit) for n, r in runs.items()}
+    return Evaluation(label, n_robots, envs[BASELINES[0]].collisions, limit, runs, metrics)
+
+
+def _bound(policy: Policy, env: RaceEnv) -> Policy:
+    for_env = getattr(policy, "for_env", None)
+    return for_env(env) if for_env is not None else policy
+
+
+def _episode(env: RaceEnv, crowd: Policy | str, seed: int, i: int) -> Episode:
+    obs, _ = env.reset(seed=seed)
+    # after the reset: a drawn level changes the table the scripted robots plan on
+    if isinstance(crowd, str):
+        acting = [policy_module.make(crowd, env.table, seed=np.random.default_rng([seed, i, k])) for k in range(env.n_robots)]
+    else:
+        acting = [_bound(crowd, env)] * env.n_robots
+    index = {a: k for k, a in enumerate(env.possible_agents)}
+    finish = [0] * env.n_robots
+    while env.agents:
+        obs, _, _, _, infos = env.step({a: int(acting[index[a]](obs[a])) for a in env.agents})
+        for a, info in infos.items():
+            if info["finished"] and not finish[index[a]]:
+                finish[index[a]] = env.elapsed_steps
+    return Episode(seed, env.level.name, env.elapsed_steps, finish)
