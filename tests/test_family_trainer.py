@@ -109,3 +109,21 @@ def test_the_hint_policy_learns_to_reach_exits_of_unseen_mazes():
     fam = Family(parse_level_family("maze:8..8", EVAL_MAZE_SEEDS), 2, result.config, 5, {})
     score = play_atlas(result.net, fam.atlas(16), 2, 100, fam.max_steps, np.random.default_rng(0))
     assert score["success_rate"] >= 0.9
+
+
+def test_files_of_format_3_still_load_and_a_bad_observation_form_is_refused(trained, tmp_path):
+    import torch
+
+    from babyrobot_marl.training.policy import TrainedPolicy
+
+    old = train_ppo("race-2", 2, 512, seed=0, config=PPOConfig(n_envs=16, n_steps=16, batch_size=128, eval_every=0))
+    path = old.save(str(tmp_path / "old.pt"))
+    data = torch.load(path, weights_only=True)
+    data.update(version=3, observation={"observe": "global", "obs_encoding": "multidiscrete"})
+    torch.save(data, path)
+    assert isinstance(load_policy(path), TrainedPolicy)
+    family = torch.load(trained.save(str(tmp_path / "f.pt")), weights_only=True)
+    family["observation"]["view_radius"] = -1
+    torch.save(family, tmp_path / "bad.pt")
+    with pytest.raises(ValueError, match=r"broken policy file: observation: this version reads policies of"):
+        load_policy(tmp_path / "bad.pt")
