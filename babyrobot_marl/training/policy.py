@@ -241,8 +241,11 @@ class WindowPolicy(TrainedPolicy):
         key = rows.tobytes()
         p = self._probs.get(key)
         if p is None:
+            from .ppo.loop import torch_threads
+
             torch = torch_module()
-            with torch.no_grad():
+            # one thread: on a busy machine torch's own threads wait on each other, 5 ms for this 1-row pass
+            with torch.no_grad(), torch_threads(1):
                 p = torch.softmax(self.net.actor(torch.from_numpy(rows)), 1).double().numpy()[0]
             self._probs[key] = p
         return p

@@ -241,9 +241,16 @@ def play_atlas(net: Any, atlas: Atlas, n_robots: int, n_envs: int, max_steps: in
     """One episode in each of ``n_envs`` envs on ``atlas`` with the net's policy (greedy or sampled): the share
     of robots that reached the exit (``success_rate``), of episodes where all did, and the mean makespan."""
     from ..deps import torch_module
+    from .loop import torch_threads
+
+    with torch_threads(1):  # on a busy machine torch's own threads wait on each other
+        return _play(net, atlas, n_robots, n_envs, max_steps, rng, deterministic, torch_module())
+
+
+def _play(net: Any, atlas: Atlas, n_robots: int, n_envs: int, max_steps: int, rng: np.random.Generator,
+          deterministic: bool, torch: Any) -> dict[str, float]:
     from .sampler import PerKey
 
-    torch = torch_module()
     batch = atlas.batch(n_envs, n_robots, max_steps)
     batch.reset_drawn(np.arange(n_envs), rng)
     probs = PerKey(atlas, lambda rows: torch.softmax(net.actor(rows), 1))
