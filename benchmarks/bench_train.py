@@ -207,7 +207,7 @@ def main() -> int:
     torch.set_num_threads(1)
     quick = a.quick
     speed_steps = 4096 if quick else 2**20
-    late_steps = 2**16 if quick else 8_000_000
+    late_steps = 2**18 if quick else 8_000_000
     budget8, budget16, every = (4096, 4096, 2048) if quick else (5_000_000, 30_000_000, 32768)
     sb3_budget8, sb3_budget16 = (2048, 2048) if quick else (200_000, 400_000)
     race_seconds, race_every, races = (2.0, 8192, 20) if quick else (RACE_SECONDS, 32768, 500)
