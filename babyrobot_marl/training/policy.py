@@ -32,7 +32,7 @@ from ..core.checks import shown
 from ..core.table import Table
 from ..envs.encodings import Encoder
 from .checks import GLOBAL_FORM, check_fields, check_weights
-from .deps import torch_module
+from .deps import torch_module, torch_threads
 from .ppo.config import PPOConfig
 from .ppo.inputs import Inputs, near_offsets
 from .ppo.net import make_net, weight_shapes
@@ -241,8 +241,6 @@ class WindowPolicy(TrainedPolicy):
         key = rows.tobytes()
         p = self._probs.get(key)
         if p is None:
-            from .ppo.loop import torch_threads
-
             torch = torch_module()
             # one thread: on a busy machine torch's own threads wait on each other, 5 ms for this 1-row pass
             with torch.no_grad(), torch_threads(1):

@@ -23,7 +23,7 @@ from ...core.level import Level
 from ...levels.resolve import resolve_level
 from ...levels.sources import TRAIN_MAZE_SEEDS, level_source, parse_level_family
 from ..checks import check_finite
-from ..deps import torch_module
+from ..deps import torch_module, torch_threads  # torch_threads: also training.ppo.torch_threads, as before
 from .config import PPOConfig, known_settings
 from .inputs import make_inputs
 from .net import log_softmax, make_net
@@ -31,19 +31,6 @@ from .result import EvalPoint, TrainResult
 from .sampler import PerKey, Sampler, distinct_rows
 from .update import Samples, clip_grad_norm, gae, grads_of, ppo_gradients
 from .window import Family
-
-
-@contextlib.contextmanager
-def torch_threads(threads: int | None) -> Iterator[None]:
-    """Run with ``threads`` torch threads (None: leave torch's setting), restored afterwards."""
-    torch = torch_module()
-    before = torch.get_num_threads()
-    if threads is not None:
-        torch.set_num_threads(threads)
-    try:
-        yield
-    finally:
-        torch.set_num_threads(before)
 
 
 @contextlib.contextmanager

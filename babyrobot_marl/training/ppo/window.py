@@ -240,8 +240,7 @@ def play_atlas(net: Any, atlas: Atlas, n_robots: int, n_envs: int, max_steps: in
                deterministic: bool = True) -> dict[str, float]:
     """One episode in each of ``n_envs`` envs on ``atlas`` with the net's policy (greedy or sampled): the share
     of robots that reached the exit (``success_rate``), of episodes where all did, and the mean makespan."""
-    from ..deps import torch_module
-    from .loop import torch_threads
+    from ..deps import torch_module, torch_threads
 
     with torch_threads(1):  # on a busy machine torch's own threads wait on each other
         return _play(net, atlas, n_robots, n_envs, max_steps, rng, deterministic, torch_module())
