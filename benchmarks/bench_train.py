@@ -10,7 +10,8 @@
    timesteps: ``training.ppo.train_ppo`` against SB3 ``PPO`` on the batch engine's own SB3 vec env
    (its fastest path), for one robot on maze-8x8 and a 4-robot race on race-4. Steps per second
    of the process's CPU time (wall time beside it: on a shared machine it also counts the others).
-   Floor: 20x SB3 (aim 50x), for each.
+   Floor: 20x SB3 (aim 50x), for each. Then the fast trainer alone after it has learnt: steps per
+   second of CPU time over the second half of 8M timesteps (short episodes: resets weigh).
 2. Time to 95% of the optimum (value iteration) from the level's start, greedy policy, training
    seconds (evaluations excluded): fast trainer beside SB3 with this package's tuned SB3 settings,
    on maze-8x8 (aim: under 5 s) and maze-16x16.
@@ -93,6 +94,17 @@ def speed(level: str, n_robots: int, timesteps: int, seed: int) -> dict:
 
 # ---------------------------------------------------------------------------- 2. time to 95%
 FAST_MAZE: dict = {}  # the defaults
+
+
+def late_speed(level: str, n_robots: int, timesteps: int, seed: int) -> float:
+    """The fast trainer's steps per second of CPU time over the second half of ``timesteps`` (SB3's run, the
+    same): once the policy has learnt, episodes are short and starting them weighs (issue 28, item 4)."""
+    marks: list[tuple[int, float]] = []
+    train_ppo(level, n_robots, timesteps, seed, fast_config(SPEED_RUN),
+              on_update=lambda t, s, r: marks.append((t, time.process_time())))
+    half = [m for m in marks if m[0] >= timesteps // 2] or marks
+    (t0, c0), (t1, c1) = half[0], marks[-1]
+    return (t1 - t0) / (c1 - c0) if c1 > c0 else float("nan")
 
 
 def to_95_fast(level: str, budget: int, every: int, seed: int) -> dict:
@@ -189,11 +201,13 @@ def main() -> int:
     p.add_argument("--runs", type=int, default=1, help="repeat everything and report the median and range")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--skip-sb3-16", action="store_true", help="no SB3 run on maze-16x16 (minutes)")
-    p.add_argument("--only", choices=("speed", "maze", "race"), default=None, help="one part only (no summary targets)")
+    p.add_argument("--only", choices=("speed", "late", "maze", "race"), default=None,
+                   help="one part only (no summary targets)")
     a = p.parse_args()
     torch.set_num_threads(1)
     quick = a.quick
     speed_steps = 4096 if quick else 2**20
+    late_steps = 2**18 if quick else 8_000_000
     budget8, budget16, every = (4096, 4096, 2048) if quick else (5_000_000, 30_000_000, 32768)
     sb3_budget8, sb3_budget16 = (2048, 2048) if quick else (200_000, 400_000)
     race_seconds, race_every, races = (2.0, 8192, 20) if quick else (RACE_SECONDS, 32768, 500)
@@ -211,6 +225,12 @@ def main() -> int:
                 print(f"  speed {name}: fast {s['fast']:,.0f} steps/s, SB3 {s['sb3']:,.0f} steps/s of CPU time: "
                       f"{s['fast'] / s['sb3']:.1f}x (wall time: {s['fast_wall'] / s['sb3_wall']:.1f}x)", flush=True)
                 add(f"speed {name}", s)
+        if a.only in (None, "late"):
+            for name, level, n in (("one robot, maze-8x8", "maze-8x8", 1), ("4-robot race, race-4", "race-4", 4)):
+                rate = late_speed(level, n, late_steps, seed)
+                print(f"  speed after learning, {name}: fast {rate:,.0f} steps/s of CPU time (the second half of "
+                      f"{late_steps:,} timesteps)", flush=True)
+                add(f"late {name}", rate)
         if a.only in (None, "maze"):
             for level, budget, sb3_budget in (("maze-8x8", budget8, sb3_budget8), ("maze-16x16", budget16, sb3_budget16)):
                 f = to_95_fast(level, budget, every, seed)
@@ -247,6 +267,8 @@ def main() -> int:
               f"{spread([s['fast_wall'] / s['sb3_wall'] for s in runs])}x")
         if min(ratios) < SPEED_FLOOR:
             failures.append(f"speed {name}: {min(ratios):.1f}x < {SPEED_FLOOR:g}x")
+    for name in ("one robot, maze-8x8", "4-robot race, race-4") if "late one robot, maze-8x8" in rows else ():
+        print(f"speed after learning, {name}: fast {spread(rows[f'late {name}'], '{:,.0f}')} steps/s (CPU time)")
     for level in ("maze-8x8", "maze-16x16") if "95 fast maze-8x8" in rows else ():
         fast = rows[f"95 fast {level}"]
         secs = [f["reached"][1] for f in fast if f["reached"]]

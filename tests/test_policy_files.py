@@ -49,8 +49,8 @@ def files(tmp_path_factory) -> dict[str, Path]:
 # ---------------------------------------------------------------------------- item 2: the observation form
 def test_the_file_records_the_observation_form_it_was_trained_on(files):
     data = load_checkpoint(files["race"])
-    assert data["observation"] == {"observe": "global", "obs_encoding": "multidiscrete"}
-    assert data["config"]["near_radius"] == 1 and data["version"] == 3
+    assert data["observation"] == {"observe": "global", "obs_encoding": "multidiscrete", "hint": False}
+    assert data["config"]["near_radius"] == 1 and data["version"] == 4
 
 
 @pytest.mark.parametrize("encoding", ["onehot", "box"])

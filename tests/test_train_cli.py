@@ -76,6 +76,17 @@ def test_a_race_reports_win_and_tie_rates_and_its_policy_races(tmp_path, capsys)
     (["train", "--steps", "10", "--backend", "sb3", "--near-radius", "2"], "--near-radius: only the fast backend"),
     (["train", "--steps", "10", "--near-radius", "-1"], "--near-radius: "),
     (["play", "--policy", "missing.pt"], "invalid choice: 'missing.pt'"),
+    (["train"], "--seconds: give either --steps N (timesteps) or --seconds T (a wall-clock budget), not neither"),
+    (["train", "--steps", "10", "--seconds", "5"], "--seconds: give either --steps N (timesteps) or --seconds T"),
+    (["train", "--seconds", "5", "--backend", "sb3"], "--seconds: only the fast backend has it"),
+    (["train", "--level", "maze:8..16", "--robots", "4", "--seconds", "5"], "--observe: a level family (maze:8..16) trains"),
+    (["train", "--level", "maze:8..16", "--robots", "4", "--seconds", "5", "--observe", "local", "--collisions", "x"],
+     "--collisions: invalid choice: 'x'"),
+    (["train", "--level", "maze:9..8", "--robots", "4", "--seconds", "5", "--observe", "local"], "level: "),
+    (["train", "--steps", "10", "--hint"], "--hint: only with --observe local"),
+    (["train", "--steps", "10", "--collisions", "bounce"], "--collisions: a lone robot (--robots 1) meets nobody"),
+    (["train", "--level", "maze:8..8", "--robots", "2", "--steps", "10", "--observe", "local", "--view-radius", "9"],
+     "view_radius"),
 ])
 def test_bad_train_input_is_one_line_and_status_2(argv, message, capsys):
     assert run(argv) == 2
@@ -100,3 +111,24 @@ def test_the_sb3_backend_names_its_algorithm_and_reports_its_training_return(alg
     progress = [line for line in lines if "training return" in line]
     assert progress and "nan" not in progress[-1]  # SB3's own episode returns, as the fast backend shows its own
     assert any(line.startswith(f"sb3 {algo.upper()} on ") for line in lines)
+
+
+def test_a_family_trains_within_its_seconds_and_its_policy_races_on_the_env(tmp_path, capsys):
+    """--level maze:A..B --observe local --hint --seconds T: one policy on an atlas of mazes, stopped by the wall-clock
+    budget, judged on mazes of the evaluation seeds; the saved file runs on race_v0 with observe='local', hint=True."""
+    from babyrobot_marl import race_v0
+
+    policy = tmp_path / "p.pt"
+    argv = ["train", "--level", "maze:8..10", "--robots", "3", "--observe", "local", "--hint", "--seconds", "1",
+            "--collisions", "bounce", "--episodes", "10", "--save", str(policy), "--no-progress", *SMALL]
+    assert run(argv) == 0
+    out = capsys.readouterr().out
+    figures = last_json(out)
+    assert figures["level"] == "maze:8..10" and figures["episodes"] == 10 and figures["timesteps"] > 0
+    assert 1.0 <= figures["seconds"] < 30  # stopped after the rollout that crossed 1 s
+    assert 0 <= figures["success_rate"] <= 1 and figures["makespan"] > 0
+    env = race_v0.parallel_env(level="maze:9..9", n_robots=3, observe="local", hint=True, start="random", collisions="bounce")
+    agent = load_policy(policy, env=env)
+    obs, _ = env.reset(seed=0)
+    while env.agents:
+        obs, *_ = env.step({a: agent(obs[a]) for a in env.agents})

@@ -129,9 +129,28 @@ def layer_sizes(text: str) -> tuple[int, ...]:
     return sizes
 
 
-def check_train_args(args: argparse.Namespace, n_envs: int) -> None:
+def check_train_args(args: argparse.Namespace, n_envs: int, family: bool = False) -> None:
     """What ``train``'s argument types cannot check alone, before any training (errors name the flags);
-    ``n_envs``: the envs of one rollout of the chosen backend."""
+    ``n_envs``: the envs of one rollout of the chosen backend; ``family``: ``--level`` is a level family."""
+    if (args.steps is None) == (args.seconds is None):
+        raise ValueError("--seconds: give either --steps N (timesteps) or --seconds T (a wall-clock budget), "
+                         f"not {'both' if args.steps is not None else 'neither'}")
+    fast_only = [flag for flag, on in (("--seconds", args.seconds is not None), ("--observe local", args.observe == "local"),
+                                       ("--collisions", args.collisions is not None)) if on]
+    if args.backend != "fast" and fast_only:
+        raise ValueError(f"{fast_only[0]}: only the fast backend has it; drop it or use --backend fast")
+    if family and args.observe != "local":
+        raise ValueError(f"--observe: a level family ({args.level}) trains a policy that reads local windows (its [x, y] "
+                         "mean another place on every maze): pass --observe local")
+    for flag, on in (("--hint", args.hint), ("--view-radius", args.view_radius is not None)):
+        if on and args.observe != "local":
+            raise ValueError(f"{flag}: only with --observe local (the local window's goal hint and radius)")
+    if args.collisions is not None and args.robots == 1:
+        raise ValueError("--collisions: a lone robot (--robots 1) meets nobody; drop --collisions or race --robots 2 or more")
+    if args.observe == "local" and args.load:
+        raise ValueError("--load: continuing from a saved policy is for --observe global; drop --load")
+    if args.observe == "local" and args.gif:
+        raise ValueError("--gif: not for --observe local; watch the policy with 'babyrobot-marl race'")
     if args.algo == "dqn" and (args.backend != "sb3" or args.robots > 1):
         raise ValueError("--algo dqn: only for one robot with --backend sb3")
     if args.robots > 1 and args.gif:

@@ -30,10 +30,14 @@ import sys
 import time
 from typing import Any, TextIO
 
+import numpy as np
+
 from .. import training
 from ..core.level import Level
+from ..core.rules import COLLISION_MODES
 from ..envs.single import BabyRobotEnv
 from ..levels.files import load_level
+from ..levels.sources import parse_level_family
 from ..play.screen import isatty
 from ..training.checks import MAX_NEAR_RADIUS, check_finite_sb3
 from ..training.deps import INSTALL_HINT
@@ -79,8 +83,18 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     )
     add_level_arg(p, default="maze-8x8")
     p.add_argument("--robots", type=positive_int, default=1, metavar="N", help="1: single robot; more: a race (default: 1)")
-    p.add_argument("--steps", type=positive_int, required=True, metavar="N",
-                   help="training timesteps (one per robot per step)")
+    p.add_argument("--steps", type=positive_int, default=None, metavar="N",
+                   help="training timesteps (one per robot per step); or --seconds")
+    p.add_argument("--seconds", type=positive_float, default=None, metavar="T",
+                   help="fast backend: train for T seconds of wall-clock time (rollouts and updates) instead of --steps")
+    p.add_argument("--observe", choices=("global", "local"), default="global",
+                   help="fast backend: what the net reads; 'local' (needed for a level family, --level maze:A..B): the "
+                   "local window of --view-radius, which any maze shows alike (default: global, the robot's cell)")
+    p.add_argument("--view-radius", type=non_negative_int, default=None, metavar="R",
+                   help="--observe local: the window's radius, as race_v0's view_radius (default: 2)")
+    p.add_argument("--hint", action="store_true", help="--observe local: the net also reads the goal hint (race_v0's hint=True)")
+    p.add_argument("--collisions", choices=COLLISION_MODES, default=None,
+                   help="fast backend, race: the collision rule (default: the env's, block)")
     p.add_argument("--backend", choices=BACKENDS, default="fast",
                    help="fast: PPO on the batch engine (default); sb3: Stable-Baselines3")
     p.add_argument("--algo", choices=("ppo", "dqn"), default="ppo", help="dqn: single robot, --backend sb3 only (default: ppo)")
@@ -111,10 +125,11 @@ def run(args: argparse.Namespace, out: TextIO) -> int:
     # a missing package: MissingTrainExtraError, one line from the CLI's main (exit 2); called through the
     # package (training.require_train), where tests put a stand-in
     training.require_train(*(("torch", "tqdm") if args.backend == "fast" else ()))
-    level = load_level(args.level)
-    check_train_args(args, _rollout(args)[0])
+    family = parse_level_family(args.level)  # "maze:A..B": a new maze per episode
+    level = family(np.random.default_rng(0)) if family is not None else load_level(args.level)
+    check_train_args(args, _rollout(args)[0], family is not None)
     tty = not args.no_progress and isatty(out) and isatty(sys.stderr)
-    run = _fast if args.backend == "fast" else _sb3
+    run = _family if family is not None else _fast if args.backend == "fast" else _sb3
     figures = run(args, level, tty, out)
     out.write(json.dumps(figures) + "\n")  # the last line: machine-readable figures
     return 0
@@ -126,6 +141,8 @@ def _rollout(args: argparse.Namespace) -> tuple[int, int, int]:
     if args.backend == "sb3" and args.algo == "dqn":
         return 1, 1, 1
     envs, steps = FAST_ROLLOUT if args.backend == "fast" else SB3_ROLLOUT if args.robots == 1 else SB3_RACE_ROLLOUT
+    if args.backend == "fast" and args.observe == "local":
+        envs = FAMILY_ENVS
     envs, steps = args.n_envs or envs, args.n_steps or steps
     return envs, steps, envs * steps * args.robots
 
@@ -133,6 +150,8 @@ def _rollout(args: argparse.Namespace) -> tuple[int, int, int]:
 def _say_rounded_steps(args: argparse.Namespace, out: TextIO) -> None:
     """One line when whole rollouts round ``--steps`` up: the run trains the rounded count."""
     envs, steps, unit = _rollout(args)
+    if args.steps is None:  # --seconds: whole rollouts until the time is up
+        return
     total = -(-args.steps // unit) * unit
     if total != args.steps:
         robots = f" x {args.robots} robots" if args.robots > 1 else ""
@@ -168,6 +187,8 @@ def _fast(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> dic
         if getattr(args, name) is not None:
             knobs[name] = getattr(args, name)
     config = PPOConfig(threads=args.threads or None, **knobs)  # each knob checked by its flag's type
+    if args.observe == "local":  # one level, the net reading its local windows: an atlas of that one level
+        return _family(args, level, tty, out)
     init = None
     if args.load:
         data = load_checkpoint(args.load)
@@ -183,10 +204,11 @@ def _fast(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> dic
     _say_rounded_steps(args, out)  # every argument checked, the saved policy too
     single = args.robots == 1
     evaluate, target, score_name, finish = _single_eval(level, args) if single else _race_eval(level, args)
-    progress = TrainProgress(args.steps, tty, out, score_name, enabled=not args.no_progress)
+    progress = TrainProgress(args.steps or UNBOUNDED, tty, out, score_name, enabled=not args.no_progress)
     try:
         result = train_ppo(
-            level, args.robots, args.steps, args.seed, config, evaluate=evaluate, target=target, init=init,
+            level, args.robots, args.steps or UNBOUNDED, args.seed, config, evaluate=evaluate, target=target, init=init,
+            max_seconds=args.seconds, env_kwargs=_env_kwargs(args),
             on_update=progress.update, on_eval=lambda p: progress.evaluation(p.timesteps, p.seconds, p.train_return, p.score),
         )
     except TrainingDivergedError as err:  # nothing is saved: the flag, the value and what to do, on one line
@@ -200,6 +222,74 @@ def _fast(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> dic
     points = [(p.timesteps, p.train_return, p.score) for p in result.history]
     _outputs(args, level, agent, out, points, score_name, target,
              lambda path: result.save(path), "policy")
+    return figures
+
+
+UNBOUNDED = 2**62  # timesteps of a run bounded by --seconds
+# a family's default --n-envs: 4x the updates per timestep of 1,024 (maze:8..16 with the hint: 1.000 after 30 s,
+# 0.05 after 20 s with 1,024)
+FAMILY_ENVS = 256
+FAMILY_EVAL_EVERY = 2**21  # a family's evaluations play whole races on the batch engine: fewer than one per rollout
+
+
+def _env_kwargs(args: argparse.Namespace) -> dict[str, Any]:
+    return {} if args.collisions is None else {"collisions": args.collisions}
+
+
+def _family(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> dict[str, Any]:
+    """The fast trainer on a level family (or one level) with the net reading local windows: an atlas of mazes
+    on the batch engine (``training.ppo.window``), judged on mazes of the evaluation seeds."""
+    from ..levels.sources import EVAL_MAZE_SEEDS
+    from ..training.checks import TrainingDivergedError
+    from ..training.ppo.config import PPOConfig
+    from ..training.ppo.loop import train_ppo
+    from ..training.ppo.window import Family, play_atlas
+    from ..training.progress import TrainProgress
+
+    knobs = _knobs(args)
+    if args.near_radius is not None:
+        knobs["near_radius"] = args.near_radius
+    knobs["eval_every"] = args.eval_every or FAMILY_EVAL_EVERY
+    knobs.setdefault("n_envs", FAMILY_ENVS)
+    config = PPOConfig(threads=args.threads or None, view_radius=2 if args.view_radius is None else args.view_radius,
+                       hint=args.hint, **knobs)
+    one_level = parse_level_family(args.level) is None
+    if one_level:  # an atlas of that one level
+        config = config.replace(atlas_size=1)
+    spec = (lambda rng: level) if one_level else args.level
+    judge = Family((lambda rng: level) if one_level else parse_level_family(args.level, EVAL_MAZE_SEEDS), args.robots, config,
+                   args.seed + 1, _env_kwargs(args))  # checks collisions, view_radius, hint before training
+    _say_rounded_steps(args, out)
+    episodes = args.episodes or 200
+
+    along = judge.atlas(16)  # the evaluations along the way: 64 episodes on 16 unseen mazes
+
+    def evaluate(result: Any) -> float:
+        return play_atlas(result.net, along, args.robots, 64, judge.max_steps, np.random.default_rng(args.seed + 1))[
+            "success_rate"]
+
+    score_name = "success rate (unseen mazes)"
+    progress = TrainProgress(args.steps or UNBOUNDED, tty, out, score_name, enabled=not args.no_progress)
+    try:
+        result = train_ppo(spec, args.robots, args.steps or UNBOUNDED, args.seed, config, evaluate=evaluate,
+                           max_seconds=args.seconds, env_kwargs=_env_kwargs(args), on_update=progress.update,
+                           on_eval=lambda p: progress.evaluation(p.timesteps, p.seconds, p.train_return, p.score))
+    except TrainingDivergedError as err:
+        raise ValueError(f"--lr {config.learning_rate:g}: {str(err).split(': ', 1)[1]}; nothing was saved") from None
+    finally:
+        progress.close()
+    figures = _speed(args, level, result.timesteps, result.seconds, result.cpu_seconds, out)
+    judge.rng = np.random.default_rng(args.seed + 1)
+    atlas = judge.atlas(min(episodes, 256))
+    score = play_atlas(result.net, atlas, args.robots, episodes, judge.max_steps, np.random.default_rng(args.seed + 2))
+    where = _name(level, args) if one_level else f"{args.level}, mazes of the evaluation seeds"
+    out.write(f"fast PPO, one policy for {args.robots} robot(s) reading local windows (view_radius {config.view_radius}"
+              f"{', hint' if config.hint else ''}) on {where}: {episodes} episodes, success rate {score['success_rate']:.3f}, "
+              f"all reached {score['all_reached_rate']:.3f}, makespan {score['makespan']:.1f}\n")
+    figures.update({k: _round(v) for k, v in score.items()})
+    figures.update(level=_name(level, args) if one_level else args.level, episodes=episodes)
+    points = [(p.timesteps, p.train_return, p.score) for p in result.history]
+    _outputs(args, level, None, out, points, score_name, None, lambda path: result.save(path), "policy")
     return figures
 
 

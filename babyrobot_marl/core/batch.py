@@ -141,6 +141,7 @@ class BatchRace:
         start: str = "level",
         win_bonus: float = 0.0,
         observer: Observer | None = None,
+        pools: Sequence[int] | None = None,
     ):
         if start not in START_MODES:
             raise ValueError(f"start: must be one of {START_MODES}, got {start!r}")
@@ -151,6 +152,13 @@ class BatchRace:
         self.n_envs, self.n_robots, self.max_steps = n_envs, n_robots, max_steps
         self.fixed = np.asarray(fixed_starts, dtype=np.int64)
         self.free = np.asarray(free, dtype=np.int64)
+        # start pools: consecutive runs of ``free`` (one per level of an atlas); a reset draws a pool, then starts in it
+        counts = np.asarray([len(self.free)] if pools is None else pools, dtype=np.int64)
+        if counts.sum() != len(self.free) or (pools is not None and (counts < 1).any()):
+            raise ValueError(f"pools: the sizes of runs of free cells, each >= 1, summing to {len(self.free)}, "
+                             f"got {counts.tolist()}")
+        self.pool_count, self.pool_first = counts, np.cumsum(counts) - counts
+        self.pool = np.zeros(n_envs, dtype=np.int64)  # each env's pool in its current episode
         self.start = start
         self.win_bonus = float(win_bonus)
         self.mode = table.rules.collisions
@@ -206,22 +214,54 @@ class BatchRace:
             if g is None:
                 g = self.generators[i] = np.random.default_rng()
             self.keys[i] = g.integers(0, 1 << 64, dtype=np.uint64)
-            self.cells[i] = self._starts(g)
+            if self.pool_count.size > 1:
+                self.pool[i] = g.integers(self.pool_count.size)
+            self.cells[i] = self._starts(g, int(self.pool[i]))
+        self._started(np.asarray(envs, dtype=np.int64))
+
+    def reset_drawn(self, envs: np.ndarray, rng: np.random.Generator) -> None:
+        """Start new episodes in ``envs`` drawing every key and start from one generator ``rng`` in a few
+        numpy calls (a trainer's resets: no per-env generator, so no Python loop over envs; not the
+        episodes ``reset_envs`` gives a seeded env)."""
         envs = np.asarray(envs, dtype=np.int64)
+        k = envs.size
+        if k == 0:
+            return
+        self.keys[envs] = rng.integers(0, 1 << 64, size=k, dtype=np.uint64)
+        pool = self.pool[envs] = rng.integers(self.pool_count.size, size=k) if self.pool_count.size > 1 else 0
+        first, count = self.pool_first[pool], self.pool_count[pool]
+        need = 1 if self.start == "single" else self.n_robots - len(self.fixed)
+        if need > 0:
+            if need == 1:  # one uniform index per env
+                picks = (rng.random((k, 1)) * np.reshape(count, (-1, 1))).astype(np.int64)
+            else:  # distinct cells: the ``need`` smallest of uniform keys, the pool's cells only
+                u = rng.random((k, int(np.max(count))))
+                if self.pool_count.size > 1:
+                    u[np.arange(u.shape[1]) >= np.reshape(count, (-1, 1))] = 2.0
+                picks = np.argpartition(u, need - 1, axis=1)[:, :need]
+            drawn = self.free[np.reshape(first, (-1, 1)) + picks]
+            self.cells[envs] = drawn if self.start == "single" or not len(self.fixed) else np.concatenate(
+                [np.broadcast_to(self.fixed, (k, len(self.fixed))), drawn], axis=1)
+        else:
+            self.cells[envs] = self.fixed
+        self._started(envs)
+
+    def _started(self, envs: np.ndarray) -> None:
         self.racing[envs] = True
         self.rank[envs] = 0
         self.n_finished[envs] = 0
         self.t[envs] = 0
         self.over[envs] = False
 
-    def _starts(self, g: np.random.Generator) -> np.ndarray:
+    def _starts(self, g: np.random.Generator, pool: int = 0) -> np.ndarray:
+        free = self.free[self.pool_first[pool] : self.pool_first[pool] + self.pool_count[pool]]
         if self.start == "single":
-            return self.free[[int(g.integers(len(self.free)))]]
+            return free[[int(g.integers(len(free)))]]
         need = self.n_robots - len(self.fixed)
         if need == 0:
             return self.fixed
-        picks = g.choice(len(self.free), size=need, replace=False)
-        return np.concatenate([self.fixed, self.free[picks]])
+        picks = g.choice(len(free), size=need, replace=False)
+        return np.concatenate([self.fixed, free[picks]])
 
     # ------------------------------------------------------------------ the step
     def step(self, actions: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:

@@ -22,15 +22,22 @@ MAX_NEAR_RADIUS = 4  # 40 cells: a key (16 bits of cell, one bit per cell) stays
 FIELDS = ("format", "version", "width", "height", "level", "level_name", "n_robots", "net_arch", "config", "timesteps",
           "state_dict")
 TRAINED_ON = {"observe": "global", "obs_encoding": "multidiscrete"}
+# version 4 records ``hint`` in every observation form; a level family's policy reads ``observe="local"`` windows
+# of the saved ``view_radius`` (training.ppo.window.WindowForm)
+GLOBAL_FORM = {**TRAINED_ON, "hint": False}
+LOCAL_FORM_KEYS = ("observe", "obs_encoding", "view_radius", "hint")
 
 
 # ---------------------------------------------------------------------------- PPO's settings
 def check_config(cfg: Any, start_choices: Sequence[str]) -> tuple[int, ...]:
     """Every setting of ``cfg`` (a ``PPOConfig`` being made), in this order; returns its ``net_arch`` as a tuple."""
-    for name in ("n_envs", "n_steps", "batch_size", "n_epochs", "eval_episodes"):
+    for name in ("n_envs", "n_steps", "batch_size", "n_epochs", "eval_episodes", "atlas_size", "atlas_every"):
         check_int(getattr(cfg, name), name, 1)
     check_int(cfg.eval_every, "eval_every", 0)
     check_int(cfg.near_radius, "near_radius", 0, MAX_NEAR_RADIUS)
+    check_int(cfg.view_radius, "view_radius", 0)
+    if not isinstance(cfg.hint, bool):
+        raise ValueError(f"hint: must be True or False, got {shown(cfg.hint)}")
     if cfg.threads is not None:
         check_int(cfg.threads, "threads", 1)
     for name in ("gamma", "gae_lambda"):
@@ -92,8 +99,10 @@ def check_fields(data: dict[str, Any], version: int, config_type: type) -> None:
     for key in ("level", "level_name"):
         if not isinstance(data[key], str) or len(data[key]) > MAX_LEVEL_TEXT_CHARS:
             raise ValueError(f"{key}: must be a text, got {shown(data[key])}")
-    if version >= 3 and data["observation"] != TRAINED_ON:
+    if version == 3 and data["observation"] != TRAINED_ON:
         raise ValueError(f"observation: this version reads policies of {TRAINED_ON}, got {shown(data['observation'])}")
+    if version >= 4:
+        check_observation_form(data["observation"])
     arch = data["net_arch"]
     if not isinstance(arch, (list, tuple)) or not all(type(x) is int and x >= 1 for x in arch):
         raise ValueError(f"net_arch: must be a list of layer sizes >= 1, got {shown(arch)}")
@@ -106,6 +115,18 @@ def check_fields(data: dict[str, Any], version: int, config_type: type) -> None:
         config_type(**{k: tuple(v) if k == "net_arch" and isinstance(v, list) else v for k, v in config.items()})
     except (TypeError, ValueError) as err:
         raise ValueError(f"config: {err}") from None
+
+
+def check_observation_form(form: Any) -> None:
+    """A version-4 file's ``observation``: the global rows (``GLOBAL_FORM``) or a local window with its
+    ``view_radius`` and ``hint``."""
+    ok = form == GLOBAL_FORM or (
+        isinstance(form, dict) and tuple(form) == LOCAL_FORM_KEYS and form["observe"] == "local"
+        and form["obs_encoding"] == "multidiscrete" and type(form["view_radius"]) is int and form["view_radius"] >= 0
+        and isinstance(form["hint"], bool))
+    if not ok:
+        raise ValueError(f"observation: this version reads policies of {GLOBAL_FORM} or {{'observe': 'local', "
+                         f"'obs_encoding': 'multidiscrete', 'view_radius': R, 'hint': True/False}}, got {shown(form)}")
 
 
 def _int_field(data: dict[str, Any], key: str, lo: int, hi: int | None) -> int:

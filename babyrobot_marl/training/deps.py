@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import importlib
+from collections.abc import Iterator
 from types import ModuleType
 from typing import Any
 
@@ -37,3 +39,16 @@ def torch_module() -> Any:
     """torch, imported once (``MissingTrainExtraError`` without it): the trainer's and the policies' one way to it."""
     (torch,) = require_train("torch")
     return torch
+
+
+@contextlib.contextmanager
+def torch_threads(threads: int | None) -> Iterator[None]:
+    """Run with ``threads`` torch threads (None: leave torch's setting), restored afterwards."""
+    torch = torch_module()
+    before = torch.get_num_threads()
+    if threads is not None:
+        torch.set_num_threads(threads)
+    try:
+        yield
+    finally:
+        torch.set_num_threads(before)

@@ -31,17 +31,19 @@ import numpy as np
 from ..core.checks import shown
 from ..core.table import Table
 from ..envs.encodings import Encoder
-from .checks import TRAINED_ON, check_fields, check_weights
-from .deps import torch_module
+from .checks import GLOBAL_FORM, check_fields, check_weights
+from .deps import torch_module, torch_threads
 from .ppo.config import PPOConfig
 from .ppo.inputs import Inputs, near_offsets
 from .ppo.net import make_net, weight_shapes
 from .ppo.sampler import PerKey
+from .ppo.window import WindowForm
 
 FORMAT = "babyrobot_marl.ppo"
-# 3: the file records the observation form the policy reads; 2: a race policy sees the robots near
-# it (version 1 read every robot's cell)
-VERSION = 3
+# 4: the observation form records the goal hint, and a level family's policy reads local windows; 3: the file
+# records the observation form the policy reads; 2: a race policy sees the robots near it (version 1 read every
+# robot's cell)
+VERSION = 4
 # a file's fields (checks.FIELDS) and the observation form it records (checks.TRAINED_ON) are checked in checks
 
 
@@ -184,6 +186,77 @@ class TrainedPolicy:
             self.deterministic = saved
 
 
+class WindowPolicy(TrainedPolicy):
+    """A level family's policy: acts on ``race_v0``'s ``observe="local"`` rows of its ``view_radius`` (and
+    hint bits, if trained with ``hint``), on any level. ``for_env(env)`` checks that ``env`` shows that
+    form and undoes its ``obs_encoding``. The net runs once per distinct input (cached)."""
+
+    def __init__(self, net: Any, form: WindowForm, n_robots: int, deterministic: bool = True, seed: int | None = None,
+                 encoder: Encoder | None = None):
+        self.net, self.form, self.n_robots, self.encoder = net, form, n_robots, encoder
+        self.deterministic = deterministic
+        self.rng = np.random.default_rng(seed)
+        self._probs: dict[bytes, np.ndarray] = {}
+
+    @property
+    def observation(self) -> dict[str, Any]:
+        """The env settings whose observations it reads (``race_v0.parallel_env(**policy.observation)``)."""
+        return {"observe": "local", "view_radius": self.form.radius, "hint": self.form.hint}
+
+    def for_env(self, env: Any) -> WindowPolicy:
+        e = getattr(env, "unwrapped", env)
+        e = getattr(e, "race", e)
+        encoder = getattr(e, "encoder", None)
+        if encoder is None:
+            raise TypeError(f"env: expected an env of babyrobot_marl (race_v0), got {type(env).__name__}")
+        observer = getattr(e, "_observer", None)
+        radius = observer.view.radius if getattr(e, "observe", "global") == "local" else None
+        hint = bool(getattr(e, "hint", False))
+        if radius != self.form.radius or hint != self.form.hint:
+            shown_env = f"observe={getattr(e, 'observe', 'global')!r}"
+            if radius is not None:
+                shown_env += f", view_radius={radius}, hint={hint}"
+            raise ValueError(f"policy: trained on observe='local', view_radius={self.form.radius}, hint={self.form.hint}; "
+                             f"this env has {shown_env}")
+        if self.form.near and radius < max(abs(dx) + abs(dy) for dx, dy in self.form.near):
+            raise ValueError(f"policy: sees the robots near it within view_radius {radius}")
+        bound = WindowPolicy(self.net, self.form, self.n_robots, self.deterministic, None, encoder)
+        bound.rng, bound.name, bound._probs = self.rng, self.name, self._probs
+        return bound
+
+    def rows(self, obs: Any) -> np.ndarray:
+        """The net's row of indices for one observation (its encoding undone, its length checked)."""
+        o = np.asarray(obs).reshape(-1)
+        if self.encoder is not None:
+            o = self.encoder.decode(o)
+        size = self.form.obs_size()
+        if len(o) != size or not np.issubdtype(o.dtype, np.integer):
+            raise ValueError(f"obs: this policy reads observe='local' rows of view_radius {self.form.radius}"
+                             f"{' with the hint' if self.form.hint else ''} ({size} integers), got {len(o)} "
+                             f"{o.dtype.name} numbers; bind it to your env with policy.for_env(env)")
+        return self.form.rows_of_observations(o[None, :])
+
+    def action_probabilities(self, obs: Any) -> np.ndarray:
+        rows = self.rows(obs)
+        key = rows.tobytes()
+        p = self._probs.get(key)
+        if p is None:
+            torch = torch_module()
+            # one thread: on a busy machine torch's own threads wait on each other, 5 ms for this 1-row pass
+            with torch.no_grad(), torch_threads(1):
+                p = torch.softmax(self.net.actor(torch.from_numpy(rows)), 1).double().numpy()[0]
+            self._probs[key] = p
+        return p
+
+    def __call__(self, obs: Any = None) -> int:
+        p = self.action_probabilities(obs)
+        if self.deterministic:
+            return int(np.argmax(p))
+        return int(self.rng.choice(len(p), p=p / p.sum()))
+
+    act = __call__
+
+
 def save_policy(result: Any, path: str | os.PathLike) -> str:
     """Write a ``TrainResult``'s network and what it was trained on to ``path`` exactly; returns ``path``."""
     torch = torch_module()
@@ -194,9 +267,9 @@ def save_policy(result: Any, path: str | os.PathLike) -> str:
         "width": level.width,
         "height": level.height,
         "level": level.to_ascii(),
-        "level_name": level.name or "",
+        "level_name": getattr(result, "family", None) or level.name or "",
         "n_robots": result.n_robots,
-        "observation": dict(TRAINED_ON),
+        "observation": observation_form(result),
         "net_arch": list(result.config.net_arch),
         "config": {k: (list(v) if isinstance(v, tuple) else v) for k, v in asdict(result.config).items()},
         "timesteps": result.timesteps,
@@ -205,6 +278,14 @@ def save_policy(result: Any, path: str | os.PathLike) -> str:
     with open(path, "wb") as f:  # an open file: torch writes exactly here, whatever the suffix
         torch.save(data, f)
     return str(path)
+
+
+def observation_form(result: Any) -> dict[str, Any]:
+    """What the policy of a ``TrainResult`` reads: the global rows, or (a level family) local windows."""
+    if getattr(result, "family", None) is None:
+        return dict(GLOBAL_FORM)
+    return {"observe": "local", "obs_encoding": "multidiscrete", "view_radius": result.config.view_radius,
+            "hint": bool(result.config.hint)}
 
 
 def load_checkpoint(path: str | os.PathLike) -> dict[str, Any]:
@@ -227,7 +308,7 @@ def load_checkpoint(path: str | os.PathLike) -> dict[str, Any]:
     if version == 1 and data.get("n_robots") != 1:  # a one-robot policy of version 1 is the same net
         raise ValueError(f"policy: {str(path)!r} is a race policy of format version 1 (it read every robot's cell); "
                          f"train it again with this version")
-    if version not in (1, 2, VERSION):
+    if version not in (1, 2, 3, VERSION):
         raise ValueError(f"policy: {str(path)!r} has format version {version!r}; this version reads {VERSION}")
     try:
         check_fields(data, version, PPOConfig)
@@ -238,9 +319,13 @@ def load_checkpoint(path: str | os.PathLike) -> dict[str, Any]:
     return data
 
 
-def inputs_of(data: dict[str, Any]) -> Inputs:
-    """The input of loaded data's network: its cell, and in a race the robots near it."""
+def inputs_of(data: dict[str, Any]) -> Inputs | WindowForm:
+    """The input of loaded data's network: its cell, and in a race the robots near it; for a level
+    family's policy, its local window (``WindowForm``)."""
     near = near_offsets(data["config"]["near_radius"]) if data["n_robots"] > 1 else ()
+    form = data.get("observation", GLOBAL_FORM)
+    if form.get("observe") == "local":
+        return WindowForm(form["view_radius"], near, form["hint"])
     return Inputs(data["width"], data["height"], near)
 
 
@@ -259,6 +344,10 @@ def load_policy(
     """A saved policy as a robot. With ``table`` (or ``env``), the level's size must be the one it was
     trained on; with ``env``, it reads that env's observations (``TrainedPolicy.for_env``)."""
     data = load_checkpoint(path)
+    inputs = inputs_of(data)
+    if isinstance(inputs, WindowForm):  # any level: it reads local windows
+        window = WindowPolicy(load_net(data), inputs, data["n_robots"], deterministic, seed)
+        return window if env is None else window.for_env(env)
     w, h = data["width"], data["height"]
     if table is None and env is not None:
         e = getattr(env, "unwrapped", env)
@@ -269,7 +358,7 @@ def load_policy(
             f"policy: {str(path)!r} was trained on {name} ({w}x{h}); this level is {table.width}x{table.height} "
             f"(pass --level {data['level_name'] or 'a level of that size'})"
         )
-    policy = TrainedPolicy(load_net(data), inputs_of(data), data["n_robots"], deterministic, seed)
+    policy = TrainedPolicy(load_net(data), inputs, data["n_robots"], deterministic, seed)
     return policy if env is None else policy.for_env(env)
 
 

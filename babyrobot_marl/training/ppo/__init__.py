@@ -26,16 +26,19 @@ What is different is where the time goes:
   probability ratio depends only on its input and action.
 * The first layer, a ``Linear`` on the one-hot, is a look-up of weight rows: the same function
   and gradient as a dense layer, without building the one-hot of every sample.
+* Level families (``train_ppo("maze:8..16", config=PPOConfig(hint=True))``): the net reads the local
+  window and the goal hint instead of the cell (``window``: an atlas of mazes stepped as one level).
 * A race robot that has finished is parked until its race ends (``finished="freeze"``): its
   parked steps are no decisions and are left out of the update (SB3 through SuperSuit trains on
   them, reward 0).
 
-Determinism: ``torch.manual_seed(seed)``, numpy generators seeded from ``seed``, env ``i``
-seeded ``seed + i`` and a fixed number of torch threads (``threads``, default 1) during
-training: torch's CPU kernels used here are deterministic at a fixed thread count, so the same
-seed on the same machine gives the same learning curve. One thread also keeps training from
-stalling when the machine is busy (torch's OpenMP threads spin and wait on each other when other
-processes hold the cores); ``threads=None`` leaves torch's own setting.
+Determinism: ``torch.manual_seed(seed)``, numpy generators seeded from ``seed`` (env ``i``'s first
+episode seeded ``seed + i``, later ones drawn by ``BatchRace.reset_drawn`` from one generator) and a
+fixed number of torch threads (``threads``, default 1) during training: torch's CPU kernels used
+here are deterministic at a fixed thread count, so the same seed on the same machine gives the same
+learning curve. One thread also keeps training from stalling when the machine is busy (torch's
+OpenMP threads spin and wait on each other when other processes hold the cores); ``threads=None``
+leaves torch's own setting.
 """
 
 from ..checks import MAX_NEAR_RADIUS, TrainingDivergedError, check_finite
@@ -46,10 +49,12 @@ from .net import DENSE_LIMIT, dense_input, log_softmax, make_net, weight_shapes
 from .result import EvalPoint, TrainResult
 from .sampler import TABLE_LIMIT, PerKey, Sampler, distinct_rows
 from .update import Samples, clip_grad_norm, gae, grads_of, ppo_gradients
+from .window import Atlas, Family, WindowForm, play_atlas, stack_levels
 
 __all__ = [
-    "DENSE_LIMIT", "MAX_NEAR_RADIUS", "START_CHOICES", "TABLE_LIMIT", "EvalPoint", "Inputs", "PPOConfig", "PerKey",
+    "DENSE_LIMIT", "MAX_NEAR_RADIUS", "START_CHOICES", "TABLE_LIMIT", "Atlas", "EvalPoint", "Family", "Inputs",
+    "PPOConfig", "PerKey", "WindowForm",
     "Sampler", "Samples", "TrainResult", "TrainingDivergedError", "check_finite", "clip_grad_norm", "dense_input",
     "distinct_rows", "gae", "grads_of", "known_settings", "log_softmax", "make_batch", "make_inputs", "make_net",
-    "near_offsets", "ppo_gradients", "torch_threads", "train_ppo", "weight_shapes",
+    "near_offsets", "play_atlas", "ppo_gradients", "stack_levels", "torch_threads", "train_ppo", "weight_shapes",
 ]

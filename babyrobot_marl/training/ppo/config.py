@@ -21,6 +21,9 @@ class PPOConfig:
     steps of it (``Inputs``): 1, the four cells next to it, holds every robot it could bump into;
     2 also the robots that could contest its next cell (more distinct inputs: 0.6x the speed).
     ``threads``: torch threads while training (None: torch's setting).
+    Level families (``train_ppo(level="maze:8..16")``): the net reads the local window of
+    ``view_radius`` and, with ``hint``, the goal hint (``window.WindowForm``); the envs step an atlas
+    of ``atlas_size`` mazes, drawn anew every ``atlas_every`` rollouts.
     ``eval_every``: timesteps between evaluations (0: only at the end).
     """
 
@@ -42,6 +45,10 @@ class PPOConfig:
     threads: int | None = 1
     eval_every: int = 65536
     eval_episodes: int = 10
+    view_radius: int = 2
+    hint: bool = False
+    atlas_size: int = 64
+    atlas_every: int = 16
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "net_arch", check_config(self, START_CHOICES))

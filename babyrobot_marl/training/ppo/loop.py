@@ -21,27 +21,16 @@ from ...core.batch import BatchRace
 from ...core.checks import check_int
 from ...core.level import Level
 from ...levels.resolve import resolve_level
+from ...levels.sources import TRAIN_MAZE_SEEDS, level_source, parse_level_family
 from ..checks import check_finite
-from ..deps import torch_module
+from ..deps import torch_module, torch_threads  # torch_threads: also training.ppo.torch_threads, as before
 from .config import PPOConfig, known_settings
 from .inputs import make_inputs
 from .net import log_softmax, make_net
 from .result import EvalPoint, TrainResult
 from .sampler import PerKey, Sampler, distinct_rows
 from .update import Samples, clip_grad_norm, gae, grads_of, ppo_gradients
-
-
-@contextlib.contextmanager
-def torch_threads(threads: int | None) -> Iterator[None]:
-    """Run with ``threads`` torch threads (None: leave torch's setting), restored afterwards."""
-    torch = torch_module()
-    before = torch.get_num_threads()
-    if threads is not None:
-        torch.set_num_threads(threads)
-    try:
-        yield
-    finally:
-        torch.set_num_threads(before)
+from .window import Family
 
 
 @contextlib.contextmanager
@@ -98,14 +87,26 @@ def train_ppo(
     cfg = config or PPOConfig()
     if overrides:
         cfg = cfg.replace(**known_settings(overrides, "train_ppo"))
-    level = resolve_level(level)
     n = check_int(n_robots, "n_robots", 1)
     total = check_int(timesteps, "timesteps", 1)
     check_int(seed, "seed", 0)
-    batch = make_batch(level, n, cfg.n_envs, cfg.start, seed, **(env_kwargs or {}))
-    inputs = make_inputs(level, n, cfg.near_radius)
+    # a level family ("maze:8..16": its mazes from the training seeds): an atlas of its levels, the net reading local windows
+    source = parse_level_family(level, TRAIN_MAZE_SEEDS) if isinstance(level, str) else None
+    source = source or level_source(level)
+    family = None if source is None else Family(source, n, cfg, seed, env_kwargs or {})
+    if family is None:
+        level = resolve_level(level)
+        batch = make_batch(level, n, cfg.n_envs, cfg.start, seed, **(env_kwargs or {}))
+        inputs: Any = make_inputs(level, n, cfg.near_radius)
+    else:
+        level = family.first
+        inputs = family.atlas(cfg.atlas_size)
+        batch = inputs.batch(cfg.n_envs, n, family.max_steps)
     E, T = cfg.n_envs, cfg.n_steps
     rng = np.random.default_rng(seed)  # actions
+    reset_rng = np.random.default_rng([seed, 1])  # episodes' keys and starts: one generator, drawn per batch
+    if family is not None:
+        batch.reset_drawn(np.arange(E), reset_rng)
 
     with torch_threads(cfg.threads), _deterministic(seed):
         net = make_net(inputs.n_in, cfg.net_arch)
@@ -113,13 +114,13 @@ def train_ppo(
             if init.n_in != net.n_in or tuple(init.net_arch) != cfg.net_arch:
                 raise ValueError(
                     f"init: the network has {init.n_in} inputs and layers {init.net_arch}; this run needs "
-                    f"{net.n_in} inputs ({level.width}x{level.height}, {n} robot(s), near_radius "
+                    f"{net.n_in} inputs ({family.spec if family else f'{level.width}x{level.height}'}, {n} robot(s), near_radius "
                     f"{cfg.near_radius}) and layers {cfg.net_arch}"
                 )
             net.load_state_dict(init.state_dict())
         params = list(net.parameters())
         optim = torch.optim.Adam(params, lr=cfg.learning_rate, eps=1e-5, fused=True)  # one kernel for all
-        result = TrainResult(net, level, n, cfg, seed)
+        result = TrainResult(net, level, n, cfg, seed, family=None if family is None else family.spec)
         order_gen = torch.Generator().manual_seed(seed)  # minibatch order
 
         # rollout storage: (T, E, R) per robot-step; an observation is its key (Inputs)
@@ -152,7 +153,14 @@ def train_ppo(
             t_train, c_train = time.perf_counter(), time.process_time()
             return stop_at_target and result.reached is not None
 
+        rollouts = 0
         while result.timesteps < total:
+            if family is not None and rollouts and rollouts % cfg.atlas_every == 0:  # new mazes, every env restarted
+                inputs = family.atlas(cfg.atlas_size)
+                batch = inputs.batch(E, n, family.max_steps)
+                batch.reset_drawn(np.arange(E), reset_rng)
+                ep_return[:] = 0.0
+            rollouts += 1
             # ---- rollout: n_steps steps of every env, actions sampled from the current policy
             with torch.no_grad():
                 actor = Sampler(inputs, net)  # weights fixed: the net runs once per distinct input
@@ -174,7 +182,7 @@ def train_ppo(
                         envs = np.flatnonzero(over)
                         if np.count_nonzero(trunc_buf[t]):
                             final_buf[t] = inputs.keys(batch.cells, batch.racing)
-                        batch.reset_envs(envs)
+                        batch.reset_drawn(envs, reset_rng)
 
                 # ---- advantages (GAE), truncated episodes bootstrapped from their last observation
                 critic = PerKey(inputs, lambda rows: net.critic(rows)[:, 0])

@@ -8,6 +8,7 @@ from typing import Any
 from ...core.level import Level
 from .config import PPOConfig
 from .inputs import make_inputs
+from .window import window_form
 
 
 @dataclass
@@ -42,6 +43,7 @@ class TrainResult:
     cpu_seconds: float = 0.0
     history: list[EvalPoint] = field(default_factory=list)
     reached: tuple[int, float] | None = None
+    family: str | None = None  # a level family's spec: the net reads local windows (window.WindowForm)
 
     @property
     def steps_per_second(self) -> float:
@@ -55,8 +57,10 @@ class TrainResult:
 
     def policy(self, deterministic: bool = True, seed: int | None = None) -> Any:
         """The trained policy with the scripted policies' interface (``policy(obs) -> action``)."""
-        from ..policy import TrainedPolicy
+        from ..policy import TrainedPolicy, WindowPolicy
 
+        if self.family is not None:
+            return WindowPolicy(self.net, window_form(self.config, self.n_robots), self.n_robots, deterministic, seed)
         inputs = make_inputs(self.level, self.n_robots, self.config.near_radius)
         return TrainedPolicy(self.net, inputs, self.n_robots, deterministic, seed)
 

@@ -1,0 +1,276 @@
+"""Policies for level families: what a robot's net reads from its local window, and an atlas of mazes for the batch engine.
+
+A policy that plays mazes it has never seen reads what the env's ``observe="local"`` view shows it,
+not its ``[x, y]``: a coordinate means a different place in every maze (and a 12x12 maze's
+coordinates do not exist on an 8x8 one), so it only helps memorise the training mazes. What it
+reads (``WindowForm``): each window cell's terrain and its four edges (walls), the goal hint's 5
+bits when the env gives them (``hint=True``), and one bit per cell within ``near_radius`` steps
+saying whether a racing robot stands there (the robots it could bump into). Each feature is
+multi-hot (one unit per non-zero value), so a row of the net's input is a short list of indices,
+as for the single-level trainer's one-hot.
+
+``Atlas``: K mazes stacked into one level (a blocked row between two mazes, blocked cells right of
+a narrower maze), compiled as one table, so one flat ``BatchRace`` steps envs on different mazes;
+each env's reset draws a maze (``pools``: each maze's free cells). An input's key is the id of its
+window's level part (its pattern: terrain, walls, hint, the same on every maze where it repeats)
+shifted past the robot bits: inputs still repeat across envs and mazes, and the net runs once per
+distinct input, as on one level.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from functools import cached_property
+from typing import Any
+
+import numpy as np
+
+from ...core.batch import BatchRace
+from ...core.level import Level
+from ...core.observe import LOCAL_FEATURES, TERRAIN, local_observations, local_view
+from ...core.rules import Rules
+from ...core.table import Table, compile_level
+
+_NVEC = (len(TERRAIN), 3, 3, 3, 3)  # terrain, then the edges north, east, south, west (LOCAL_FEATURES without robot)
+_COLUMNS = [i for i, f in enumerate(LOCAL_FEATURES) if f != "robot"]
+_ROBOT = LOCAL_FEATURES.index("robot")
+_OFFSETS = np.cumsum((0,) + tuple(v - 1 for v in _NVEC))[:-1]  # each feature's first unit in a window cell
+_UNITS = sum(v - 1 for v in _NVEC)  # units per window cell: one per non-zero value
+N_HINT = 5
+
+
+@dataclass(frozen=True)
+class WindowForm:
+    """The net's input read from a local window of ``radius`` (the env's ``view_radius``): every window
+    cell's terrain and edges, the hint bits if ``hint``, then one bit per ``near`` offset (a racing
+    robot there). ``n_in`` units; a row is ``K`` indices, ``n_in`` for "off" (the net's padding row)."""
+
+    radius: int
+    near: tuple[tuple[int, int], ...]
+    hint: bool
+
+    @property
+    def side(self) -> int:
+        return 2 * self.radius + 1
+
+    @property
+    def n_window(self) -> int:
+        return self.side * self.side
+
+    @property
+    def n_static(self) -> int:
+        """Units of the level's part: the window's terrain and edges, the hint."""
+        return self.n_window * _UNITS + (N_HINT if self.hint else 0)
+
+    @property
+    def n_in(self) -> int:
+        return self.n_static + len(self.near)
+
+    @cached_property
+    def window_at(self) -> np.ndarray:
+        """The window cell of each ``near`` offset (rows north to south, west to east)."""
+        return np.array([(dy + self.radius) * self.side + dx + self.radius for dx, dy in self.near], dtype=np.int64)
+
+    def static_rows(self, feats: np.ndarray, hint: np.ndarray | None) -> np.ndarray:
+        """``(N, n_window * 5 + 5?)`` indices from window features ``(N, n_window, 6)`` and hint bits ``(N, 5)``."""
+        f = np.asarray(feats, dtype=np.int64)[:, :, _COLUMNS]  # (N, W, 5)
+        unit = np.arange(self.n_window)[:, None] * _UNITS + _OFFSETS + f - 1
+        rows = np.where(f > 0, unit, self.n_in).reshape(f.shape[0], -1)
+        if self.hint:
+            h = np.asarray(hint, dtype=np.int64)
+            rows = np.concatenate([rows, np.where(h > 0, self.n_window * _UNITS + np.arange(N_HINT), self.n_in)], axis=1)
+        return rows
+
+    def robot_rows(self, bits: np.ndarray) -> np.ndarray:
+        """``(N, m)`` indices from the near bits ``(N, m)`` (0/1)."""
+        return np.where(np.asarray(bits) > 0, self.n_static + np.arange(len(self.near)), self.n_in)
+
+    def obs_size(self) -> int:
+        """Numbers of one env observation: ``[x, y]``, the window, the hint bits."""
+        return 2 + len(LOCAL_FEATURES) * self.n_window + (N_HINT if self.hint else 0)
+
+    def rows_of_observations(self, obs: np.ndarray) -> np.ndarray:
+        """The net's rows from ``race_v0``'s ``observe="local"`` rows ``(N, obs_size)`` (MultiDiscrete
+        integers): the same rows the trainer builds from the batch engine's cells."""
+        o = np.asarray(obs, dtype=np.int64).reshape(-1, self.obs_size())
+        feats = o[:, 2 : 2 + len(LOCAL_FEATURES) * self.n_window].reshape(-1, self.n_window, len(LOCAL_FEATURES))
+        hint = o[:, -N_HINT:] if self.hint else None
+        bits = feats[:, self.window_at, _ROBOT]
+        return np.concatenate([self.static_rows(feats, hint), self.robot_rows(bits)], axis=1)
+
+
+def stack_levels(levels: Sequence[Level]) -> tuple[Level, np.ndarray]:
+    """One level holding ``levels`` one below the other, a blocked row between two, blocked cells right of a
+    narrower one; and each level's first row in it. A robot in one never reaches another."""
+    width = max(lv.width for lv in levels)
+    tops = np.cumsum([0] + [lv.height + 1 for lv in levels])[:-1]
+    walls, glass, blocked, small, large, exits = set(), set(), set(), set(), set(), set()
+    for lv, top in zip(levels, tops.tolist()):
+        move = lambda c, top=top: (c[0], c[1] + top)  # noqa: E731
+        walls |= {(move(a), move(b)) for a, b in lv.walls}
+        glass |= {(move(a), move(b)) for a, b in lv.glass}
+        blocked |= {move(c) for c in lv.blocked} | {(x, top + y) for y in range(lv.height) for x in range(lv.width, width)}
+        small |= {move(c) for c in lv.small_puddles}
+        large |= {move(c) for c in lv.large_puddles}
+        exits |= {move(c) for c in lv.exits}
+    height = int(tops[-1]) + levels[-1].height
+    blocked |= {(x, int(top) - 1) for top in tops[1:] for x in range(width)}
+    level = Level(width, height, walls=walls, glass=glass, blocked=blocked, small_puddles=small, large_puddles=large,
+                  exits=exits, name=f"atlas of {len(levels)} levels")
+    return level, tops
+
+
+def _hint(level: Level, rules: Rules) -> np.ndarray:
+    """The goal hint's bits of every cell, ``(n_cells, 5)``, as the env computes them."""
+    from ...planning.hint import optimal_actions
+
+    return optimal_actions(level, rules).reshape(level.n_cells, N_HINT)
+
+
+class Atlas:
+    """``levels`` stacked into one compiled table (``stack_levels``) with each level's window patterns and
+    start pools: ``batch(...)`` steps envs on all of them, ``keys``/``rows`` are the trainer's inputs."""
+
+    def __init__(self, levels: Sequence[Level], rules: Rules, form: WindowForm):
+        self.levels, self.form = list(levels), form
+        self.level, tops = stack_levels(self.levels)
+        self.table: Table = compile_level(self.level, rules)
+        w = self.level.width
+        n = self.table.n_cells
+        static = np.full((n, form.n_window * len(_NVEC) + (N_HINT if form.hint else 0)), form.n_in, dtype=np.int64)
+        free, pools = [], []
+        for lv, top in zip(self.levels, tops.tolist()):
+            t = compile_level(lv, rules)
+            ids = (top + np.arange(lv.n_cells) // lv.width) * w + np.arange(lv.n_cells) % lv.width
+            cells = np.arange(lv.n_cells)
+            feats = local_observations(local_view(t, form.radius), cells[:, None], np.zeros((lv.n_cells, 1), bool))
+            feats = feats[:, 0, 2:].reshape(lv.n_cells, form.n_window, len(LOCAL_FEATURES))
+            hint = _hint(lv, rules) if form.hint else None
+            static[ids] = form.static_rows(feats, hint)
+            free.append(ids[list(t.free_cells)])
+            pools.append(len(t.free_cells))
+        self.free, self.pools = np.concatenate(free), pools
+        # the patterns: distinct level parts of a window; a cell's key starts with its pattern's number
+        self.patterns, self.pattern_of = np.unique(static, axis=0, return_inverse=True)
+        self.pattern_of = self.pattern_of.reshape(-1)
+        m = len(form.near)
+        xs, ys = np.arange(n) % w, np.arange(n) // w
+        self.neighbours = np.full((n, m), n, dtype=np.int64)  # n: off the grid (never occupied)
+        for b, (dx, dy) in enumerate(form.near):
+            x, y = xs + dx, ys + dy
+            inside = (x >= 0) & (x < w) & (y >= 0) & (y < self.level.height)
+            self.neighbours[:, b] = np.where(inside, y * w + x, n)
+
+    @property
+    def n_in(self) -> int:
+        return self.form.n_in
+
+    @property
+    def n_keys(self) -> int:
+        return len(self.patterns) << len(self.form.near)
+
+    def batch(self, n_envs: int, n_robots: int, max_steps: int, start: str = "random") -> BatchRace:
+        """``n_envs`` races of ``n_robots`` on the atlas (``finished="freeze"``), each episode on a level drawn at its reset."""
+        return BatchRace(self.table, n_envs, n_robots, max_steps, (), self.free, "single" if n_robots == 1 else start,
+                         self.table.rules.win_bonus if n_robots > 1 else 0.0, pools=self.pools)
+
+    def near_bits(self, cells: np.ndarray, racing: np.ndarray) -> np.ndarray:
+        """``(E, R, m)``: a racing robot of the same env on each near cell of each robot."""
+        e, r = cells.shape
+        m, stride = len(self.form.near), self.table.n_cells + 1
+        if not m or r == 1:
+            return np.zeros((e, r, m), dtype=np.int64)
+        base = (np.arange(e, dtype=np.int64) * stride)[:, None]
+        occupied = np.sort((cells + base)[racing])
+        want = self.neighbours[cells] + base[:, :, None]  # (E, R, m)
+        at = np.minimum(np.searchsorted(occupied, want), max(occupied.size - 1, 0))
+        return (occupied.size > 0) & (occupied[at] == want) if occupied.size else np.zeros(want.shape, dtype=bool)
+
+    def keys(self, cells: np.ndarray, racing: np.ndarray) -> np.ndarray:
+        """Every robot's key: its window pattern, then its near bits."""
+        m = len(self.form.near)
+        pattern = self.pattern_of[cells]
+        if not m:
+            return pattern
+        bits = self.near_bits(cells, racing).astype(np.int64) @ (1 << np.arange(m))
+        return (pattern << m) | bits
+
+    def rows(self, keys: np.ndarray) -> np.ndarray:
+        """The net's rows for ``keys``: the pattern's indices, then the near bits'."""
+        keys = np.asarray(keys, dtype=np.int64).reshape(-1)
+        m = len(self.form.near)
+        bits = (keys[:, None] >> np.arange(m)) & 1
+        return np.concatenate([self.patterns[keys >> m], self.form.robot_rows(bits)], axis=1)
+
+
+class Family:
+    """A level family as the trainer steps it: atlases of levels drawn from ``source`` (a ``LevelSource``),
+    under the rules and step limit its race envs have (checked by building one: ``collisions``,
+    ``view_radius``, ``hint``), and the input its policy reads."""
+
+    def __init__(self, source: Any, n_robots: int, cfg: Any, seed: int, env_kwargs: dict[str, Any]):
+        from ...envs.race import RaceEnv
+        from ...envs.single import default_max_steps
+
+        self.source, self.n_robots = source, n_robots
+        self.rng = np.random.default_rng([seed, 2])  # the atlases' levels
+        first = source(np.random.default_rng(0))
+        kwargs = dict(env_kwargs)
+        max_cycles = kwargs.pop("max_cycles", None)
+        hint = {"hint": True} if cfg.hint else {}
+        probe = RaceEnv(level=first, n_robots=n_robots, start="random", observe="local", view_radius=cfg.view_radius, **hint,
+                        **kwargs)
+        self.rules = probe.rules
+        w, h = getattr(source, "largest", (first.width, first.height))
+        largest = Level(w, h, exits=[(0, 0)])  # the step limit of the family's envs: their largest level's
+        self.max_steps = int(max_cycles) if max_cycles is not None else default_max_steps(largest)
+        if n_robots > 1 and cfg.near_radius > cfg.view_radius:
+            raise ValueError(f"near_radius: a robot sees the robots within its window; near_radius {cfg.near_radius} "
+                             f"exceeds view_radius {cfg.view_radius}")
+        self.form = window_form(cfg, n_robots)
+        self.spec = str(getattr(source, "family", None) or first.name or "a level family")
+        self.first = first
+
+    def atlas(self, size: int) -> Atlas:
+        return Atlas([self.source(self.rng) for _ in range(size)], self.rules, self.form)
+
+
+def play_atlas(net: Any, atlas: Atlas, n_robots: int, n_envs: int, max_steps: int, rng: np.random.Generator,
+               deterministic: bool = True) -> dict[str, float]:
+    """One episode in each of ``n_envs`` envs on ``atlas`` with the net's policy (greedy or sampled): the share
+    of robots that reached the exit (``success_rate``), of episodes where all did, and the mean makespan."""
+    from ..deps import torch_module, torch_threads
+
+    with torch_threads(1):  # on a busy machine torch's own threads wait on each other
+        return _play(net, atlas, n_robots, n_envs, max_steps, rng, deterministic, torch_module())
+
+
+def _play(net: Any, atlas: Atlas, n_robots: int, n_envs: int, max_steps: int, rng: np.random.Generator,
+          deterministic: bool, torch: Any) -> dict[str, float]:
+    from .sampler import PerKey
+
+    batch = atlas.batch(n_envs, n_robots, max_steps)
+    batch.reset_drawn(np.arange(n_envs), rng)
+    probs = PerKey(atlas, lambda rows: torch.softmax(net.actor(rows), 1))
+    done_at = np.full(n_envs, max_steps)
+    while not batch.over.all():
+        p = probs(atlas.keys(batch.cells, batch.racing).reshape(-1))
+        if deterministic:
+            actions = p.argmax(axis=1)
+        else:
+            actions = np.minimum((rng.random((p.shape[0], 1)) >= np.cumsum(p, axis=1)).sum(axis=1), 4)
+        was = batch.over.copy()
+        batch.step(actions.reshape(n_envs, n_robots))
+        ended = batch.over & ~was
+        done_at[ended] = batch.t[ended]
+    reached = batch.rank > 0
+    return {"success_rate": float(reached.mean()), "all_reached_rate": float(reached.all(axis=1).mean()),
+            "makespan": float(done_at.mean())}
+
+
+def window_form(cfg: Any, n_robots: int) -> WindowForm:
+    """The input a family policy of these settings reads."""
+    from .inputs import near_offsets
+
+    return WindowForm(cfg.view_radius, near_offsets(cfg.near_radius) if n_robots > 1 else (), cfg.hint)

@@ -1,0 +1,126 @@
+"""Crowds that learn: the fast trainer on a level family, judged on unseen mazes beside the shortest-path and random robots.
+
+    python benchmarks/bench_families.py --level maze:8..16 --robots 4 --hint --seconds 600       # issue 27 target (a)
+    python benchmarks/bench_families.py --level maze:8..16 --robots 4 --seconds 600              # (b): no hint
+    python benchmarks/bench_families.py --level maze:16..16 --robots 32 --hint --collisions bounce --seconds 600  # (c)
+    python benchmarks/bench_families.py --quick     # CI's smoke run: maze:8..8, 2 robots, hint, 3 s, 10 races
+
+Training: ``train_ppo(level, n_robots, config=PPOConfig(view_radius=2, hint=...))`` for ``--seconds`` of
+wall-clock training time (rollouts and updates), mazes from ``TRAIN_MAZE_SEEDS`` (an atlas of 64 on the batch
+engine, drawn anew every 16 rollouts). Evaluation: ``--episodes`` seeded races of
+``race_v0.parallel_env(level=<the family on EVAL_MAZE_SEEDS>, observe="local", view_radius=2, hint=...,
+start="random", collisions=...)`` (``experiments.run_races``: every robot one policy), the trained policy
+taking its most likely action and sampling it, then the shortest-path and the random robots on the same
+seeded races. Figures: ``success_rate`` (robots that reached the exit, Wilson 95% interval),
+``all_reached_rate`` (races every robot finished), ``makespan`` (mean race length, 95% interval), the
+machine's load (``uptime``) before and after training, and the timesteps trained. ``--min-success X``:
+exit 1 when the greedy policy's success rate is below X.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import sys
+import time
+
+import numpy as np
+
+from babyrobot_marl.experiments import run_races, wilson
+from babyrobot_marl.levels.sources import EVAL_MAZE_SEEDS, parse_level_family
+
+
+def load() -> str:
+    return " ".join(f"{x:.2f}" for x in os.getloadavg())
+
+
+def figures(stats, max_steps: int) -> dict[str, tuple[float, float, float]]:
+    """Success rate, all-reached rate (Wilson intervals) and makespan (normal interval, within 0..max_steps)."""
+    recs = stats.records
+    n_robots = len(recs[0].ranks)
+    done = sum(1 for r in recs for rank in r.ranks if rank)
+    all_done = sum(1 for r in recs if all(r.ranks))
+    span = np.array([r.steps for r in recs], dtype=float)
+    half = 1.96 * span.std(ddof=1) / math.sqrt(len(span)) if len(span) > 1 else 0.0
+    return {
+        "success_rate": (done / (len(recs) * n_robots), *wilson(done, len(recs) * n_robots)),
+        "all_reached_rate": (all_done / len(recs), *wilson(all_done, len(recs))),
+        "makespan": (float(span.mean()), max(0.0, span.mean() - half), min(float(max_steps), span.mean() + half)),
+    }
+
+
+def main(argv: list[str] | None = None) -> int:
+    p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    p.add_argument("--level", default="maze:8..16")
+    p.add_argument("--robots", type=int, default=4)
+    p.add_argument("--hint", action="store_true")
+    p.add_argument("--collisions", default="block")
+    p.add_argument("--seconds", type=float, default=600.0, help="wall-clock training budget")
+    p.add_argument("--episodes", type=int, default=200)
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--n-envs", type=int, default=256)
+    p.add_argument("--batch-size", type=int, default=16384)
+    p.add_argument("--ent-coef", type=float, default=0.01)
+    p.add_argument("--near-radius", type=int, default=1)
+    p.add_argument("--save", default=None)
+    p.add_argument("--load", default=None, help="evaluate this saved policy instead of training")
+    p.add_argument("--min-success", type=float, default=None)
+    p.add_argument("--skip-greedy", action="store_true", help="judge the sampled policy only (a greedy crowd may "
+                   "livelock to the step limit: minutes of evaluation)")
+    p.add_argument("--quick", action="store_true", help="a smoke run: maze:8..8, 2 robots, hint, 3 s, 10 races")
+    args = p.parse_args(argv)
+    import torch
+
+    torch.set_num_threads(1)  # a busy machine: torch's own threads wait on each other (5 ms per 1-row forward pass)
+    if args.quick:
+        args.level, args.robots, args.hint, args.seconds, args.episodes = "maze:8..8", 2, True, 3.0, 10
+    from babyrobot_marl.training.policy import load_policy
+    from babyrobot_marl.training.ppo import PPOConfig, train_ppo
+
+    env = {"start": "random", "observe": "local", "view_radius": 2, "hint": args.hint, "collisions": args.collisions}
+    if args.load:
+        policy = load_policy(args.load)
+        print(f"policy {args.load}")
+    else:
+        config = PPOConfig(n_envs=args.n_envs, batch_size=args.batch_size, hint=args.hint, ent_coef=args.ent_coef,
+                           near_radius=args.near_radius, eval_every=0)
+        before = load()
+        result = train_ppo(args.level, args.robots, 2**62, args.seed, config, max_seconds=args.seconds,
+                           env_kwargs={"collisions": args.collisions})
+        print(f"trained {result.timesteps:,} timesteps in {result.seconds:.0f} s wall-clock ({result.cpu_seconds:.0f} s CPU) "
+              f"on {args.level}, {args.robots} robots, collisions {args.collisions}, hint {args.hint}; "
+              f"load average before {before}, after {load()}")
+        if args.save:
+            result.save(args.save)
+        policy = result.policy()
+    family = parse_level_family(args.level, EVAL_MAZE_SEEDS)
+    from babyrobot_marl.core.level import Level
+    from babyrobot_marl.envs.single import default_max_steps
+
+    max_steps = default_max_steps(Level(*family.largest, exits=[(0, 0)]))
+    print(f"{args.episodes} races on unseen mazes ({args.level}, EVAL_MAZE_SEEDS), {args.robots} robots each, "
+          f"collisions {args.collisions}; success and all-reached: Wilson 95%; makespan: mean, 95% interval")
+    print(f"{'robots':18s} {'success_rate':>22s} {'all_reached_rate':>22s} {'makespan':>24s}")
+    greedy: float | None = None
+    sampled = type(policy)(policy.net, policy.form, policy.n_robots, deterministic=False, seed=args.seed)
+    rows = [("policy (greedy)", policy)] * (not args.skip_greedy) + [("policy (sampled)", sampled),
+                                                                      ("shortest", "shortest"), ("random", "random")]
+    for name, who in rows:
+        t0 = time.perf_counter()
+        stats = run_races(family, [who] * args.robots, n_races=args.episodes, seed=args.seed + 1, **env)
+        f = figures(stats, max_steps)
+        if greedy is None:
+            greedy = f["success_rate"][0]  # the first policy row
+        cells = [f"{m:.3f} [{lo:.3f}, {hi:.3f}]" if k != "makespan" else f"{m:.1f} [{lo:.1f}, {hi:.1f}]"
+                 for k, (m, lo, hi) in f.items()]
+        print(f"{name:18s} {cells[0]:>22s} {cells[1]:>22s} {cells[2]:>24s}   ({time.perf_counter() - t0:.0f} s)", flush=True)
+    print(f"load average now {load()}")
+    if args.min_success is not None and greedy < args.min_success:
+        print(f"below the floor: greedy success rate {greedy:.3f} < {args.min_success}", file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

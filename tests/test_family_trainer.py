@@ -1,0 +1,129 @@
+"""The fast trainer on level families (issue 27 item 3): an atlas of mazes on the batch engine, the net reading
+local windows and the goal hint, the same input as race_v0's observe="local" rows, saved and run on the env."""
+
+import numpy as np
+import pytest
+
+pytest.importorskip("torch")
+
+from babyrobot_marl import race_v0  # noqa: E402
+from babyrobot_marl.core.batch import BatchRace  # noqa: E402
+from babyrobot_marl.core.rules import Rules  # noqa: E402
+from babyrobot_marl.core.table import compile_level  # noqa: E402
+from babyrobot_marl.levels import builtin  # noqa: E402
+from babyrobot_marl.training.policy import WindowPolicy, load_checkpoint, load_policy  # noqa: E402
+from babyrobot_marl.training.ppo import PPOConfig, train_ppo  # noqa: E402
+from babyrobot_marl.training.ppo.inputs import near_offsets  # noqa: E402
+from babyrobot_marl.training.ppo.window import Atlas, WindowForm, play_atlas, stack_levels  # noqa: E402
+
+SMALL = PPOConfig(n_envs=32, n_steps=8, batch_size=1024, atlas_size=4, atlas_every=2, eval_every=0)
+
+
+@pytest.fixture(scope="module")
+def trained():
+    return train_ppo("maze:8..10", n_robots=3, timesteps=20_000, seed=0, config=SMALL.replace(hint=True))
+
+
+def test_stacked_levels_compile_to_each_levels_moves():
+    levels = [builtin.get("maze-8x8-s1"), builtin.get("maze-10x10-s2"), builtin.get("maze-9x9-s3")]
+    stacked, tops = stack_levels(levels)
+    table = compile_level(stacked)
+    for lv, top in zip(levels, tops.tolist()):
+        t = compile_level(lv)
+        ids = (top + np.arange(lv.n_cells) // lv.width) * stacked.width + np.arange(lv.n_cells) % lv.width
+        assert (table.target[ids] == ids[t.target]).all()  # every move stays inside its own maze
+        assert (table.is_exit[ids] == t.is_exit).all()
+
+
+def test_atlas_resets_put_each_env_on_one_maze():
+    levels = [builtin.get("maze-8x8-s1"), builtin.get("maze-12x12-s2")]
+    atlas = Atlas(levels, Rules(), WindowForm(2, near_offsets(1), False))
+    batch = atlas.batch(200, 4, 300)
+    batch.reset_drawn(np.arange(200), np.random.default_rng(0))
+    rows = batch.cells // atlas.level.width
+    maze = (rows >= 9).astype(int)  # maze 1 starts at row 9 (8 rows, one blocked row)
+    assert (maze == maze[:, :1]).all() and set(maze[:, 0]) == {0, 1}
+    assert (maze[:, 0] == batch.pool).all()
+    assert all(len(set(r)) == 4 for r in batch.cells.tolist())  # distinct starts
+
+
+def test_reset_drawn_is_the_same_for_the_same_generator_and_covers_the_free_cells():
+    t = compile_level(builtin.get("maze-8x8-s1"))
+    a = BatchRace(t, 500, 2, 100, (), t.free_cells, "random")
+    b = BatchRace(t, 500, 2, 100, (), t.free_cells, "random")
+    a.reset_drawn(np.arange(500), np.random.default_rng(7))
+    b.reset_drawn(np.arange(500), np.random.default_rng(7))
+    assert (a.cells == b.cells).all() and (a.keys == b.keys).all()
+    assert set(a.cells.ravel().tolist()) == set(t.free_cells)
+    assert (a.cells[:, 0] != a.cells[:, 1]).all()
+
+
+def test_the_trainer_and_the_env_see_the_same_input_and_act_the_same(trained):
+    """Rows built from the batch engine's cells equal rows read from race_v0's observe='local', hint=True
+    observations, and the trained policy's actions from both are equal, over whole races."""
+    form = WindowForm(2, near_offsets(SMALL.near_radius), True)
+    env = race_v0.parallel_env(level="maze:8..10", n_robots=3, observe="local", hint=True, start="random")
+    policy = trained.policy().for_env(env)
+    rng = np.random.default_rng(1)
+    checked = 0
+    for seed in range(3):
+        obs, _ = env.reset(seed=seed)
+        atlas = Atlas([env.level], env.rules, form)
+        while env.agents:
+            cells = np.array(env._cells)[None, :]
+            racing = np.array(env._racing)[None, :]
+            batch_rows = atlas.rows(atlas.keys(cells, racing))
+            for a in env.agents:
+                i = env.possible_agents.index(a)
+                assert (policy.rows(obs[a])[0] == batch_rows[i]).all()
+                probs = trained.net.actor(__import__("torch").from_numpy(batch_rows[i : i + 1])).argmax().item()
+                assert policy(obs[a]) == probs
+                checked += 1
+            obs, *_ = env.step({a: int(rng.integers(5)) for a in env.agents})
+    assert checked > 100
+
+
+def test_a_family_policy_saves_its_observation_form_and_runs_on_the_env(trained, tmp_path):
+    path = trained.save(str(tmp_path / "p.pt"))
+    data = load_checkpoint(path)
+    assert data["observation"] == {"observe": "local", "obs_encoding": "multidiscrete", "view_radius": 2, "hint": True}
+    env = race_v0.parallel_env(level="maze:12..12", n_robots=3, observe="local", hint=True, start="random")
+    policy = load_policy(path, env=env)
+    assert isinstance(policy, WindowPolicy) and policy.observation == {"observe": "local", "view_radius": 2, "hint": True}
+    obs, _ = env.reset(seed=0)
+    assert all(0 <= policy(obs[a]) < 5 for a in env.agents)
+    for wrong in ({"hint": False}, {"view_radius": 1}):
+        other = race_v0.parallel_env(level="maze:12..12", n_robots=3, observe="local", start="random",
+                                     **{"hint": True, **wrong})
+        with pytest.raises(ValueError, match="policy: trained on observe='local', view_radius=2, hint=True"):
+            load_policy(path, env=other)
+
+
+def test_the_hint_policy_learns_to_reach_exits_of_unseen_mazes():
+    """With the goal hint, a short run already beats random walking by far on mazes of the evaluation seeds."""
+    from babyrobot_marl.levels.sources import EVAL_MAZE_SEEDS, parse_level_family
+    from babyrobot_marl.training.ppo.window import Family
+
+    result = train_ppo("maze:8..8", n_robots=2, timesteps=1_000_000, seed=0,
+                       config=PPOConfig(n_envs=256, batch_size=8192, hint=True, atlas_size=16, eval_every=0))
+    fam = Family(parse_level_family("maze:8..8", EVAL_MAZE_SEEDS), 2, result.config, 5, {})
+    score = play_atlas(result.net, fam.atlas(16), 2, 100, fam.max_steps, np.random.default_rng(0))
+    assert score["success_rate"] >= 0.9
+
+
+def test_files_of_format_3_still_load_and_a_bad_observation_form_is_refused(trained, tmp_path):
+    import torch
+
+    from babyrobot_marl.training.policy import TrainedPolicy
+
+    old = train_ppo("race-2", 2, 512, seed=0, config=PPOConfig(n_envs=16, n_steps=16, batch_size=128, eval_every=0))
+    path = old.save(str(tmp_path / "old.pt"))
+    data = torch.load(path, weights_only=True)
+    data.update(version=3, observation={"observe": "global", "obs_encoding": "multidiscrete"})
+    torch.save(data, path)
+    assert isinstance(load_policy(path), TrainedPolicy)
+    family = torch.load(trained.save(str(tmp_path / "f.pt")), weights_only=True)
+    family["observation"]["view_radius"] = -1
+    torch.save(family, tmp_path / "bad.pt")
+    with pytest.raises(ValueError, match=r"broken policy file: observation: this version reads policies of"):
+        load_policy(tmp_path / "bad.pt")
