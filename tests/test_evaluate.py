@@ -127,3 +127,21 @@ def test_a_saved_policy_is_evaluated_and_refused_by_name_on_levels_it_cannot_rea
     assert last["shortest"]["success_rate"] == 1.0
     code, out, err = cli(capsys, str(path), "--level", "maze:8..16", "--robots", "2")  # trained on one 8x8 level
     assert code == 2 and out == "" and err.count("\n") == 1 and "policy: trained on a 8x8 level" in err
+
+
+def test_a_saved_policy_samples_by_default_seeded_by_seed_and_takes_its_argmax_with_greedy(capsys, tmp_path):
+    from babyrobot_marl.training.ppo import PPOConfig, train_ppo
+
+    path = tmp_path / "p.pt"  # barely trained: its distribution is wide, so sampling and argmax act apart
+    train_ppo("maze-8x8", 2, 512, seed=0, config=PPOConfig(n_envs=8, n_steps=16, batch_size=128, eval_every=0)).save(path)
+
+    def policy_metrics(*flags: str) -> dict:
+        code, out, err = cli(capsys, str(path), "--level", "maze-8x8", "--robots", "2", "--episodes", "3", *flags)
+        assert code == 0, err
+        return json.loads(out.strip().splitlines()[-1])["policy"]
+
+    sampled = policy_metrics("--seed", "5")
+    assert policy_metrics("--seed", "5") == sampled  # same seed, same sampled actions
+    greedy = policy_metrics("--seed", "5", "--greedy")
+    assert policy_metrics("--seed", "5", "--greedy") == greedy
+    assert greedy != sampled

@@ -32,6 +32,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--collisions", choices=COLLISION_MODES, default="block", help="collision rule (default: block)")
     p.add_argument("--plot", type=output_path, default=None, metavar="FILE.png",
                    help="also draw the metrics with their intervals to this image (matplotlib: the plot extra)")
+    p.add_argument("--greedy", action="store_true",
+                   help="a saved policy takes its most likely action (default: it samples its actions, seeded by --seed: "
+                   "a memoryless policy that always takes the same action where its views look alike can loop)")
     p.set_defaults(func=run)
 
 
@@ -40,7 +43,7 @@ def run(args: argparse.Namespace, out: TextIO) -> int:
 
     if args.plot:  # before the episodes: a missing matplotlib is known now
         _matplotlib()
-    policy, form = _policy(args.policy)
+    policy, form = _policy(args.policy, args.greedy, args.seed)
     check_race_flags(args.level, args.robots, args.collisions)
     ev = evaluate(policy, level=args.level, n_robots=args.robots, episodes=args.episodes, seed=args.seed,
                   collisions=args.collisions, policy_env=form)
@@ -53,7 +56,7 @@ def run(args: argparse.Namespace, out: TextIO) -> int:
     return 0
 
 
-def _policy(spec: str) -> tuple[Any, dict[str, Any]]:
+def _policy(spec: str, greedy: bool, seed: int) -> tuple[Any, dict[str, Any]]:
     """The policy of ``POLICY`` and the observation form its env needs (a saved file records it)."""
     from .. import policies
 
@@ -62,12 +65,11 @@ def _policy(spec: str) -> tuple[Any, dict[str, Any]]:
     from ..training.policy import load_checkpoint, load_policy
 
     form = dict(load_checkpoint(spec)["observation"])  # observe, obs_encoding (and view_radius, hint once recorded)
-    policy = load_policy(spec)
+    policy = load_policy(spec, deterministic=greedy, seed=seed)
     policy.name = spec
     return policy, {k: v for k, v in form.items() if k in _FORM and v is not None}
 
 
-_FORM = ("observe", "view_radius", "k", "obs_encoding", "hint")  # what a saved policy's observation form sets on its env
 _FORM = ("observe", "view_radius", "k", "obs_encoding", "hint")  # what a saved policy's observation form sets on its env
 
 
