@@ -4,3 +4,4 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 .venv-ci/bin/python benchmarks/bench_train.py --quick
+.venv-ci/bin/python benchmarks/bench_families.py --quick  # issue 27: the fast trainer on a level family, judged on unseen mazes (smoke run)
