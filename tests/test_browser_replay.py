@@ -35,8 +35,11 @@ def _open(page, screenshots, name: str, cells: list[str], before=None) -> None:
 
 
 def _replay_bar_shown(page) -> None:
+    # shown, and its slider at the episode's last step (the kernel sets its range and value just
+    # before showing it; a drag before the browser has them would move a slider already at 0)
     page.page.wait_for_function(
-        f"() => {{ const b = document.querySelector('{REPLAY_BAR}'); return !!b && b.getBoundingClientRect().height > 0; }}",
+        f"() => {{ const b = document.querySelector('{REPLAY_BAR}'); const r = b && b.querySelector('.widget-readout');"
+        f" return !!b && b.getBoundingClientRect().height > 0 && !!r && r.innerText.trim() !== '0'; }}",
         timeout=WAIT * 1000,
         polling=200,
     )
@@ -118,7 +121,8 @@ def test_race_replay_redraws_the_start_without_stepping(page, screenshots):
     def at_starts(rgba: np.ndarray) -> bool:
         return all(count(cell_box(rgba[..., :3], c), THEME.robots[i]) > 50 for i, c in enumerate(starts))
 
-    first = page.canvas_pixels(0, ready=at_starts)[..., :3]
+    # at the starts and no longer the last frame (the start flags wear the robots' colours too)
+    first = page.canvas_pixels(0, ready=lambda rgba: at_starts(rgba) and not (rgba[..., :3] == end).all())[..., :3]
     shot(page, screenshots, f"{name}_at_start")
     assert at_starts(first), "the replay did not draw the robots at their starts"
     assert not (first == end).all()
