@@ -5,14 +5,17 @@
     python benchmarks/bench_families.py --level maze:16..16 --robots 32 --hint --collisions bounce --seconds 600  # (c)
     python benchmarks/bench_families.py --quick     # CI's smoke run: maze:8..8, 2 robots, hint, 3 s, 10 races
 
-Training: ``train_ppo(level, n_robots, config=PPOConfig(view_radius=2, hint=...))`` for ``--seconds`` of
+Training: ``train_ppo(level, n_robots, config=PPOConfig(view_radius=..., hint=..., ...))`` for ``--seconds`` of
 wall-clock training time (rollouts and updates), mazes from ``TRAIN_MAZE_SEEDS`` (an atlas of 64 on the batch
 engine, drawn anew every 16 rollouts). Evaluation: ``--episodes`` seeded races of
-``race_v0.parallel_env(level=<the family on EVAL_MAZE_SEEDS>, observe="local", view_radius=2, hint=...,
+``race_v0.parallel_env(level=<the family on EVAL_MAZE_SEEDS>, observe="local", view_radius=..., hint=...,
 start="random", collisions=...)`` (``experiments.run_races``: every robot one policy), the trained policy
 taking its most likely action and sampling it, then the shortest-path and the random robots on the same
-seeded races. Figures: ``success_rate`` (robots that reached the exit, Wilson 95% interval),
-``all_reached_rate`` (races every robot finished), ``makespan`` (mean race length, 95% interval), the
+seeded races, and the issue's floor for the crowd's makespan: shortest-path robots that wait (stay) at random
+on 20% of steps (``--wait``; they read the goal hint, the shortest-path robot's action).
+Figures: ``success_rate`` (robots that reached the exit, Wilson 95% interval),
+``all_reached_rate`` (races every robot finished), ``makespan`` (mean race length, 95% interval; its median beside it: a
+few jammed races weigh on the mean), the
 machine's load (``uptime``) before and after training, and the timesteps trained. ``--min-success X``:
 exit 1 when the greedy policy's success rate is below X.
 """
@@ -50,6 +53,22 @@ def figures(stats, max_steps: int) -> dict[str, tuple[float, float, float]]:
     }
 
 
+class WaitingShortest:
+    """The shortest-path robot that stays put on a ``wait`` share of its steps, drawn from its own generator:
+    blind randomness that breaks a crowd's livelock. It reads the goal hint (the last 5 entries of a local
+    observation, one per action): the lowest optimal action, as ``ShortestPathPolicy``'s tie-break."""
+
+    def __init__(self, wait: float, seed: int) -> None:
+        self.wait, self.rng = wait, np.random.default_rng(seed)
+        self.name = f"shortest, waits {wait:.0%}"
+
+    def __call__(self, obs: np.ndarray) -> int:
+        hint = np.asarray(obs[-5:])
+        if self.rng.random() < self.wait or not hint.any():
+            return 0  # STAY
+        return int(np.argmax(hint))
+
+
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("--level", default="maze:8..16")
@@ -63,6 +82,14 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--batch-size", type=int, default=16384)
     p.add_argument("--ent-coef", type=float, default=0.01)
     p.add_argument("--near-radius", type=int, default=1)
+    p.add_argument("--gamma", type=float, default=0.99)
+    p.add_argument("--blocked-cost", type=float, default=0.0, help="PPOConfig.blocked_cost: a robot's training reward "
+                   "loses this on a step another robot stops its move")
+    p.add_argument("--view-radius", type=int, default=2)
+    p.add_argument("--wait", type=float, default=0.2, help="the waiting shortest-path robots' share of steps spent "
+                   "waiting (needs --hint; 0: no such row)")
+    p.add_argument("--skip-baselines", action="store_true", help="no shortest-path and random rows (the same seeded "
+                   "races give the same figures whatever was trained: minutes of evaluation on a livelocked crowd)")
     p.add_argument("--save", default=None)
     p.add_argument("--load", default=None, help="evaluate this saved policy instead of training")
     p.add_argument("--min-success", type=float, default=None)
@@ -78,13 +105,15 @@ def main(argv: list[str] | None = None) -> int:
     from babyrobot_marl.training.policy import load_policy
     from babyrobot_marl.training.ppo import PPOConfig, train_ppo
 
-    env = {"start": "random", "observe": "local", "view_radius": 2, "hint": args.hint, "collisions": args.collisions}
+    env = {"start": "random", "observe": "local", "view_radius": args.view_radius, "hint": args.hint,
+           "collisions": args.collisions}
     if args.load:
         policy = load_policy(args.load)
         print(f"policy {args.load}")
     else:
         config = PPOConfig(n_envs=args.n_envs, batch_size=args.batch_size, hint=args.hint, ent_coef=args.ent_coef,
-                           near_radius=args.near_radius, eval_every=0)
+                           near_radius=args.near_radius, gamma=args.gamma, view_radius=args.view_radius,
+                           blocked_cost=args.blocked_cost, eval_every=0)
         before = load()
         result = train_ppo(args.level, args.robots, 2**62, args.seed, config, max_seconds=args.seconds,
                            env_kwargs={"collisions": args.collisions})
@@ -101,20 +130,26 @@ def main(argv: list[str] | None = None) -> int:
     max_steps = default_max_steps(Level(*family.largest, exits=[(0, 0)]))
     print(f"{args.episodes} races on unseen mazes ({args.level}, EVAL_MAZE_SEEDS), {args.robots} robots each, "
           f"collisions {args.collisions}; success and all-reached: Wilson 95%; makespan: mean, 95% interval")
-    print(f"{'robots':18s} {'success_rate':>22s} {'all_reached_rate':>22s} {'makespan':>24s}")
+    print(f"{'robots':18s} {'success_rate':>22s} {'all_reached_rate':>22s} {'makespan':>24s} {'median':>7s}")
     greedy: float | None = None
     sampled = type(policy)(policy.net, policy.form, policy.n_robots, deterministic=False, seed=args.seed)
-    rows = [("policy (greedy)", policy)] * (not args.skip_greedy) + [("policy (sampled)", sampled),
-                                                                      ("shortest", "shortest"), ("random", "random")]
+    rows = [("policy (greedy)", policy)] * (not args.skip_greedy) + [("policy (sampled)", sampled)]
+    if args.hint and args.wait > 0:
+        rows.append((f"shortest, waits {args.wait:.0%}", "wait"))
+    rows += [("shortest", "shortest"), ("random", "random")] * (not args.skip_baselines)
     for name, who in rows:
         t0 = time.perf_counter()
-        stats = run_races(family, [who] * args.robots, n_races=args.episodes, seed=args.seed + 1, **env)
+        robots = ([WaitingShortest(args.wait, args.seed + 7 + k) for k in range(args.robots)] if who == "wait"
+                  else [who] * args.robots)
+        stats = run_races(family, robots, n_races=args.episodes, seed=args.seed + 1, **env)
         f = figures(stats, max_steps)
         if greedy is None:
             greedy = f["success_rate"][0]  # the first policy row
         cells = [f"{m:.3f} [{lo:.3f}, {hi:.3f}]" if k != "makespan" else f"{m:.1f} [{lo:.1f}, {hi:.1f}]"
                  for k, (m, lo, hi) in f.items()]
-        print(f"{name:18s} {cells[0]:>22s} {cells[1]:>22s} {cells[2]:>24s}   ({time.perf_counter() - t0:.0f} s)", flush=True)
+        median = float(np.median([r.steps for r in stats.records]))
+        print(f"{name:18s} {cells[0]:>22s} {cells[1]:>22s} {cells[2]:>24s} {median:7.1f}   "
+              f"({time.perf_counter() - t0:.0f} s)", flush=True)
     print(f"load average now {load()}")
     if args.min_success is not None and greedy < args.min_success:
         print(f"below the floor: greedy success rate {greedy:.3f} < {args.min_success}", file=sys.stderr)

@@ -127,3 +127,30 @@ def test_files_of_format_3_still_load_and_a_bad_observation_form_is_refused(trai
     torch.save(family, tmp_path / "bad.pt")
     with pytest.raises(ValueError, match=r"broken policy file: observation: this version reads policies of"):
         load_policy(tmp_path / "bad.pt")
+
+
+def test_blocked_cost_lowers_the_training_reward_of_blocked_steps_only(monkeypatch):
+    from babyrobot_marl.training.ppo import loop
+    from babyrobot_marl.training.ppo.update import gae
+
+    seen: list[np.ndarray] = []
+
+    def spy(rewards, *args):  # the rewards the advantages are computed from
+        seen.append(rewards.copy())
+        return gae(rewards, *args)
+
+    monkeypatch.setattr(loop, "gae", spy)
+    cfg = SMALL.replace(hint=True, n_envs=16)
+    returns = []
+    for cost in (0.0, 0.75):
+        train_ppo("maze:8..8", n_robots=8, timesteps=1, seed=3, config=cfg.replace(blocked_cost=cost),
+                  env_kwargs={"collisions": "bounce"}, on_update=lambda t, s, r: returns.append(r))
+    plain, costed = seen
+    diff = np.round(plain - costed, 6)  # the same seed: the same first rollout, only the rewards differ
+    assert set(np.unique(diff).tolist()) == {0.0, 0.75}
+    assert returns[0] == returns[1]  # the returns reported are the env's
+
+
+def test_blocked_cost_must_be_a_non_negative_number():
+    with pytest.raises(ValueError, match="blocked_cost"):
+        PPOConfig(blocked_cost=-1.0)

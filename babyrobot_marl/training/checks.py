@@ -45,7 +45,7 @@ def check_config(cfg: Any, start_choices: Sequence[str]) -> tuple[int, ...]:
     for name in ("learning_rate", "clip_range", "max_grad_norm"):
         if check_real(getattr(cfg, name), name, 0) == 0:
             raise ValueError(f"{name}: must be a finite number > 0, got 0")
-    for name in ("ent_coef", "vf_coef"):
+    for name in ("ent_coef", "vf_coef", "blocked_cost"):
         check_real(getattr(cfg, name), name, 0)
     arch = tuple(cfg.net_arch)
     for h in arch:

@@ -25,6 +25,10 @@ class PPOConfig:
     ``view_radius`` and, with ``hint``, the goal hint (``window.WindowForm``); the envs step an atlas
     of ``atlas_size`` mazes, drawn anew every ``atlas_every`` rollouts.
     ``eval_every``: timesteps between evaluations (0: only at the end).
+    ``blocked_cost``: a race robot's training reward loses this much on a step another robot stops
+    its move (``BatchRace.step``'s ``blocked``): each robot's return counts only its own steps, so
+    pressing into a robot that stays or contesting a cell otherwise costs it no more than waiting;
+    a crowd jams on it. Training only: the figures and returns reported are the env's.
     """
 
     n_envs: int = 1024
@@ -49,6 +53,7 @@ class PPOConfig:
     hint: bool = False
     atlas_size: int = 64
     atlas_every: int = 16
+    blocked_cost: float = 0.0
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "net_arch", check_config(self, START_CHOICES))

@@ -168,9 +168,9 @@ def train_ppo(
                     keys = inputs.keys(batch.cells, batch.racing).reshape(-1)
                     actions = actor.sample(keys, rng)
                     racing = batch.racing.copy()
-                    rewards, finishing, _, _, over = batch.step(actions.reshape(E, n))
+                    rewards, finishing, blocked, _, over = batch.step(actions.reshape(E, n))
                     key_buf[t], act_buf[t], valid_buf[t] = keys.reshape(E, n), actions.reshape(E, n), racing
-                    rew_buf[t] = rewards
+                    rew_buf[t] = rewards - cfg.blocked_cost * blocked if cfg.blocked_cost else rewards
                     ended = racing & (finishing | over[:, None])
                     done_buf[t] = ended | ~racing  # parked steps end nothing: isolated, masked out
                     trunc_buf[t] = racing & over[:, None] & ~finishing
