@@ -55,11 +55,16 @@ def test_every_text_stays_inside_its_cell_at_every_cell_size(name):
             assert x * cs <= x0 and x1 <= (x + 1) * cs and y * cs <= y0 and y1 <= (y + 1) * cs, (name, cs, op.text, box)
 
 
+def q_number_ops(q: np.ndarray, cs: int, labelled: frozenset = frozenset()) -> list:
+    """What the action values' numbers draw (their boxes and texts), light theme."""
+    return [op for labels in annotate.q_labels(q, cs, labelled).values() for label in labels for op in label.ops(THEMES["light"])]
+
+
 @pytest.mark.parametrize("cs", SIZES)
 def test_action_values_are_printed_inside_their_own_triangle(cs):
     level = levels.get("maze-8x8")
     ov = full_overlay(level)
-    numbers = [op for op in annotate._q_numbers(ov.q_values, cs, THEMES["light"])]
+    numbers = [op for op in q_number_ops(ov.q_values, cs)]
     texts = [op for op in numbers if isinstance(op, Text)]
     assert len(texts) > (0 if cs == 32 else 40)
     for op in texts:
@@ -233,6 +238,6 @@ def test_start_and_exit_labels_cover_no_action_value(cs):
     r = RgbRenderer(level, cs)
     ov = full_overlay(level)
     pills = {tuple((op.points.mean(axis=0) // cs).astype(int)): op for op in r.labels if isinstance(op, Fill)}
-    for op in annotate._q_numbers(ov.q_values, cs, THEMES["light"], r.labelled):
+    for op in q_number_ops(ov.q_values, cs, r.labelled):
         if isinstance(op, Text) and cell_of(op, cs) in pills:
             assert glyphs.ink_box(op)[1] >= pills[cell_of(op, cs)].points[:, 1].max(), (cs, op.text)
