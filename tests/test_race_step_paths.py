@@ -6,17 +6,19 @@ step, and the batch engine's step limit: each checked against a fresh env or the
 
 from __future__ import annotations
 
+import sys
+from pathlib import Path
+
 import numpy as np
 
 from babyrobot_marl import BabyRobotEnv, race_v0
 
-CORNERS = "\n".join(
-    ["+" + "-+" * 8, "|0" + " " * 13 + "1|"]
-    + ["+" + " +" * 8, "|" + " " * 15 + "|"] * 2
-    + ["+" + " +" * 8, "|" + " " * 6 + "E" + " " * 8 + "|"]
-    + ["+" + " +" * 8, "|" + " " * 15 + "|"] * 3
-    + ["+" + " +" * 8, "|3" + " " * 13 + "2|", "+" + "-+" * 8]
-)
+# the benchmark's scenario level (open 8x8, the four starts in the corners, the exit inside)
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+try:
+    from bench_race import CORNERS_8X8 as CORNERS
+finally:
+    sys.path.pop(0)
 
 
 def play(env, seed: int, actions: np.ndarray) -> list:
