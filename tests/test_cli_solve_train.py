@@ -48,6 +48,18 @@ def test_train_without_the_extra_says_how_to_install_it(monkeypatch, capsys):
     assert "pip install 'babyrobot_marl[train]'" in capsys.readouterr().err
 
 
+def test_train_names_a_bad_flag_before_asking_for_the_extra(monkeypatch, capsys):
+    from babyrobot_marl import training
+
+    def missing(*modules):
+        raise training.MissingTrainExtraError("training needs torch (the 'train' extra)")
+
+    monkeypatch.setattr(training, "require_train", missing)  # as on a machine without torch
+    assert run(["train", "--level", "default"]) == 2
+    err = capsys.readouterr().err
+    assert "--steps" in err and "extra" not in err
+
+
 def test_train_single_robot_end_to_end_saves_the_model_and_a_gif(tmp_path, capsys):
     pytest.importorskip("stable_baselines3", reason="needs the train extra")  # CI installs it (train extra)
     pytest.importorskip("imageio", reason="needs the train extra")

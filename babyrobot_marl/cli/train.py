@@ -122,12 +122,12 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace, out: TextIO) -> int:
+    family = parse_level_family(args.level)  # "maze:A..B": a new maze per episode
+    level = family(np.random.default_rng(0)) if family is not None else load_level(args.level)
+    check_train_args(args, _rollout(args)[0], family is not None)  # the user's mistakes first, with or without torch
     # a missing package: MissingTrainExtraError, one line from the CLI's main (exit 2); called through the
     # package (training.require_train), where tests put a stand-in
     training.require_train(*(("torch", "tqdm") if args.backend == "fast" else ()))
-    family = parse_level_family(args.level)  # "maze:A..B": a new maze per episode
-    level = family(np.random.default_rng(0)) if family is not None else load_level(args.level)
-    check_train_args(args, _rollout(args)[0], family is not None)
     tty = not args.no_progress and isatty(out) and isatty(sys.stderr)
     run = _family if family is not None else _fast if args.backend == "fast" else _sb3
     figures = run(args, level, tty, out)
