@@ -535,3 +535,27 @@ def test_after_an_episode_the_replay_bar_shows_its_scenes_on_the_same_canvas_wit
     assert drawn == [c.history[1][0]]
     env.reset(seed=1)  # a new episode: the bar goes until it ends
     assert bar.widget.layout.display == "none" and len(c.history) == 1
+
+
+def test_a_browser_redraw_after_a_replay_shows_the_replayed_scene_not_the_live_one(jupyter, sent):
+    """A browser's ``client_ready`` (and the redraw a moment after it) may come after the learner moved
+    the replay slider: the canvas is drawn again as shown, the replayed scene, until the env draws anew."""
+    env = race_v0.parallel_env(level="race-corridor", n_robots=2, render_mode="human", animation_frames=0, render_fps=0)
+    env.reset(seed=0)
+    c = env.unwrapped.canvas
+    while env.agents:
+        env.step({a: 2 for a in env.agents})
+    c._replay.slider.value = 0
+    drawn, tops = [], []
+    draw_robots, draw_top = c._draw_robots, c._draw_top
+    c._draw_robots = lambda scene, at=None, poses=None: (drawn.append(scene), draw_robots(scene, at, poses))[1]
+    c._draw_top = lambda scene=None, force=False: (tops.append(scene or c.scene), draw_top(scene, force))[1]
+    c.redraw()
+    for layer in c.widget._canvases:
+        layer._handle_frontend_event(None, {"event": "client_ready"}, [])
+    start = c.history[0][0]
+    assert start != c.scene and drawn == [start, start] and tops == [start, start]
+    drawn.clear()
+    env.reset(seed=1)  # a new episode: live again
+    c.redraw()
+    assert drawn[-1] == c.scene

@@ -147,16 +147,15 @@ class LiveCanvas:
         self.view: Any = self.widget  # what ``show`` displays: the canvas, and the replay bar under it
         self._replay: Any = None  # the replay bar (``show``)
         self.history: deque[tuple[Scene, Overlay]] = deque(maxlen=MAX_REPLAY)  # this episode's scenes
+        self._replaying: int | None = None  # the scene of ``history`` shown by the replay bar (None: the live one)
         self._styles = _Styles()
         self._snapped: tuple[Scene, Overlay] | None = None  # what the still shows
         self.marked: int | None = None  # the robot whose cell is framed in its colour (the one a player drives)
-        # each layer is its own canvas in the browser, ready in its own time: each redraws itself,
-        # and everything is drawn once more a moment later (a reloading page may drop the first
+        # each layer is its own canvas in the browser, ready in its own time: each ready one has the
+        # picture drawn again, and once more a moment later (a reloading page may drop the first
         # commands: the widget that carries them to the layers is not always ready before them)
-        layers = self.widget._canvases
-        layers[0].on_client_ready(lambda *_: self._on_ready(self._draw_static))
-        layers[1].on_client_ready(lambda *_: self._on_ready(lambda: self._draw_robots(self.scene)))
-        layers[2].on_client_ready(lambda *_: self._on_ready(lambda: self._draw_top(force=True)))
+        for k, layer in enumerate(self.widget._canvases):
+            layer.on_client_ready(lambda *_, k=k: self._on_ready(lambda: self._show(*self._shown(), layer=k)))
         self._redraw_due = False
         self._set_height(self.hi.grid_height + self._reserved(self.scene))
         self._draw_static()
@@ -219,7 +218,7 @@ class LiveCanvas:
         if overlay is not None:
             self.set_overlay(overlay, self.scene, top=False)
         self._sync_static()  # a replay may have left another overlay's cells there
-        self.scene = scene
+        self.scene, self._replaying = scene, None
         steps = self.animation_frames if animate else 0
         if steps == 0 or not glide(scene, 0.0)[0]:  # nobody moved
             self._pace(1.0 / self.fps if animate and self.fps > 0 else 0.0)
@@ -237,17 +236,33 @@ class LiveCanvas:
     def new_episode(self) -> None:
         """Forget the replay of the episode before (an env's reset)."""
         self.history.clear()
+        self._replaying = None
         if self._replay is not None:
             self._replay.hide()
 
     def replay(self, index: int) -> None:
         """Show the episode's ``index``-th scene (0: its start) as it was drawn; the env is not stepped."""
-        scene, overlay = self.history[index]
+        self._replaying = index
+        self._show(*self.history[index])
+
+    def _shown(self) -> tuple[Scene, Overlay]:
+        """What the canvas shows: the scene the replay bar points at, else the live one."""
+        if self._replaying is not None and self._replaying < len(self.history):
+            return self.history[self._replaying]
+        return self.scene, self.overlay
+
+    def _show(self, scene: Scene, overlay: Overlay, force: bool = False, layer: int | None = None) -> None:
+        """``scene`` under ``overlay`` (a replayed one), the live overlay kept; ``force``: every layer
+        again; ``layer``: that layer alone, again (0: the level, 1: the robots, 2: labels and panel)."""
         live, self.overlay = self.overlay, overlay
+        again = force or layer is not None
         try:
-            self._sync_static()
-            self._draw_robots(scene)
-            self._draw_top(scene)
+            if layer in (None, 0):
+                self._draw_static() if again else self._sync_static()
+            if layer in (None, 2):
+                self._draw_top(scene, force=again)  # before the robots: a taller panel redraws the live ones
+            if layer in (None, 1):
+                self._draw_robots(scene)
         finally:
             self.overlay = live
 
@@ -267,8 +282,8 @@ class LiveCanvas:
         if scene.done and self._replay is not None:
             self._replay.offer(len(self.history))
 
-    def _on_ready(self, draw_layer: Any) -> None:
-        draw_layer()
+    def _on_ready(self, draw: Any) -> None:
+        draw()
         if self._redraw_due:
             return
         try:
@@ -286,10 +301,9 @@ class LiveCanvas:
         loop.call_later(REDRAW_AFTER, again)
 
     def redraw(self, *_: Any) -> None:
-        """Everything again (a browser connected: it starts from an empty canvas)."""
-        self._draw_static()
-        self._draw_top(force=True)
-        self._draw_robots(self.scene)
+        """Everything again (a browser connected: it starts from an empty canvas), as it was shown:
+        the replayed scene while the replay bar points at one (a late redraw must not undo a replay)."""
+        self._show(*self._shown(), force=True)
 
     # ------------------------------------------------------------------ layers
     def _reserved(self, scene: Scene) -> int:
