@@ -353,6 +353,8 @@ def test_action_values_sit_in_their_triangles_clear_of_walls_labels_and_the_robo
 
     env = env_with(level="mixed-8x8", cs=cs)
     q = np.random.default_rng(0).normal(size=(8, 8, 5)) * 9
+    if cs == 32:  # one type size in every cell or none: only whole numbers of one digit fit 32 pixels
+        q = np.clip(np.round(q / 3), -9, 9)
     env.set_overlay(q_values=q)
     r = env.unwrapped.drawing.renderer
     ops = annotate.ink_ops(env.unwrapped.overlay, cs, LIGHT, r.labelled, r.exits)
@@ -396,7 +398,8 @@ def test_a_horizontal_arrow_does_not_run_under_the_robot_in_its_corner(cs, actio
 def _q_case(name: str, cs: int, theme: str) -> BabyRobotEnv:
     """An env with action values and the best actions as arrows: value iteration's on a level,
     or ("ties") every tie on maze-8x8 with the widest numbers that show at that size (one
-    decimal, ``-8.8``, from 48 px; at 32 px only whole numbers of one digit fit beside the walls)."""
+    decimal, ``-8.8``, from 48 px; at 32 px only whole numbers of one digit fit beside the walls,
+    so there the values are scaled into -9..0: numbers show in every cell or in none)."""
     from babyrobot_marl import planning
 
     env = BabyRobotEnv(level="maze-8x8" if name == "ties" else name, render_mode="rgb_array", cell_size=cs, theme=theme)
@@ -404,7 +407,7 @@ def _q_case(name: str, cs: int, theme: str) -> BabyRobotEnv:
     h, w = env.level.height, env.level.width
     if name == "ties":
         rng = np.random.default_rng(1)
-        q = np.round(rng.uniform(-9.9, -1.1, size=(h, w, 5)), 1) if cs >= 48 else rng.integers(-15, 0, size=(h, w, 5)) * 1.0
+        q = np.round(rng.uniform(-9.9, -1.1, size=(h, w, 5)), 1) if cs >= 48 else rng.integers(-9, 0, size=(h, w, 5)) * 1.0
         combos = [(a,) for a in (1, 2, 3, 4)] + [(1, 3), (2, 4), (2, 3), (1, 4), (3, 4), (1, 2), (1, 2, 3), (1, 2, 3, 4)]
         arrows = np.zeros((h, w, 5), dtype=bool)
         for k, (y, x) in enumerate(np.ndindex(h, w)):
@@ -413,6 +416,8 @@ def _q_case(name: str, cs: int, theme: str) -> BabyRobotEnv:
         sol = planning.value_iteration(planning.model(env.level), gamma=1.0)
         q = sol.q.reshape(h, w, 5).copy()
         q[np.isnan(sol.value_grid)] = np.nan
+        if cs == 32:  # the numbers in every cell or in none: at 32 px one digit, so the values scaled into -9..0
+            q = np.round(q * 9 / max(9.0, -np.nanmin(q)))
         arrows = sol.best_actions
     env.set_overlay(q_values=q, arrows=arrows)
     return env

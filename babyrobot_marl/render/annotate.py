@@ -287,22 +287,29 @@ class QLabel(NamedTuple):
 
 def q_labels(q: np.ndarray, cs: int, labelled: frozenset = frozenset(), exits: frozenset = frozenset(),
              fmt: Callable[[float], str] = format_value) -> dict[tuple[int, int], list[QLabel]]:  # fmt: skip
-    """Each cell's action-value numbers where they fit (the largest type that does), by cell ``(x, y)``."""
+    """Each cell's action-value numbers by cell ``(x, y)``, all in one type size: the largest in
+    which every number fits its triangle (under a START / EXIT label a number may be smaller,
+    or left out). None at all if not even the smallest type fits: a picture with numbers in
+    some cells and not in others reads as a mistake."""
     band = label_band(cs)[1] + 1
-    out: dict[tuple[int, int], list[QLabel]] = {}
-    for action in DIRECTIONS:
-        for y, x in zip(*np.nonzero(np.isfinite(q[:, :, action]))):
-            c = (int(x), int(y))
-            if c in exits:
-                continue
-            s = fmt(float(q[y, x, action]))
-            for size in _sizes_down(min(22, max(7, int(cs * 0.16)))):
-                w, h = text_width(s, size) + 2, cap_height(size)[1] + 2
+    wanted = [(int(action), (int(x), int(y)), fmt(float(q[y, x, action]))) for action in DIRECTIONS
+              for y, x in zip(*np.nonzero(np.isfinite(q[:, :, action]))) if (int(x), int(y)) not in exits]  # fmt: skip
+    sizes = _sizes_down(min(22, max(7, int(cs * 0.16))))
+    for k, size in enumerate(sizes):
+        out: dict[tuple[int, int], list[QLabel]] = {}
+        for action, c, s in wanted:
+            for smaller in sizes[k:] if c in labelled else (size,):
+                w, h = text_width(s, smaller) + 2, cap_height(smaller)[1] + 2
                 at = q_label_position(action, c[0], c[1], cs, w, h, band if c in labelled else 0.0)
                 if at is not None:
-                    out.setdefault(c, []).append(QLabel(int(action), at[0], at[1], w, h, size, s))
+                    out.setdefault(c, []).append(QLabel(action, at[0], at[1], w, h, smaller, s))
                     break
-    return out
+            else:
+                if c not in labelled:
+                    break  # too big for this cell: a smaller type for all
+        else:
+            return out
+    return {}
 
 
 Lane = tuple[float, float, float, float, float]  # an arrow: tail x, tail y, dx, dy, length

@@ -154,10 +154,11 @@ def _flag(x: float, y: float, cs: float, theme: Theme, colour: Colour | None) ->
     """A start's flag (in the robot's colour in a race) in the ``cs``-pixel box at ``(x, y)``."""
     flag = colour or theme.start_ink
     pole = max(1.0, cs * 0.04)
+    # low in the box: a robot standing on its start (under the START label) hides all of it
     return [
-        Fill(rect(x + 0.36 * cs, y + 0.3 * cs, x + 0.36 * cs + pole, y + 0.8 * cs), theme.start_ink),
-        Fill(rect(x + 0.3 * cs, y + 0.78 * cs, x + 0.5 * cs, y + 0.82 * cs), theme.start_ink),
-        Fill(rect(x + 0.36 * cs, y + 0.3 * cs, x + 0.68 * cs, y + 0.5 * cs), flag),
+        Fill(rect(x + 0.36 * cs, y + 0.42 * cs, x + 0.36 * cs + pole, y + 0.86 * cs), theme.start_ink),
+        Fill(rect(x + 0.33 * cs, y + 0.84 * cs, x + 0.5 * cs, y + 0.88 * cs), theme.start_ink),
+        Fill(rect(x + 0.36 * cs, y + 0.42 * cs, x + 0.68 * cs, y + 0.6 * cs), flag),
     ]
 
 
