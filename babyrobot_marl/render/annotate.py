@@ -21,7 +21,7 @@ overlay is on (``robot.CORNER``), clear of every number.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import NamedTuple
 
 import numpy as np
@@ -298,18 +298,25 @@ def q_labels(q: np.ndarray, cs: int, labelled: frozenset = frozenset(), exits: f
     for k, size in enumerate(sizes):
         out: dict[tuple[int, int], list[QLabel]] = {}
         for action, c, s in wanted:
-            for smaller in sizes[k:] if c in labelled else (size,):
-                w, h = text_width(s, smaller) + 2, cap_height(smaller)[1] + 2
-                at = q_label_position(action, c[0], c[1], cs, w, h, band if c in labelled else 0.0)
-                if at is not None:
-                    out.setdefault(c, []).append(QLabel(action, at[0], at[1], w, h, smaller, s))
-                    break
-            else:
-                if c not in labelled:
-                    break  # too big for this cell: a smaller type for all
+            under_label = c in labelled
+            label = _q_label(action, c, s, cs, sizes[k:] if under_label else (size,), band if under_label else 0.0)
+            if label is not None:
+                out.setdefault(c, []).append(label)
+            elif not under_label:
+                break  # too big for this cell: a smaller type for all
         else:
             return out
     return {}
+
+
+def _q_label(action: int, cell: tuple[int, int], text: str, cs: int, sizes: Sequence[int], top: float) -> QLabel | None:
+    """The action value ``text`` in the first of ``sizes`` that fits its triangle (``q_label_position``), or None."""
+    for size in sizes:
+        w, h = text_width(text, size) + 2, cap_height(size)[1] + 2
+        at = q_label_position(action, cell[0], cell[1], cs, w, h, top)
+        if at is not None:
+            return QLabel(action, at[0], at[1], w, h, size, text)
+    return None
 
 
 Lane = tuple[float, float, float, float, float]  # an arrow: tail x, tail y, dx, dy, length
