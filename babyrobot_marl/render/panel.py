@@ -228,7 +228,7 @@ def shifted(op: Op, dy: float) -> Op:
 def _colour_bar(width: int, h: int, size: int, vr: tuple, theme: Theme) -> list[Op]:
     """The colour bar: the overlay's label, then the colours from lowest to highest with ticks
     and their numbers under them (in the overlay's number format)."""
-    from .overlay import Scale, format_value
+    from .overlay import Scale
 
     scale = vr if isinstance(vr, Scale) else Scale(float(vr[0]), float(vr[1]), "value", 0)
     lo, hi = scale.lo, scale.hi
@@ -258,7 +258,7 @@ def _colour_bar(width: int, h: int, size: int, vr: tuple, theme: Theme) -> list[
     for v in ticks(lo, hi, max(2, min(6, int((x1 - x0) // room) + 1))):
         x = x0 if hi == lo else x0 + (v - lo) / (hi - lo) * (x1 - x0)
         ops.append(Fill(rect(x - 0.5, top + bar_h + 1, x + 0.5, top + bar_h + 1 + tick), theme.text))
-        ops.append(Text(x, label_y, scale.format(v) if v in (lo, hi) else format_value(v, scale.digits), small, theme.text))
+        ops.append(Text(x, label_y, scale.format(v), small, theme.text))
     return ops
 
 
