@@ -98,9 +98,8 @@ class RgbRenderer:
                 grid[y0 * cs : y1 * cs, x0 * cs : x1 * cs] = block
             for _, cx, cy, p, box, _, _ in self._marks(scene):  # the bursts over them, the labels over those
                 blend(grid, p, cx, cy)
-                for ly, lx, label in self._label_patches:
-                    if _overlap((lx, ly, lx + label.rgb.shape[1], ly + label.rgb.shape[0]), box):
-                        blend(grid, label, lx, ly)
+                for ly, lx, label in self._labels_over([box]):
+                    blend(grid, label, lx, ly)
             return img
         if t < 1.0:
             at, poses = glide(scene, t, self.labelled, self.label_top)
@@ -229,6 +228,12 @@ class RgbRenderer:
         self._base_img, self._base_strips, self._base_key = img, strips, (static, key, scene.legend)
         return img
 
+    def _labels_over(self, boxes: Sequence[tuple[int, int, int, int]]) -> list[tuple[int, int, Patch]]:
+        """The labels' patches ``(y, x, patch)`` that overlap any of ``boxes`` (x0, y0, x1, y1 in pixels):
+        drawn again over the sprites there."""
+        return [(ly, lx, label) for ly, lx, label in self._label_patches
+                if any(_overlap((lx, ly, lx + label.rgb.shape[1], ly + label.rgb.shape[0]), box) for box in boxes)]
+
     def _block(self, static: np.ndarray, rect: tuple[int, int, int, int], items: list[tuple]) -> np.ndarray:
         """The cells ``rect`` (x0, y0, x1, y1, in cells) of ``static`` with the sprites ``items``
         blended in order and the labels over them, cached by exact content: robots come back to
@@ -245,10 +250,8 @@ class RgbRenderer:
         block = static[oy : y1 * cs, ox : x1 * cs].copy()
         for _, cx, cy, p, *_ in items:
             blend(block, p, cx - ox, cy - oy)
-        for ly, lx, label in self._label_patches:  # labels stay on top of the robots under them
-            lb = (lx, ly, lx + label.rgb.shape[1], ly + label.rgb.shape[0])
-            if any(_overlap(lb, it[4]) for it in items):
-                blend(block, label, lx - ox, ly - oy)
+        for ly, lx, label in self._labels_over([it[4] for it in items]):  # labels stay on top of the robots under them
+            blend(block, label, lx - ox, ly - oy)
         self._blocks[key] = (static, tuple(it[3] for it in items), block)  # kept alive: their ids stay theirs
         if len(self._blocks) > self._max_blocks:
             self._blocks.popitem(last=False)
