@@ -8,7 +8,6 @@ shows for them is tests/test_browser.py's job.
 from __future__ import annotations
 
 import base64
-import contextlib
 import io
 import numbers
 
@@ -46,6 +45,11 @@ def names(message) -> list[str]:
     return [NAMES.get(c[0], str(c[0])) for c in cmds]
 
 
+def level_sent(message) -> bool:
+    """The message carries a picture of the level (as rectangles on a new canvas, else as PNG)."""
+    return bool({"putImageData", "fillStyledRects"} & set(names(message)))
+
+
 def python_numbers_only(obj) -> bool:
     """No numpy scalars anywhere (without orjson they are not JSON serialisable)."""
     if isinstance(obj, (list, tuple)):
@@ -71,11 +75,11 @@ def test_the_backing_store_is_twice_the_css_size_for_hidpi_screens():
 
 def test_the_static_layer_is_drawn_once_in_one_batch(sent):
     c = make()
-    assert sum("putImageData" in names(m) for m in sent) == 1
+    assert sum(level_sent(m) for m in sent) == 1
     sent.clear()
     c.draw([(1, 1)], animate=False)
     c.draw([(1, 2)])
-    assert all("putImageData" not in names(m) for m in sent)
+    assert not any(level_sent(m) for m in sent)
 
 
 def test_each_animation_frame_is_one_batch_that_clears_and_redraws_every_robot_in_one_call(sent):
@@ -145,10 +149,10 @@ def test_a_client_connecting_gets_everything_redrawn(sent):
     for layer in c.widget._canvases:  # what a browser sends, for each layer once its view is ready
         layer._handle_frontend_event(None, {"event": "client_ready"}, [])
     all_names = [n for m in sent for n in names(m)]
-    assert "putImageData" in all_names and "fillText" in all_names and "fillStyledPolygons" in all_names
+    assert "fillStyledRects" in all_names and "fillText" in all_names and "fillStyledPolygons" in all_names
     sent.clear()
     c.widget[1]._handle_frontend_event(None, {"event": "client_ready"}, [])  # the robots' layer alone
-    assert [n for m in sent for n in names(m) if n == "putImageData"] == []
+    assert not any(level_sent(m) for m in sent)
     assert "fillStyledPolygons" in [n for m in sent for n in names(m)]
 
 
@@ -303,17 +307,39 @@ def test_bad_animation_frames_is_a_value_error_naming_it():
 
 
 # ------------------------------------------------------------------ layers, shared pixels, pacing
-@pytest.fixture
-def sent_images(monkeypatch):
-    """The images put on the canvas, decoded: a list of uint8 arrays, in order."""
+def pictures(command, buffers) -> list[tuple[str, np.ndarray]]:
+    """The pictures one message puts on a canvas, as the browser draws them: ``(how, uint8[H, W, 3 or 4])``
+    for each PNG (``putImageData``) and each set of one-colour rectangles (``fillStyledRects``,
+    painted here; a pixel covered twice or not at all is an error)."""
     from PIL import Image
 
-    images: list[np.ndarray] = []
+    out, k = [], 0
+    for cmd in command if command and isinstance(command[0], list) else [command]:
+        n = cmd[2] if len(cmd) > 2 else 0
+        bufs, k = buffers[k : k + n], k + n
+        name = NAMES[cmd[0]]
+        if name == "putImageData":
+            out.append((name, np.array(Image.open(io.BytesIO(bytes(bufs[0]))))))
+        elif name == "fillStyledRects":
+            x, y, w, h, colours = (np.frombuffer(bytes(bufs[a["idx"]]), dtype=a["dtype"]).reshape(a["shape"]) for a in cmd[1][:5])
+            assert cmd[1][5] == 1, "rectangles drawn opaque"
+            img = np.zeros((int((y + h).max()), int((x + w).max()), 3), dtype=np.uint8)
+            times = np.zeros(img.shape[:2], dtype=int)
+            for a, b, ww, hh, c in zip(x, y, w, h, colours):
+                img[b : b + hh, a : a + ww] = c
+                times[b : b + hh, a : a + ww] += 1
+            assert (times == 1).all(), "each pixel drawn by exactly one rectangle"
+            out.append((name, img))
+    return out
+
+
+@pytest.fixture
+def sent_images(monkeypatch):
+    """The pictures put on the canvas, as drawn (``pictures``): a list of ``(how, image)``, in order."""
+    images: list[tuple[str, np.ndarray]] = []
 
     def record(command, buffers=()):
-        for b in buffers:
-            with contextlib.suppress(Exception):  # the polygons' buffers are not images
-                images.append(np.array(Image.open(io.BytesIO(bytes(b)))))
+        images.extend(pictures(command, buffers))
 
     monkeypatch.setattr(ipc._CANVAS_MANAGER, "_send_custom", record)
     return images
@@ -342,6 +368,7 @@ def test_the_level_and_overlay_go_under_the_robots_and_labels_and_panel_over_the
     for layer, name in layer_commands(sent, c):
         where.setdefault(name, set()).add(layer)
     assert where["putImageData"] == {0}  # the level with the overlay's tints, arrows and numbers
+    assert where["fillStyledRects"] == {0}  # the first picture of the level: rectangles, drawn on arrival
     assert 1 in where["fillStyledPolygons"] and 2 in where["fillStyledPolygons"]  # robots; labels and panel
     assert where["fillText"] == {2}  # the labels and the panel (a lone robot shows no number)
     assert 0 not in where["fillStyledPolygons"]
@@ -355,13 +382,33 @@ def test_the_bottom_layer_shows_exactly_the_rgb_array_pixels_at_twice_the_cell_s
     env.set_overlay(values=values)
     c = live.LiveCanvas(env.rgb_renderer, animation_frames=0, fps=0)
     hi = RgbRenderer(env.level, 64)
-    assert (sent_images[0][:, :, :3] == hi.background).all()
+    # a new canvas: rectangles the browser draws as they come (a PNG decodes later: a blank first frame)
+    assert sent_images[0][0] == "fillStyledRects" and (sent_images[0][1] == hi.background).all()
     c.draw([], env.overlay)
-    img = sent_images[-1]
+    how, img = sent_images[-1]
+    assert how == "putImageData"  # on a canvas that shows the level: the browser keeps it until this is decoded
     assert img.shape[2] == 4 and (img[:, :, 3] == 255).all()  # RGBA: sent as lossless PNG, opaque
     assert (img[:, :, :3] == hi.static(env.overlay)).all()
     nan_cell = (slice(3 * 64 + 8, 4 * 64 - 8), slice(3 * 64 + 8, 4 * 64 - 8))  # values[3, 3] is NaN: the plain level there
     assert (img[nan_cell][:, :, :3] == hi.background[nan_cell]).all()
+
+
+def test_a_layer_the_browser_may_show_empty_gets_its_level_as_rectangles(sent_images):
+    """A new canvas, a browser's new layer (client_ready) and a resized canvas (resizing clears it)
+    get the level as rectangles, exactly its pixels with the overlay; a shown one a PNG."""
+    lv = levels.get("maze-8x8")
+    c = make(animation_frames=0)
+    hi = c.hi
+    ov = update_overlay(Overlay(), lv, values=np.arange(64.0).reshape(8, 8), arrows=np.full((8, 8), 3))
+    c.draw([(1, 1)], ov)
+    assert [how for how, _ in sent_images] == ["fillStyledRects", "putImageData"]
+    sent_images.clear()
+    c.widget[0]._handle_frontend_event(None, {"event": "client_ready"}, [])
+    assert [how for how, _ in sent_images] == ["fillStyledRects"]
+    assert (sent_images[0][1] == hi.static(ov)).all()
+    sent_images.clear()
+    c.set_overlay(update_overlay(ov, lv, panel=["a line"] * 12))  # a panel taller than the one kept
+    assert [how for how, _ in sent_images] == ["fillStyledRects"] and (sent_images[0][1] == hi.static(ov)).all()
 
 
 def test_changing_only_the_panel_does_not_resend_the_level(sent):
@@ -372,7 +419,7 @@ def test_changing_only_the_panel_does_not_resend_the_level(sent):
     sent.clear()
     c.set_overlay(update_overlay(ov, lv, panel="new line"))
     all_names = [n for m in sent for n in names(m)]
-    assert "putImageData" not in all_names or c.widget.height  # a taller canvas redraws everything once
+    assert "putImageData" not in all_names  # a taller canvas has the level again, as rectangles (it was cleared)
     sent.clear()
     c.set_overlay(update_overlay(c.overlay, lv, panel="another line"))
     assert "putImageData" not in [n for m in sent for n in names(m)]
@@ -419,6 +466,15 @@ def test_robot_frames_are_paced_at_fps_steps_per_second(clock, frames):
     assert len(clock.sent_at) == 4 * per_step
     gaps = np.diff(clock.sent_at)
     assert gaps == pytest.approx(np.full(len(gaps), 0.25 / per_step))  # 4 steps a second, frames evenly spaced
+
+
+@pytest.mark.parametrize("frames", [0, 1, 4])
+def test_the_start_of_an_episode_stays_one_frame_like_every_other(clock, frames):
+    c = live.LiveCanvas(RgbRenderer(levels.get("maze-8x8"), 32), animation_frames=frames, fps=4)
+    c.draw([(1, 1)], animate=False)  # a reset's frame
+    start = clock.sent_at[-1]
+    c.draw(walk(1, 2))
+    assert clock.sent_at[-max(1, frames)] - start == pytest.approx(0.25 / max(1, frames))
 
 
 def test_time_spent_between_steps_is_not_added_to_the_pace(clock):

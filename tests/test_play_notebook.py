@@ -127,6 +127,26 @@ def test_the_editor_draws_the_level_as_the_game_does_at_twice_its_css_size():
         assert e.canvas.width == 2 * e.level.width * 40 and e.canvas.layout.width == f"{e.level.width * 40}px"
 
 
+def test_the_editor_sends_a_new_canvas_its_picture_as_rectangles_and_edits_as_png(monkeypatch):
+    """A new or resized canvas (the browser's is empty) gets the picture as one-colour rectangles,
+    drawn as they arrive: a PNG decodes later, and the canvas showed blank until then. An edit on a
+    canvas that shows a picture comes as a PNG (the old one stays until it is decoded)."""
+    import ipycanvas.canvas as ipc
+
+    from tests.test_canvas import pictures
+
+    got: list = []
+    monkeypatch.setattr(ipc._CANVAS_MANAGER, "_send_custom", lambda command, buffers=(): got.extend(pictures(command, buffers)))
+    e = notebook.edit((3, 2), cell_size=40)
+    assert [how for how, _ in got] == ["fillStyledRects"] and (got[0][1] == e.picture()).all()
+    got.clear()
+    e.click_cell((1, 1))
+    assert [how for how, _ in got] == ["putImageData"] and (got[0][1][..., :3] == e.picture()).all()
+    got.clear()
+    e.width_box.value = 4
+    assert [how for how, _ in got] == ["fillStyledRects"] and (got[0][1] == e.picture()).all()
+
+
 def test_a_missing_exit_is_asked_for_in_plain_words_and_outlines_no_cell():
     from babyrobot_marl.render.rgb import RgbRenderer
 

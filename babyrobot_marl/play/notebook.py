@@ -35,6 +35,7 @@ from ..levels.resolve import resolve_level
 from ..render.canvas import LiveCanvas
 from ..render.rgb import RgbRenderer
 from ..render.still import Still
+from ..render.transfer import put_picture
 from . import editor as ed
 from .checks import check_keywords, check_robots
 from .game import RaceGame, SingleGame, ordinal
@@ -136,9 +137,7 @@ class Player:
                     "arrows/WASD move, space stays, r restarts"
                     + (", TAB drives the next robot (its cell framed in its colour)" if self.is_race else "")
                     + "</small>")  # fmt: skip
-        from ..render.replay import ReplayBar
-
-        self.replay = self.canvas._replay = ReplayBar(self.canvas)  # shown when an episode ends
+        self.replay = self.canvas.replay_bar()  # shown when an episode ends
         self._steps = -1  # the game's step count drawn last: less now, a new episode
         self.widget = VBox([self.canvas.widget, HBox(buttons), self.replay.widget, hint, self.panel])
         self.widget.add_class("babyrobot-player")
@@ -243,13 +242,14 @@ class Editor:
         self._playing = False  # "play it" was clicked: a player follows the edits
         self._syncing, self._bad_cell, self._selected = False, None, None
         self._image = None
+        self._drawn = False  # the canvas has had a picture
         w, h = ed.size(self.draft)
         self.canvas = Canvas(width=w * self.cell_size * self.ratio, height=h * self.cell_size * self.ratio)
         self.canvas.add_class("babyrobot-keys")
         # the mouse is reported in the backing store's pixels: the editor thinks in CSS pixels
         self.canvas.on_mouse_down(lambda x, y: self.click(x / self.ratio, y / self.ratio))
         self.canvas.on_key_down(self._on_key)
-        self.canvas.on_client_ready(lambda *_: self._draw())
+        self.canvas.on_client_ready(lambda *_: self._draw(fresh=True))
         box = Layout(width="150px")
         self.width_box = BoundedIntText(value=w, min=1, max=ed.MAX_SIDE, description="width", layout=box)
         self.height_box = BoundedIntText(value=h, min=1, max=ed.MAX_SIDE, description="height", layout=box)
@@ -385,15 +385,17 @@ class Editor:
             self._image = img
         return self._image
 
-    def _draw(self) -> None:
-        import numpy as np
+    def _draw(self, fresh: bool = False) -> None:
+        """The picture on the canvas; ``fresh``: the browser's canvas may be empty (see ``put_picture``)."""
         from ipycanvas import hold_canvas
 
         img = self.picture()
         c = self.canvas
         h, w = img.shape[:2]
         with hold_canvas():
-            if (c.width, c.height) != (w, h):
+            resized = (c.width, c.height) != (w, h)  # resizing clears the browser's canvas
+            if resized:
                 c.width, c.height = w, h
             c.layout.width, c.layout.height = f"{w // self.ratio}px", f"{h // self.ratio}px"
-            c.put_image_data(np.concatenate([img, np.full((h, w, 1), 255, dtype=np.uint8)], axis=2), 0, 0)
+            put_picture(c, img, fresh=fresh or resized or not self._drawn)
+        self._drawn = True

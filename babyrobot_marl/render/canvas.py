@@ -4,8 +4,9 @@ A ``MultiCanvas`` of three layers, its backing store ``pixel_ratio`` (default 2)
 size so it is crisp on HiDPI screens:
 
 0. the level with the overlay's tints, arrows and numbers: the ``rgb_array`` picture at
-   ``pixel_ratio`` times the cell size, sent as lossless RGBA (PNG) once, and again only
-   when the overlay's cells change;
+   ``pixel_ratio`` times the cell size, sent pixel for pixel once (as rectangles of one colour,
+   drawn before the page can show the canvas: ``put_picture``), and again only when the
+   overlay's cells change (as lossless PNG);
 1. the robots, the marks of collisions and the rank badges (``scene``), redrawn each step
    as canvas paths: ``animation_frames`` interpolated frames glide the robots from cell to
    cell (0: jump), each frame one ``hold_canvas()`` batch of one ``fill_styled_polygons``
@@ -47,6 +48,7 @@ from .rgb import RgbRenderer
 from .scene import Scene, as_scene, glide, robot_sprites
 from .shapes import Fill, Op, Text
 from .still import Still, png_bytes  # noqa: F401  (png_bytes: read as canvas.png_bytes)
+from .transfer import put_picture
 
 PIXEL_RATIO = 2
 REDRAW_AFTER = 1.0  # seconds after a browser (re)connects: everything drawn once more
@@ -158,7 +160,7 @@ class LiveCanvas:
             layer.on_client_ready(lambda *_, k=k: self._on_ready(lambda: self._show(*self._shown(), layer=k)))
         self._redraw_due = False
         self._set_height(self.hi.grid_height + self._reserved(self.scene))
-        self._draw_static()
+        self._draw_static(fresh=True)
         self._draw_top()
 
     # ------------------------------------------------------------------ public
@@ -174,14 +176,19 @@ class LiveCanvas:
         and a replay bar (shown when an episode ends)."""
         from ipywidgets import VBox
 
-        from .replay import ReplayBar
-
-        self._replay = ReplayBar(self)
-        self.view = VBox([self.widget, self._replay.widget])
+        self.view = VBox([self.widget, self.replay_bar().widget])
         self._still = Still(self.view, self.picture, self.css, self.ratio)
         self._snapped = (self.scene, self.overlay)
         self._still.show()
         _track(self)
+
+    def replay_bar(self) -> Any:
+        """A new replay bar (``replay.ReplayBar``: slider and play button) for this canvas: the one it
+        offers each finished episode to, shown under it by ``show`` (or by a player)."""
+        from .replay import ReplayBar
+
+        self._replay = ReplayBar(self)
+        return self._replay
 
     def snapshot(self, only_if_changed: bool = False) -> None:
         """Refresh the still shown with the canvas (the frame ``rgb_array`` gives for the same
@@ -220,8 +227,10 @@ class LiveCanvas:
         self._sync_static()  # a replay may have left another overlay's cells there
         self.scene, self._replaying = scene, None
         steps = self.animation_frames if animate else 0
-        if steps == 0 or not glide(scene, 0.0)[0]:  # nobody moved
-            self._pace(1.0 / self.fps if animate and self.fps > 0 else 0.0)
+        if steps == 0 or not glide(scene, 0.0)[0]:  # nobody moved (or a reset's first frame)
+            # a reset's frame stays one frame's time too: else the first step followed at once, the start unseen
+            frame = 1.0 / (self.fps * max(1, self.animation_frames)) if self.fps > 0 else 0.0
+            self._pace(frame * max(1, self.animation_frames) if animate else frame)
             self._draw_robots(scene)
         else:
             for k in range(1, steps + 1):
@@ -258,7 +267,7 @@ class LiveCanvas:
         again = force or layer is not None
         try:
             if layer in (None, 0):
-                self._draw_static() if again else self._sync_static()
+                self._draw_static(fresh=True) if again else self._sync_static()
             if layer in (None, 2):
                 self._draw_top(scene, force=again)  # before the robots: a taller panel redraws the live ones
             if layer in (None, 1):
@@ -357,12 +366,12 @@ class LiveCanvas:
         if self._static is None or self.hi.static(self.overlay) is not self._static:
             self._draw_static()
 
-    def _draw_static(self) -> None:
+    def _draw_static(self, fresh: bool = False) -> None:
+        """Layer 0: the level under the overlay; ``fresh``: the browser's layer may be empty (a new,
+        resized or reconnected canvas), see ``put_picture``."""
         img = self._static = self.hi.static(self.overlay)
-        rgba = np.concatenate([img, np.full(img.shape[:2] + (1,), 255, dtype=np.uint8)], axis=2)  # RGBA: sent as PNG
         with self._hold():
-            self.widget[0].clear()
-            self.widget[0].put_image_data(rgba, 0, 0)
+            put_picture(self.widget[0], img, fresh)
 
     def _draw_top(self, scene: Scene | None = None, force: bool = False) -> None:
         """Labels and panel (layer 2): only the strips of the panel whose content changed (a
@@ -379,7 +388,7 @@ class LiveCanvas:
         drawn = self._drawn if not force and height == self.widget.height else None
         if height != self.widget.height:
             self._set_height(height)
-            self._draw_static()
+            self._draw_static(fresh=True)
             self._draw_robots(self.scene)
         if force or drawn is None:
             self._styles.reset()
