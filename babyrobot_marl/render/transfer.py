@@ -22,14 +22,13 @@ def rectangles(img: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.
     the same run (same columns, same colour) in the rows right below it. A plain level's flat
     floor is then a few rectangles a cell; only anti-aliased edges and text stay a pixel high."""
     h, w, _ = img.shape
-    rgb = img.astype(np.int64)
-    key = (rgb[..., 0] << 16) | (rgb[..., 1] << 8) | rgb[..., 2]
+    key = (img[..., 0].astype(np.uint32) << 16) | (img[..., 1].astype(np.uint32) << 8) | img[..., 2]  # one number a pixel
     starts = np.ones((h, w), dtype=bool)
     starts[:, 1:] = key[:, 1:] != key[:, :-1]
     ys, xs = np.nonzero(starts)  # row-major: each row's runs left to right
     ends = np.append(xs[1:], w)
     ends[np.append(ys[1:] != ys[:-1], True)] = w  # a row's last run ends at the right edge
-    colour = key[ys, xs]
+    colour = key[ys, xs].astype(np.int64)
     run = (((xs << 16) | ends) << 24) | colour  # columns and colour: one number per kind of run
     order = np.lexsort((ys, run))  # the same runs together, top to bottom
     r, y = run[order], ys[order]
