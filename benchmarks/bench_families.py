@@ -1,7 +1,7 @@
 """Crowds that learn: the fast trainer on a level family, judged on unseen mazes beside the shortest-path and random robots.
 
     python benchmarks/bench_families.py --level maze:8..16 --robots 4 --hint --seconds 600       # issue 27 target (a)
-    python benchmarks/bench_families.py --level maze:8..16 --robots 4 --seconds 600              # (b): no hint
+    python benchmarks/bench_families.py --level maze:8..16 --robots 4 --memory --seconds 600     # (b): no hint, memory
     python benchmarks/bench_families.py --level maze:16..16 --robots 32 --hint --collisions bounce --seconds 600  # (c)
     python benchmarks/bench_families.py --quick     # CI's smoke run: maze:8..8, 2 robots, hint, 3 s, 10 races
 
@@ -86,6 +86,8 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--blocked-cost", type=float, default=0.0, help="PPOConfig.blocked_cost: a robot's training reward "
                    "loses this on a step another robot stops its move")
     p.add_argument("--view-radius", type=int, default=2)
+    p.add_argument("--memory", action="store_true", help="PPOConfig.memory: the net also reads the robot's last action "
+                   "(one bound policy per robot and race remembers it)")
     p.add_argument("--wait", type=float, default=0.2, help="the waiting shortest-path robots' share of steps spent "
                    "waiting (needs --hint; 0: no such row)")
     p.add_argument("--skip-baselines", action="store_true", help="no shortest-path and random rows (the same seeded "
@@ -113,12 +115,12 @@ def main(argv: list[str] | None = None) -> int:
     else:
         config = PPOConfig(n_envs=args.n_envs, batch_size=args.batch_size, hint=args.hint, ent_coef=args.ent_coef,
                            near_radius=args.near_radius, gamma=args.gamma, view_radius=args.view_radius,
-                           blocked_cost=args.blocked_cost, eval_every=0)
+                           blocked_cost=args.blocked_cost, memory=args.memory, eval_every=0)
         before = load()
         result = train_ppo(args.level, args.robots, 2**62, args.seed, config, max_seconds=args.seconds,
                            env_kwargs={"collisions": args.collisions})
         print(f"trained {result.timesteps:,} timesteps in {result.seconds:.0f} s wall-clock ({result.cpu_seconds:.0f} s CPU) "
-              f"on {args.level}, {args.robots} robots, collisions {args.collisions}, hint {args.hint}; "
+              f"on {args.level}, {args.robots} robots, collisions {args.collisions}, hint {args.hint}, memory {args.memory}; "
               f"load average before {before}, after {load()}")
         if args.save:
             result.save(args.save)

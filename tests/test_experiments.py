@@ -150,3 +150,29 @@ def test_intervals_stay_inside_the_range_a_figure_can_take():
     assert "blocked steps" in stats.table() and "[-" not in stats.table()
     m, low, high = mean_interval([0, 0, 0, 1], lo=0.0)
     assert low == 0.0 and high == pytest.approx(0.25 + 1.959964 * 0.25)
+
+
+class _Remembering:
+    """A policy with ``for_env``: each binding is a new robot (as a trained policy with memory)."""
+
+    def __init__(self) -> None:
+        self.bound: list = []
+
+    def for_env(self, env):
+        robot = lambda obs: 0  # noqa: E731  (stays)
+        self.bound.append(robot)
+        return robot
+
+    def __call__(self, obs) -> int:
+        raise AssertionError("used without being bound to the env")
+
+
+def test_a_policy_with_for_env_is_bound_once_per_robot_and_race():
+    """A trained policy with memory remembers one robot's episode: run_races and evaluate give every
+    robot of every race its own binding (``for_env``), never one object for all."""
+    p = _Remembering()
+    run_races("race-4", [p, p], n_races=3, max_cycles=5)
+    assert len(p.bound) == 6 and len({id(b) for b in p.bound}) == 6
+    q = _Remembering()
+    experiments.evaluate(q, level="race-4", n_robots=2, episodes=3, max_cycles=5)
+    assert len(q.bound) == 1 + 6  # one binding checks the env first, then one per robot and episode

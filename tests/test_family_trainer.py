@@ -14,7 +14,7 @@ from babyrobot_marl.levels import builtin  # noqa: E402
 from babyrobot_marl.training.policy import WindowPolicy, load_checkpoint, load_policy  # noqa: E402
 from babyrobot_marl.training.ppo import PPOConfig, train_ppo  # noqa: E402
 from babyrobot_marl.training.ppo.inputs import near_offsets  # noqa: E402
-from babyrobot_marl.training.ppo.window import Atlas, WindowForm, play_atlas, stack_levels  # noqa: E402
+from babyrobot_marl.training.ppo.window import NO_ACTION, Atlas, WindowForm, play_atlas, stack_levels  # noqa: E402
 
 SMALL = PPOConfig(n_envs=32, n_steps=8, batch_size=1024, atlas_size=4, atlas_every=2, eval_every=0)
 
@@ -81,6 +81,60 @@ def test_the_trainer_and_the_env_see_the_same_input_and_act_the_same(trained):
                 checked += 1
             obs, *_ = env.step({a: int(rng.integers(5)) for a in env.agents})
     assert checked > 100
+
+
+@pytest.fixture(scope="module")
+def trained_memory():
+    return train_ppo("maze:8..10", n_robots=3, timesteps=20_000, seed=0, config=SMALL.replace(memory=True))
+
+
+def test_with_memory_each_robot_reads_its_last_action_as_the_trainer_did(trained_memory):
+    """With ``memory`` the net also reads the robot's last action (none at the episode's start): rows built
+    from the batch engine's cells and last actions equal the rows each robot's own bound policy reads from
+    race_v0's observations over whole races, and the actions agree."""
+    import torch
+
+    form = WindowForm(2, near_offsets(SMALL.near_radius), False, memory=True)
+    env = race_v0.parallel_env(level="maze:8..10", n_robots=3, observe="local", start="random", max_cycles=60)
+    checked, lasts = 0, set()
+    for seed in range(3):
+        obs, _ = env.reset(seed=seed)
+        robots = {a: trained_memory.policy().for_env(env) for a in env.possible_agents}  # one each, fresh memory
+        atlas = Atlas([env.level], env.rules, form)
+        last = np.full((1, 3), NO_ACTION)
+        while env.agents:
+            cells, racing = np.array(env._cells)[None, :], np.array(env._racing)[None, :]
+            batch_rows = atlas.rows(atlas.keys(cells, racing, last))
+            actions = {}
+            for a in env.agents:
+                i = env.possible_agents.index(a)
+                assert robots[a].last == last[0, i]
+                assert (robots[a].rows(obs[a])[0] == batch_rows[i]).all()
+                actions[a] = robots[a](obs[a])
+                assert actions[a] == trained_memory.net.actor(torch.from_numpy(batch_rows[i : i + 1])).argmax().item()
+                last[0, i] = actions[a]
+                lasts.add(int(last[0, i]))
+                checked += 1
+            obs, *_ = env.step(actions)
+    assert checked > 100 and len(lasts) > 1
+    # the last action is its own input unit: two robots on one cell that came by different moves read different rows
+    keys = atlas.keys(np.array([[0, 0]]), np.array([[True, True]]), np.array([[1, 2]]))
+    a, b = atlas.rows(keys)
+    assert (a != b).sum() == 1 and form.n_in == form.n_static + len(form.near) + 5
+
+
+def test_memory_is_for_level_families_and_saved_with_the_policy(trained_memory, tmp_path):
+    with pytest.raises(ValueError, match="^memory: the last-action input is read by a level family's policy"):
+        train_ppo("maze-8x8", timesteps=10, config=SMALL.replace(memory=True))
+    with pytest.raises(ValueError, match="^memory: must be True or False"):
+        PPOConfig(memory=1)
+    policy = load_policy(trained_memory.save(str(tmp_path / "m.pt")))
+    assert isinstance(policy, WindowPolicy) and policy.form.memory
+    env = race_v0.parallel_env(level="maze:8..8", n_robots=3, observe="local", start="random")
+    bound = policy.for_env(env)
+    obs, _ = env.reset(seed=0)
+    action = bound(obs["robot_0"])
+    assert bound.last == action and policy.last == NO_ACTION and policy.for_env(env).last == NO_ACTION
 
 
 def test_a_family_policy_saves_its_observation_form_and_runs_on_the_env(trained, tmp_path):

@@ -84,6 +84,7 @@ def test_a_race_reports_win_and_tie_rates_and_its_policy_races(tmp_path, capsys)
      "--collisions: invalid choice: 'x'"),
     (["train", "--level", "maze:9..8", "--robots", "4", "--seconds", "5", "--observe", "local"], "level: "),
     (["train", "--steps", "10", "--hint"], "--hint: only with --observe local"),
+    (["train", "--steps", "10", "--memory"], "--memory: only with --observe local"),
     (["train", "--steps", "10", "--collisions", "bounce"], "--collisions: a lone robot (--robots 1) meets nobody"),
     (["train", "--level", "maze:8..8", "--robots", "2", "--steps", "10", "--observe", "local", "--view-radius", "9"],
      "view_radius"),
@@ -132,3 +133,17 @@ def test_a_family_trains_within_its_seconds_and_its_policy_races_on_the_env(tmp_
     obs, _ = env.reset(seed=0)
     while env.agents:
         obs, *_ = env.step({a: agent(obs[a]) for a in env.agents})
+
+
+def test_train_memory_saves_a_policy_that_reads_its_last_action_and_evaluate_runs_it(tmp_path, capsys):
+    """--memory: the saved policy's net also reads the robot's last action; `evaluate` binds one per robot."""
+    from babyrobot_marl.training.policy import load_checkpoint
+
+    policy = tmp_path / "m.pt"
+    argv = ["train", "--level", "maze:8..8", "--robots", "2", "--observe", "local", "--memory", "--steps", "2048",
+            "--episodes", "10", "--save", str(policy), "--no-progress", *SMALL]
+    assert run(argv) == 0
+    assert "(view_radius 2, memory)" in capsys.readouterr().out
+    assert load_checkpoint(policy)["config"]["memory"] is True
+    assert run(["evaluate", str(policy), "--level", "maze:8..8", "--robots", "2", "--episodes", "3"]) == 0
+    assert 0 <= last_json(capsys.readouterr().out)["policy"]["success_rate"] <= 1

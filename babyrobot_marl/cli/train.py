@@ -93,6 +93,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--view-radius", type=non_negative_int, default=None, metavar="R",
                    help="--observe local: the window's radius, as race_v0's view_radius (default: 2)")
     p.add_argument("--hint", action="store_true", help="--observe local: the net also reads the goal hint (race_v0's hint=True)")
+    p.add_argument("--memory", action="store_true",
+                   help="--observe local: the net also reads the robot's own last action (it can tell the way it came)")
     p.add_argument("--collisions", choices=COLLISION_MODES, default=None,
                    help="fast backend, race: the collision rule (default: the env's, block)")
     p.add_argument("--backend", choices=BACKENDS, default="fast",
@@ -252,7 +254,7 @@ def _family(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> d
     knobs["eval_every"] = args.eval_every or FAMILY_EVAL_EVERY
     knobs.setdefault("n_envs", FAMILY_ENVS)
     config = PPOConfig(threads=args.threads or None, view_radius=2 if args.view_radius is None else args.view_radius,
-                       hint=args.hint, **knobs)
+                       hint=args.hint, memory=args.memory, **knobs)
     one_level = parse_level_family(args.level) is None
     if one_level:  # an atlas of that one level
         config = config.replace(atlas_size=1)
@@ -283,8 +285,9 @@ def _family(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> d
     atlas = judge.atlas(min(episodes, 256))
     score = play_atlas(result.net, atlas, args.robots, episodes, judge.max_steps, np.random.default_rng(args.seed + 2))
     where = _name(level, args) if one_level else f"{args.level}, mazes of the evaluation seeds"
-    out.write(f"fast PPO, one policy for {args.robots} robot(s) reading local windows (view_radius {config.view_radius}"
-              f"{', hint' if config.hint else ''}) on {where}: {episodes} episodes, success rate {score['success_rate']:.3f}, "
+    reads = f"view_radius {config.view_radius}{', hint' if config.hint else ''}{', memory' if config.memory else ''}"
+    out.write(f"fast PPO, one policy for {args.robots} robot(s) reading local windows ({reads}"
+              f") on {where}: {episodes} episodes, success rate {score['success_rate']:.3f}, "
               f"all reached {score['all_reached_rate']:.3f}, makespan {score['makespan']:.1f}\n")
     figures.update({k: _round(v) for k, v in score.items()})
     figures.update(level=_name(level, args) if one_level else args.level, episodes=episodes)

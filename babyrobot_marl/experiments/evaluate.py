@@ -33,6 +33,7 @@ from .. import policies as policy_module
 from ..core.checks import check_int
 from ..envs.race import RaceEnv
 from ..levels.sources import EVAL_MAZE_SEEDS, parse_level_family
+from .races import bound_policy
 from .stats import mean_interval, wilson
 
 METRICS = ("success_rate", "all_reached_rate", "sum_of_costs", "makespan")
@@ -160,17 +161,12 @@ def evaluate(
     if policy is not None:
         envs = {name: RaceEnv(level=family or level, **dict(policy_env or {}), **kw), **envs}
         crowds = {name: policy, **crowds}
-        _bound(policy, envs[name])  # a policy that cannot read this env fails here, before any episode
+        bound_policy(policy, envs[name])  # a policy that cannot read this env fails here, before any episode
     limit = envs[BASELINES[0]].max_cycles
     runs = {n: [_episode(envs[n], crowds[n], seed + i, i) for i in range(episodes)] for n in crowds}
     label = level if isinstance(level, str) and family is not None else envs[BASELINES[0]].level.name or "custom level"
     metrics = {n: crowd_metrics(r, n_robots, limit) for n, r in runs.items()}
     return Evaluation(label, n_robots, envs[BASELINES[0]].collisions, limit, runs, metrics)
-
-
-def _bound(policy: Policy, env: RaceEnv) -> Policy:
-    for_env = getattr(policy, "for_env", None)
-    return for_env(env) if for_env is not None else policy
 
 
 def _episode(env: RaceEnv, crowd: Policy | str, seed: int, i: int) -> Episode:
@@ -179,7 +175,7 @@ def _episode(env: RaceEnv, crowd: Policy | str, seed: int, i: int) -> Episode:
     if isinstance(crowd, str):
         acting = [policy_module.make(crowd, env.table, seed=np.random.default_rng([seed, i, k])) for k in range(env.n_robots)]
     else:
-        acting = [_bound(crowd, env)] * env.n_robots
+        acting = [bound_policy(crowd, env) for _ in range(env.n_robots)]  # one each: a policy with memory remembers one robot
     index = {a: k for k, a in enumerate(env.possible_agents)}
     finish = [0] * env.n_robots
     while env.agents:

@@ -142,11 +142,18 @@ def _level_name(level: Any, env: RaceEnv) -> str:
     return getattr(level, "family", "drawn levels")
 
 
+def bound_policy(policy: Policy, env: RaceEnv) -> Policy:
+    """A trained policy bound to this race's env, one per robot and race (``for_env``: a policy with
+    memory remembers one robot's episode); any other callable as it is."""
+    for_env = getattr(policy, "for_env", None)
+    return for_env(env) if for_env is not None else policy
+
+
 def _one_race(env: RaceEnv, policies: Sequence[str | Policy], seed: int, i: int) -> RaceRecord:
     obs, _ = env.reset(seed=seed + i)
     # named policies after the reset: a drawn level (level= a family) changes the table
     acting = [
-        policy_module.make(p, env.table, seed=np.random.default_rng([seed, i, k])) if isinstance(p, str) else p
+        policy_module.make(p, env.table, seed=np.random.default_rng([seed, i, k])) if isinstance(p, str) else bound_policy(p, env)
         for k, p in enumerate(policies)
     ]
     n = env.n_robots

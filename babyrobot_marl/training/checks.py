@@ -36,8 +36,9 @@ def check_config(cfg: Any, start_choices: Sequence[str]) -> tuple[int, ...]:
     check_int(cfg.eval_every, "eval_every", 0)
     check_int(cfg.near_radius, "near_radius", 0, MAX_NEAR_RADIUS)
     check_int(cfg.view_radius, "view_radius", 0)
-    if not isinstance(cfg.hint, bool):
-        raise ValueError(f"hint: must be True or False, got {shown(cfg.hint)}")
+    for name in ("hint", "memory"):
+        if not isinstance(getattr(cfg, name), bool):
+            raise ValueError(f"{name}: must be True or False, got {shown(getattr(cfg, name))}")
     if cfg.threads is not None:
         check_int(cfg.threads, "threads", 1)
     for name in ("gamma", "gae_lambda"):

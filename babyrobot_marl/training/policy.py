@@ -20,6 +20,7 @@ policy's name or the path of a saved policy: the CLI's ``play --policy`` and ``r
 
 from __future__ import annotations
 
+import copy
 import os
 import warnings
 from dataclasses import asdict
@@ -37,7 +38,7 @@ from .ppo.config import PPOConfig
 from .ppo.inputs import Inputs, near_offsets
 from .ppo.net import make_net, weight_shapes
 from .ppo.sampler import PerKey
-from .ppo.window import WindowForm
+from .ppo.window import NO_ACTION, WindowForm
 
 FORMAT = "babyrobot_marl.ppo"
 # 4: the observation form records the goal hint, and a level family's policy reads local windows; 3: the file
@@ -155,8 +156,8 @@ class TrainedPolicy:
         if table is not None and (table.width, table.height) != (self.width, self.height):
             raise ValueError(f"policy: trained on a {self.width}x{self.height} level; this env's level is "
                              f"{table.width}x{table.height}")
-        bound = TrainedPolicy(self.net, self.inputs, self.n_robots, self.deterministic, None, Decoder.of_env(self.inputs, env))
-        bound.rng, bound.name = self.rng, self.name
+        bound = copy.copy(self)  # the same net, tables and generator
+        bound.decoder = Decoder.of_env(self.inputs, env)
         return bound
 
     def action_probabilities(self, obs: Any) -> np.ndarray:
@@ -189,7 +190,11 @@ class TrainedPolicy:
 class WindowPolicy(TrainedPolicy):
     """A level family's policy: acts on ``race_v0``'s ``observe="local"`` rows of its ``view_radius`` (and
     hint bits, if trained with ``hint``), on any level. ``for_env(env)`` checks that ``env`` shows that
-    form and undoes its ``obs_encoding``. The net runs once per distinct input (cached)."""
+    form and undoes its ``obs_encoding``. The net runs once per distinct input (cached).
+
+    Trained with ``memory``, it also reads the action it took last (``last``, none at first): one
+    instance acts for one robot in one episode, so bind a new one (``for_env``) per robot and episode,
+    as ``experiments.evaluate`` and ``run_races`` do."""
 
     def __init__(self, net: Any, form: WindowForm, n_robots: int, deterministic: bool = True, seed: int | None = None,
                  encoder: Encoder | None = None):
@@ -197,6 +202,7 @@ class WindowPolicy(TrainedPolicy):
         self.deterministic = deterministic
         self.rng = np.random.default_rng(seed)
         self._probs: dict[bytes, np.ndarray] = {}
+        self.last = NO_ACTION  # the action it took last (read with ``memory``)
 
     @property
     def observation(self) -> dict[str, Any]:
@@ -220,8 +226,8 @@ class WindowPolicy(TrainedPolicy):
                              f"this env has {shown_env}")
         if self.form.near and radius < max(abs(dx) + abs(dy) for dx, dy in self.form.near):
             raise ValueError(f"policy: sees the robots near it within view_radius {radius}")
-        bound = WindowPolicy(self.net, self.form, self.n_robots, self.deterministic, None, encoder)
-        bound.rng, bound.name, bound._probs = self.rng, self.name, self._probs
+        bound = copy.copy(self)  # the same net, cache and generator; a memory of its own
+        bound.encoder, bound.last = encoder, NO_ACTION
         return bound
 
     def rows(self, obs: Any) -> np.ndarray:
@@ -234,7 +240,7 @@ class WindowPolicy(TrainedPolicy):
             raise ValueError(f"obs: this policy reads observe='local' rows of view_radius {self.form.radius}"
                              f"{' with the hint' if self.form.hint else ''} ({size} integers), got {len(o)} "
                              f"{o.dtype.name} numbers; bind it to your env with policy.for_env(env)")
-        return self.form.rows_of_observations(o[None, :])
+        return self.form.rows_of_observations(o[None, :], np.array([self.last]))
 
     def action_probabilities(self, obs: Any) -> np.ndarray:
         rows = self.rows(obs)
@@ -250,9 +256,8 @@ class WindowPolicy(TrainedPolicy):
 
     def __call__(self, obs: Any = None) -> int:
         p = self.action_probabilities(obs)
-        if self.deterministic:
-            return int(np.argmax(p))
-        return int(self.rng.choice(len(p), p=p / p.sum()))
+        self.last = int(np.argmax(p)) if self.deterministic else int(self.rng.choice(len(p), p=p / p.sum()))
+        return self.last
 
     act = __call__
 
@@ -325,7 +330,7 @@ def inputs_of(data: dict[str, Any]) -> Inputs | WindowForm:
     near = near_offsets(data["config"]["near_radius"]) if data["n_robots"] > 1 else ()
     form = data.get("observation", GLOBAL_FORM)
     if form.get("observe") == "local":
-        return WindowForm(form["view_radius"], near, form["hint"])
+        return WindowForm(form["view_radius"], near, form["hint"], bool(data["config"].get("memory", False)))
     return Inputs(data["width"], data["height"], near)
 
 

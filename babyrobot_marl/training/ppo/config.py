@@ -22,8 +22,9 @@ class PPOConfig:
     2 also the robots that could contest its next cell (more distinct inputs: 0.6x the speed).
     ``threads``: torch threads while training (None: torch's setting).
     Level families (``train_ppo(level="maze:8..16")``): the net reads the local window of
-    ``view_radius`` and, with ``hint``, the goal hint (``window.WindowForm``); the envs step an atlas
-    of ``atlas_size`` mazes, drawn anew every ``atlas_every`` rollouts.
+    ``view_radius`` and, with ``hint``, the goal hint (``window.WindowForm``); with ``memory``, also
+    the robot's own last action (a memoryless policy loops in a maze: it cannot tell the corridor it
+    came from); the envs step an atlas of ``atlas_size`` mazes, drawn anew every ``atlas_every`` rollouts.
     ``eval_every``: timesteps between evaluations (0: only at the end).
     ``blocked_cost``: a race robot's training reward loses this much on a step another robot stops
     its move (``BatchRace.step``'s ``blocked``): each robot's return counts only its own steps, so
@@ -51,6 +52,7 @@ class PPOConfig:
     eval_episodes: int = 10
     view_radius: int = 2
     hint: bool = False
+    memory: bool = False
     atlas_size: int = 64
     atlas_every: int = 16
     blocked_cost: float = 0.0

@@ -30,7 +30,7 @@ from .net import log_softmax, make_net
 from .result import EvalPoint, TrainResult
 from .sampler import PerKey, Sampler, distinct_rows
 from .update import Samples, clip_grad_norm, gae, grads_of, ppo_gradients
-from .window import Family
+from .window import NO_ACTION, Family
 
 
 @contextlib.contextmanager
@@ -94,6 +94,9 @@ def train_ppo(
     source = parse_level_family(level, TRAIN_MAZE_SEEDS) if isinstance(level, str) else None
     source = source or level_source(level)
     family = None if source is None else Family(source, n, cfg, seed, env_kwargs or {})
+    if cfg.memory and family is None:
+        raise ValueError(f"memory: the last-action input is read by a level family's policy (level='maze:A..B'), "
+                         f"got level {level if isinstance(level, str) else getattr(level, 'name', 'a Level')!r}")
     if family is None:
         level = resolve_level(level)
         batch = make_batch(level, n, cfg.n_envs, cfg.start, seed, **(env_kwargs or {}))
@@ -107,6 +110,9 @@ def train_ppo(
     reset_rng = np.random.default_rng([seed, 1])  # episodes' keys and starts: one generator, drawn per batch
     if family is not None:
         batch.reset_drawn(np.arange(E), reset_rng)
+    # the robots' last actions (a family policy with memory reads them; NO_ACTION at an episode's start)
+    last = np.full((E, n), NO_ACTION) if cfg.memory else None
+    mem = () if last is None else (last,)
 
     with torch_threads(cfg.threads), _deterministic(seed):
         net = make_net(inputs.n_in, cfg.net_arch)
@@ -160,15 +166,19 @@ def train_ppo(
                 batch = inputs.batch(E, n, family.max_steps)
                 batch.reset_drawn(np.arange(E), reset_rng)
                 ep_return[:] = 0.0
+                if last is not None:
+                    last[:] = NO_ACTION
             rollouts += 1
             # ---- rollout: n_steps steps of every env, actions sampled from the current policy
             with torch.no_grad():
                 actor = Sampler(inputs, net)  # weights fixed: the net runs once per distinct input
                 for t in range(T):
-                    keys = inputs.keys(batch.cells, batch.racing).reshape(-1)
+                    keys = inputs.keys(batch.cells, batch.racing, *mem).reshape(-1)
                     actions = actor.sample(keys, rng)
                     racing = batch.racing.copy()
                     rewards, finishing, blocked, _, over = batch.step(actions.reshape(E, n))
+                    if last is not None:
+                        last[racing] = actions.reshape(E, n)[racing]
                     key_buf[t], act_buf[t], valid_buf[t] = keys.reshape(E, n), actions.reshape(E, n), racing
                     rew_buf[t] = rewards - cfg.blocked_cost * blocked if cfg.blocked_cost else rewards
                     ended = racing & (finishing | over[:, None])
@@ -181,8 +191,10 @@ def train_ppo(
                     if np.count_nonzero(over):
                         envs = np.flatnonzero(over)
                         if np.count_nonzero(trunc_buf[t]):
-                            final_buf[t] = inputs.keys(batch.cells, batch.racing)
+                            final_buf[t] = inputs.keys(batch.cells, batch.racing, *mem)
                         batch.reset_drawn(envs, reset_rng)
+                        if last is not None:
+                            last[envs] = NO_ACTION
 
                 # ---- advantages (GAE), truncated episodes bootstrapped from their last observation
                 critic = PerKey(inputs, lambda rows: net.critic(rows)[:, 0])
@@ -190,7 +202,7 @@ def train_ppo(
                 rewards_b = rew_buf.copy()
                 if np.count_nonzero(trunc_buf):
                     rewards_b[trunc_buf] += cfg.gamma * critic(final_buf[trunc_buf])
-                next_value = critic(inputs.keys(batch.cells, batch.racing))
+                next_value = critic(inputs.keys(batch.cells, batch.racing, *mem))
                 adv, returns = gae(rewards_b, values, next_value, done_buf, cfg.gamma, cfg.gae_lambda)
 
             # ---- update: n_epochs passes over the decisions of the rollout, in minibatches; the net

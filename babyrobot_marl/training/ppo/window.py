@@ -26,6 +26,7 @@ from typing import Any
 
 import numpy as np
 
+from ...core.actions import N_ACTIONS
 from ...core.batch import BatchRace
 from ...core.level import Level
 from ...core.observe import LOCAL_FEATURES, TERRAIN, local_observations, local_view
@@ -38,6 +39,7 @@ _ROBOT = LOCAL_FEATURES.index("robot")
 _OFFSETS = np.cumsum((0,) + tuple(v - 1 for v in _NVEC))[:-1]  # each feature's first unit in a window cell
 _UNITS = sum(v - 1 for v in _NVEC)  # units per window cell: one per non-zero value
 N_HINT = 5
+NO_ACTION = N_ACTIONS  # a robot's last action at its episode's start: none
 
 
 @dataclass(frozen=True)
@@ -49,6 +51,7 @@ class WindowForm:
     radius: int
     near: tuple[tuple[int, int], ...]
     hint: bool
+    memory: bool = False
 
     @property
     def side(self) -> int:
@@ -65,7 +68,12 @@ class WindowForm:
 
     @property
     def n_in(self) -> int:
-        return self.n_static + len(self.near)
+        return self.n_static + len(self.near) + (N_ACTIONS if self.memory else 0)
+
+    def memory_rows(self, last: np.ndarray) -> np.ndarray:
+        """``(N, 1)`` indices: the unit of each robot's last action (``NO_ACTION``: none, at an episode's start)."""
+        last = np.asarray(last, dtype=np.int64).reshape(-1, 1)
+        return np.where(last < N_ACTIONS, self.n_static + len(self.near) + last, self.n_in)
 
     @cached_property
     def window_at(self) -> np.ndarray:
@@ -90,14 +98,18 @@ class WindowForm:
         """Numbers of one env observation: ``[x, y]``, the window, the hint bits."""
         return 2 + len(LOCAL_FEATURES) * self.n_window + (N_HINT if self.hint else 0)
 
-    def rows_of_observations(self, obs: np.ndarray) -> np.ndarray:
+    def rows_of_observations(self, obs: np.ndarray, last: np.ndarray | None = None) -> np.ndarray:
         """The net's rows from ``race_v0``'s ``observe="local"`` rows ``(N, obs_size)`` (MultiDiscrete
-        integers): the same rows the trainer builds from the batch engine's cells."""
+        integers) and, with ``memory``, each robot's ``last`` action: the same rows the trainer builds
+        from the batch engine's cells."""
         o = np.asarray(obs, dtype=np.int64).reshape(-1, self.obs_size())
         feats = o[:, 2 : 2 + len(LOCAL_FEATURES) * self.n_window].reshape(-1, self.n_window, len(LOCAL_FEATURES))
         hint = o[:, -N_HINT:] if self.hint else None
         bits = feats[:, self.window_at, _ROBOT]
-        return np.concatenate([self.static_rows(feats, hint), self.robot_rows(bits)], axis=1)
+        parts = [self.static_rows(feats, hint), self.robot_rows(bits)]
+        if self.memory:
+            parts.append(self.memory_rows(np.full(len(o), NO_ACTION) if last is None else last))
+        return np.concatenate(parts, axis=1)
 
 
 def stack_levels(levels: Sequence[Level]) -> tuple[Level, np.ndarray]:
@@ -168,7 +180,7 @@ class Atlas:
 
     @property
     def n_keys(self) -> int:
-        return len(self.patterns) << len(self.form.near)
+        return (len(self.patterns) << len(self.form.near)) * (N_ACTIONS + 1 if self.form.memory else 1)
 
     def batch(self, n_envs: int, n_robots: int, max_steps: int, start: str = "random") -> BatchRace:
         """``n_envs`` races of ``n_robots`` on the atlas (``finished="freeze"``), each episode on a level drawn at its reset."""
@@ -187,21 +199,26 @@ class Atlas:
         at = np.minimum(np.searchsorted(occupied, want), max(occupied.size - 1, 0))
         return (occupied.size > 0) & (occupied[at] == want) if occupied.size else np.zeros(want.shape, dtype=bool)
 
-    def keys(self, cells: np.ndarray, racing: np.ndarray) -> np.ndarray:
-        """Every robot's key: its window pattern, then its near bits."""
+    def keys(self, cells: np.ndarray, racing: np.ndarray, last: np.ndarray | None = None) -> np.ndarray:
+        """Every robot's key: its window pattern, then its near bits, then (``memory``) its ``last`` action."""
         m = len(self.form.near)
-        pattern = self.pattern_of[cells]
-        if not m:
-            return pattern
-        bits = self.near_bits(cells, racing).astype(np.int64) @ (1 << np.arange(m))
-        return (pattern << m) | bits
+        key = self.pattern_of[cells]
+        if m:
+            key = (key << m) | self.near_bits(cells, racing).astype(np.int64) @ (1 << np.arange(m))
+        if self.form.memory:
+            key = key * (N_ACTIONS + 1) + (np.full(np.shape(cells), NO_ACTION) if last is None else last)
+        return key
 
     def rows(self, keys: np.ndarray) -> np.ndarray:
-        """The net's rows for ``keys``: the pattern's indices, then the near bits'."""
+        """The net's rows for ``keys``: the pattern's indices, then the near bits', then the last action's."""
         keys = np.asarray(keys, dtype=np.int64).reshape(-1)
+        parts = []
+        if self.form.memory:
+            keys, last = np.divmod(keys, N_ACTIONS + 1)
+            parts.append(self.form.memory_rows(last))
         m = len(self.form.near)
         bits = (keys[:, None] >> np.arange(m)) & 1
-        return np.concatenate([self.patterns[keys >> m], self.form.robot_rows(bits)], axis=1)
+        return np.concatenate([self.patterns[keys >> m], self.form.robot_rows(bits), *parts], axis=1)
 
 
 class Family:
@@ -254,13 +271,15 @@ def _play(net: Any, atlas: Atlas, n_robots: int, n_envs: int, max_steps: int, rn
     batch.reset_drawn(np.arange(n_envs), rng)
     probs = PerKey(atlas, lambda rows: torch.softmax(net.actor(rows), 1))
     done_at = np.full(n_envs, max_steps)
+    last = np.full((n_envs, n_robots), NO_ACTION)
     while not batch.over.all():
-        p = probs(atlas.keys(batch.cells, batch.racing).reshape(-1))
+        p = probs(atlas.keys(batch.cells, batch.racing, last).reshape(-1))
         if deterministic:
             actions = p.argmax(axis=1)
         else:
             actions = np.minimum((rng.random((p.shape[0], 1)) >= np.cumsum(p, axis=1)).sum(axis=1), 4)
         was = batch.over.copy()
+        last = np.where(batch.racing, actions.reshape(n_envs, n_robots), last)
         batch.step(actions.reshape(n_envs, n_robots))
         ended = batch.over & ~was
         done_at[ended] = batch.t[ended]
@@ -273,4 +292,4 @@ def window_form(cfg: Any, n_robots: int) -> WindowForm:
     """The input a family policy of these settings reads."""
     from .inputs import near_offsets
 
-    return WindowForm(cfg.view_radius, near_offsets(cfg.near_radius) if n_robots > 1 else (), cfg.hint)
+    return WindowForm(cfg.view_radius, near_offsets(cfg.near_radius) if n_robots > 1 else (), cfg.hint, cfg.memory)
