@@ -5,7 +5,8 @@ not its ``[x, y]``: a coordinate means a different place in every maze (and a 12
 coordinates do not exist on an 8x8 one), so it only helps memorise the training mazes. What it
 reads (``WindowForm``): each window cell's terrain and its four edges (walls), the goal hint's 5
 bits when the env gives them (``hint=True``), and one bit per cell within ``near_radius`` steps
-saying whether a racing robot stands there (the robots it could bump into). Each feature is
+saying whether a racing robot stands there (the robots it could bump into), and with ``memory`` the
+robot's own last action (one unit of 5; none at an episode's start). Each feature is
 multi-hot (one unit per non-zero value), so a row of the net's input is a short list of indices,
 as for the single-level trainer's one-hot.
 
@@ -46,7 +47,8 @@ NO_ACTION = N_ACTIONS  # a robot's last action at its episode's start: none
 class WindowForm:
     """The net's input read from a local window of ``radius`` (the env's ``view_radius``): every window
     cell's terrain and edges, the hint bits if ``hint``, then one bit per ``near`` offset (a racing
-    robot there). ``n_in`` units; a row is ``K`` indices, ``n_in`` for "off" (the net's padding row)."""
+    robot there), then the last action's unit if ``memory``. ``n_in`` units; a row is ``K`` indices,
+    ``n_in`` for "off" (the net's padding row)."""
 
     radius: int
     near: tuple[tuple[int, int], ...]
