@@ -229,8 +229,8 @@ class LiveCanvas:
         steps = self.animation_frames if animate else 0
         if steps == 0 or not glide(scene, 0.0)[0]:  # nobody moved (or a reset's first frame)
             # a reset's frame stays one frame's time too: else the first step followed at once, the start unseen
-            frame = 1.0 / (self.fps * max(1, self.animation_frames)) if self.fps > 0 else 0.0
-            self._pace(frame * max(1, self.animation_frames) if animate else frame)
+            step = 1.0 / self.fps if self.fps > 0 else 0.0
+            self._pace(step if animate else step / max(1, self.animation_frames))
             self._draw_robots(scene)
         else:
             for k in range(1, steps + 1):
