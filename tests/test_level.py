@@ -11,6 +11,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from babyrobot_marl import race_v0
 from babyrobot_marl.core.level import Level
 
 DEFAULT_TEXT = """\
@@ -205,7 +206,6 @@ def test_constructor_normalises_edges_and_cells():
         ({"height": -1}, "height"),
         ({"width": 2.0}, "width"),
         ({"width": True}, "width"),
-        ({"exits": []}, "exits"),
         ({"exits": [(5, 0)]}, "exits"),
         ({"starts": [(0, 3)]}, "starts"),
         ({"walls": [((0, 0), (2, 0))]}, "walls"),
@@ -227,6 +227,13 @@ def test_constructor_rejects_bad_fields_naming_the_field(kwargs, field):
     base = {"width": 3, "height": 1, "starts": [(0, 0)], "exits": [(2, 0)]}
     with pytest.raises(ValueError, match=field):
         Level(**{**base, **kwargs})
+
+
+def test_a_level_without_exits_is_a_level_the_race_refuses_by_name():
+    level = Level(width=3, height=1, starts=[(0, 0)], exits=[])  # a grid map's: robots with targets of their own
+    assert level.exits == frozenset() and level.free_cells() == [(0, 0), (1, 0), (2, 0)]
+    with pytest.raises(ValueError, match="^level: has no exit; use goals='own'$"):
+        race_v0.parallel_env(level=level, n_robots=1)
 
 
 def test_level_is_immutable_and_hashable():

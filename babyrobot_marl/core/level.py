@@ -26,6 +26,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from .checks import MAX_LEVEL_TEXT_CHARS, check_int, check_level_size, check_real, shown
+from .grid import parse_grid
 
 Cell = tuple[int, int]
 Edge = tuple[Cell, Cell]
@@ -73,9 +74,13 @@ def _as_edge(value: object, what: str) -> Edge:
 class Level:
     """An immutable grid: walls and glass walls on edges; blocked, puddle, start and exit cells.
 
-    Build one from text with :meth:`from_ascii`, or directly::
+    Build one from text with :meth:`from_ascii`, from a grid map (POGEMA's and MovingAI's rows of
+    ``.`` and ``#``) with :meth:`from_grid`, or directly::
 
         Level(width=3, height=1, starts=[(0, 0)], exits=[(2, 0)], walls=[((0, 0), (1, 0))])
+
+    A level may have no exits (a grid map): it is a map for robots with targets of their own,
+    and the race to an exit refuses it.
 
     ``rewards`` maps cells to custom rewards that replace the rules' reward for entering (or
     staying in) those cells; see :meth:`with_rewards`. They are not part of the text format.
@@ -133,8 +138,8 @@ class Level:
                 seen[c] = kind
         for c, _ in self.rewards:
             self._check_inside(c, "rewards")
-        if not self.exits:
-            raise LevelError("exits: a level needs at least one exit")
+        if not self.exits:  # a grid map's level: each robot's target is given elsewhere (no race to an exit)
+            return
         reach = self.cells_reaching_exit()
         for i, c in enumerate(self.starts):
             if c not in reach:
@@ -177,8 +182,10 @@ class Level:
         return frozenset(seen)
 
     def free_cells(self) -> list[Cell]:
-        """Cells a robot may be placed on: open floor (no puddle, exit) that can reach an exit."""
+        """Cells a robot may be placed on: open floor (no puddle, exit) that can reach an exit (any, without exits)."""
         taken = self.blocked | self.exits | self.small_puddles | self.large_puddles
+        if not self.exits:
+            return [(x, y) for y in range(self.height) for x in range(self.width) if (x, y) not in taken]
         reach = self.cells_reaching_exit()
         return [(x, y) for y in range(self.height) for x in range(self.width) if (x, y) not in taken and (x, y) in reach]
 
@@ -245,6 +252,13 @@ class Level:
         if b[0] >= self.width or b[1] >= self.height or (a, b) in self.walls:
             return wall
         return GLASS if (a, b) in self.glass else " "
+
+    @classmethod
+    def from_grid(cls, text: str, name: str = "") -> Level:
+        """A level from rows of ``.`` (free) and ``#``, ``@``, ``T``, ``O`` (blocked), or a MovingAI
+        ``.map`` text (``core.grid``): no walls, starts or exits. Errors name the line and column."""
+        width, height, blocked = parse_grid(text)
+        return cls(width=width, height=height, blocked=frozenset(blocked), name=name)
 
     @classmethod
     def from_ascii(cls, text: str, name: str = "") -> Level:

@@ -45,6 +45,15 @@ def check_maze_seed(value: object) -> int:
     return check_int(value, "seed", 0, message="{name}: a maze seed is an integer >= 0, got {shown}")
 
 
+NO_EXIT = "level: has no exit; use goals='own'"  # a grid map's level in the race to an exit
+
+
+def check_has_exit(level: object) -> None:
+    """A level for the race to an exit (``goals="exit"``) has at least one exit: a grid map has none."""
+    if not getattr(level, "exits", None):
+        raise ValueError(NO_EXIT)
+
+
 def check_regular_file(spec: str, info: os.stat_result) -> None:
     """``spec`` (stat ``info``) is a regular file within ``MAX_LEVEL_TEXT_CHARS`` bytes: not a
     directory, a FIFO that would block or a device that never ends."""

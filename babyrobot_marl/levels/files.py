@@ -1,4 +1,4 @@
-"""Levels from what a user types: a built-in name, ``maze-WxH[-sSEED]``, a level text, or a file.
+"""Levels from what a user types: a built-in name, ``maze-WxH[-sSEED]``, a level text, a grid map, or a file.
 
 ``read_level_file`` reads at most ``MAX_LEVEL_TEXT_CHARS`` bytes of a regular file and refuses
 anything else (a directory, a FIFO that would block, ``/dev/zero`` that never ends, a binary
@@ -14,6 +14,7 @@ import stat
 from pathlib import Path
 
 from ..core.checks import MAX_LEVEL_TEXT_CHARS, shown
+from ..core.grid import looks_like_grid_map
 from ..core.level import Level, looks_like_level_text
 from . import builtin
 from .checks import PATH_SHOWN, cannot_read, check_regular_file, too_large
@@ -23,10 +24,13 @@ _NOT_A_FILE = {errno.ENOENT, errno.ENOTDIR, errno.ENAMETOOLONG, errno.ELOOP}
 
 
 def read_level_file(path: str | os.PathLike) -> Level:
-    """The level in a text file (UTF-8, a BOM allowed), its name the file's stem."""
+    """The level in a text file (UTF-8, a BOM allowed), its name the file's stem: a MovingAI ``.map``
+    file or a grid map's rows are read as grid maps (``Level.from_grid``), anything else as a level text."""
     spec = os.fspath(path)
     text = _read_text(spec)
     try:
+        if spec.endswith(".map") or looks_like_grid_map(text):
+            return Level.from_grid(text, name=Path(spec).stem)
         return Level.from_ascii(text, name=Path(spec).stem)
     except ValueError as err:
         raise ValueError(f"level file {_path(spec)}: {err}") from None
@@ -69,9 +73,15 @@ def _looks_like_path(spec: str) -> bool:
 
 
 def load_level(spec: str) -> Level:
-    """A level from a built-in name, ``maze-WxH[-sSEED]``, a level text (several lines), or a file path."""
+    """A level from a built-in name, ``maze-WxH[-sSEED]``, a level text (several lines), a grid map, or a
+    file path (a level text, or a MovingAI ``.map`` file)."""
     if not isinstance(spec, str):
         raise TypeError(f"level: expected a level name, a level text or a file path (str), got {type(spec).__name__}")
+    if looks_like_grid_map(spec):  # rows of "." and "#" (one row too): POGEMA's maps
+        try:
+            return Level.from_grid(spec, name="(grid map)")
+        except ValueError as err:
+            raise ValueError(f"level: grid map: {err}") from None
     if looks_like_level_text(spec):  # "+-+-+\r|S E|\r+-+-+" is a text, not a name
         try:
             return Level.from_ascii(spec, name="(level text)")  # the name summaries print, not the text
