@@ -11,7 +11,7 @@ from babyrobot_marl import BabyRobotEnv, levels, race_v0
 from babyrobot_marl.core.batch import resolve_collisions_array
 from tests.strategies import resolve_all_robots
 
-MODES = ("block", "bounce", "pass")
+MODES = ("block", "bounce", "pass", "soft")
 
 
 RACES = [

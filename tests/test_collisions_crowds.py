@@ -19,7 +19,7 @@ from babyrobot_marl.envs.race import RaceEnv
 from tests.strategies import resolve_all_robots
 from tests.test_race_rules import reference_resolve
 
-EXCLUSIVE = ("block", "bounce")
+EXCLUSIVE = ("block", "bounce", "soft")
 
 
 def both_engines(mode, cells, desired, racing, key=12345, step=7):

@@ -17,7 +17,7 @@ from babyrobot_marl.envs.race import RaceEnv
 from tests.strategies import OPEN
 
 STAY, NORTH, EAST, SOUTH, WEST = (int(a) for a in (Action.STAY, Action.NORTH, Action.EAST, Action.SOUTH, Action.WEST))
-MODES = ("block", "bounce", "pass")
+MODES = ("block", "bounce", "pass", "soft")
 
 CORRIDOR = """
 +-+-+-+-+-+-+-+

@@ -20,8 +20,8 @@ from babyrobot_marl.envs.race import RaceEnv
 from tests.strategies import OPEN, resolve_all_robots
 
 STAY, NORTH, EAST, SOUTH, WEST = (int(a) for a in (Action.STAY, Action.NORTH, Action.EAST, Action.SOUTH, Action.WEST))
-MODES = ("block", "bounce", "pass")
-EXCLUSIVE = ("block", "bounce")  # the modes under which robots never share a cell
+MODES = ("block", "bounce", "pass", "soft")
+EXCLUSIVE = ("block", "bounce", "soft")  # the modes under which robots never share a cell
 
 # Levels without puddles or glass walls: every robot's own move is certain, so the only
 # randomness left in a step is the "block" draw.
@@ -400,8 +400,9 @@ def test_random_races_keep_the_rules_of_a_step(level, n, start, mode):
 def reference_resolve(mode, cells, desired, racing, priority):
     """DESIGN.md's rules by brute force: start with every racing robot that wants to move, and
     take back moves until nothing changes. A move is taken back when the cell's occupant stays,
-    when two robots would swap, or (block: all but the highest ``priority``; bounce: all) when
-    several robots head for one cell. Robots not racing are off the board."""
+    when two robots would swap, or (block: all but the highest ``priority``; soft: all but the
+    lowest robot number; bounce: all) when several robots head for one cell. Robots not racing
+    are off the board."""
     n = len(cells)
     if mode == "pass":
         return list(desired)
@@ -418,7 +419,7 @@ def reference_resolve(mode, cells, desired, racing, priority):
                 stop.add(i)
         for group in heading.values():
             if len(group) > 1:
-                keep = set() if mode == "bounce" else {max(group, key=priority)}
+                keep = set() if mode == "bounce" else {min(group)} if mode == "soft" else {max(group, key=priority)}
                 stop.update(set(group) - keep)
         if not stop:
             break
@@ -457,9 +458,10 @@ def test_resolve_collisions_agrees_with_a_brute_force_reading_of_the_rules(confi
 
 
 @settings(max_examples=300, deadline=None)
-@given(configurations(), st.sampled_from(EXCLUSIVE), st.data())
+@given(configurations(), st.sampled_from(("block", "bounce")), st.data())
 def test_resolve_collisions_does_not_depend_on_the_order_of_the_robots(config, mode, data):
-    """Relabelling the robots (each keeping its priority) relabels the result."""
+    """Relabelling the robots (each keeping its priority) relabels the result (not under soft, whose
+    contests go to the lowest robot number)."""
     cells, desired, racing, key, step_no = config
     n = len(cells)
     prio = data.draw(st.permutations(range(n)), label="priorities")  # distinct, like 53-bit uniforms

@@ -97,7 +97,7 @@ def test_default_rules_are_the_ones_in_design_md():
     assert (r.floor_reward, r.small_puddle_reward, r.large_puddle_reward, r.exit_reward) == (-1.0, -2.0, -4.0, 0.0)
     assert (r.small_puddle_move_prob, r.large_puddle_move_prob, r.glass_pass_prob) == (0.6, 0.4, 0.5)
     assert r.collisions == "block"
-    assert set(COLLISION_MODES) == {"block", "bounce", "pass"}
+    assert set(COLLISION_MODES) == {"block", "bounce", "pass", "soft"}
 
 
 PROBABILITIES = ["small_puddle_move_prob", "large_puddle_move_prob", "glass_pass_prob"]

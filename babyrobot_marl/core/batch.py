@@ -34,7 +34,8 @@ def resolve_collisions_array(
     """``race.resolve_collisions`` over ``(n_envs, n_robots)`` arrays; ``keys``, ``steps``: ``(n_envs,)``.
 
     The same closure as the scalar rules: movers in a swap or losing a contest stay (block: to a
-    contender of higher priority, the lower robot number on a tie; bounce: to any contender),
+    contender of higher priority, the lower robot number on a tie; soft: to a lower robot number;
+    bounce: to any contender),
     robots that do not move stay, and a mover heading for the cell of a robot that stays stays
     too. All envs are one graph here (a robot's cell keyed by its env), each mover pointing at
     the occupant of its destination; stopping spreads back along those pointers by pointer
@@ -89,6 +90,8 @@ def resolve_collisions_array(
         rivals = movers[in_contest]
         if mode == "bounce":
             stopped[rivals] = True
+        elif mode == "soft":  # the lowest robot number of each cell gets in: rivals come by cell, then robot
+            stopped[rivals[1:][dk[rivals[1:]] == dk[rivals[:-1]]]] = True
         else:
             row, robot = rivals // n, (rivals % n).astype(np.uint64)
             counts = (steps[todo][row].astype(np.uint64) * np.uint64(n) + robot) * np.uint64(SLOTS) + np.uint64(SLOT_PRIORITY)

@@ -8,6 +8,10 @@ Collision rules (DESIGN.md), applied after every racing robot's outcome, skids i
   stays. Resolved until nothing changes.
 - ``"bounce"``: like block, but when several robots would end in the same cell, all stay.
 - ``"pass"``: robots do not interact and may share cells.
+- ``"soft"``: POGEMA's soft rule (``collision_system="soft"``): like block, but a contest for
+  a cell goes to the lowest-numbered robot, with no draw. POGEMA reverts moves one robot at a
+  time (highest number first, each revert cascading back along the robots heading for the
+  reverted robot's cell); the result is the same closure as block's with that winner.
 
 The uniform draw of "block" gives each robot a priority ``rng.uniform`` at its
 ``SLOT_PRIORITY`` address; the highest priority among the contenders wins. Robots only ever
@@ -73,12 +77,11 @@ def resolve_collisions(
         j = occupant.get(d)
         if j is not None:  # k and j would swap: k stays here, j where its own cell is the heading
             seeds.extend(k for k in group if cells[k] == desired[j])
-        if len(group) > 1:  # a contest: block lets the highest priority in, bounce nobody
+        if len(group) > 1:  # a contest: block lets the highest priority in, soft the lowest number, bounce nobody
             if mode == "bounce":
                 seeds.extend(group)
             else:
-                numbers = range(m) if robots is None else robots
-                keep = max(group, key=lambda k: _priority(key, step, n or m, numbers[k]))
+                keep = _contest_winner(mode, group, key, step, n or m, robots)
                 seeds.extend(k for k in group if k != keep)
     n_stayers = len(todo)
     for k in seeds:
@@ -119,6 +122,15 @@ def _resolve_with_arrays(
         return desired
     out = final[0, where]
     return desired if np.array_equal(out, d[0, where]) else out.tolist()
+
+
+def _contest_winner(mode: str, group: list[int], key: int, step: int, n: int, robots: Sequence[int] | None) -> int:
+    """Which of the movers ``group`` (indices into the racing robots) gets their cell: under "soft"
+    the lowest robot number (POGEMA's order), under "block" the highest uniform priority."""
+    numbers = range(n) if robots is None else robots
+    if mode == "soft":
+        return min(group, key=numbers.__getitem__)
+    return max(group, key=lambda k: _priority(key, step, n, numbers[k]))
 
 
 def _priority(key: int, step: int, n: int, robot: int) -> float:

@@ -8,7 +8,7 @@ from typing import Any
 
 from .checks import check_choice, check_real, unexpected_keyword
 
-COLLISION_MODES = ("block", "bounce", "pass")
+COLLISION_MODES = ("block", "bounce", "pass", "soft")
 
 _PROBABILITIES = ("small_puddle_move_prob", "large_puddle_move_prob", "glass_pass_prob")
 
@@ -27,7 +27,7 @@ class Rules:
     ``small_puddle_move_prob`` 0.6      a move out of a small puddle goes where intended
     ``large_puddle_move_prob`` 0.4      a move out of a large puddle goes where intended
     ``glass_pass_prob``        0.5      a move through a glass wall ``*`` gets through
-    ``collisions``             "block"  race collision mode: "block", "bounce" or "pass"
+    ``collisions``             "block"  race collision mode: "block", "bounce", "pass" or "soft"
     ``win_bonus``              10.0     race: added to the reward of the first finisher(s)
     =========================  =======  ===================================================
 
