@@ -5,6 +5,7 @@
 #   is installed with --no-deps after its real requirements (torchrl, tensordict, hydra-core, tqdm, av).
 # - .venv-ci-agilerl: AgileRL 2.58 (pins pettingzoo < 1.27 and tensordict 0.13, imports peft at start-up).
 # - RLlib runs in .ci/rllib.sh's venv (ray[rllib] pins gymnasium 1.2.2).
+# - .venv-ci-pogema: POGEMA 1.4 alone (it pins gymnasium 0.28.1), stepped beside the race for collisions="soft".
 set -euo pipefail
 cd "$(dirname "$0")/.."
 start=$SECONDS
@@ -23,6 +24,14 @@ venv "$dir"
 "$dir/bin/python" -c "import torch, torchrl, benchmarl, tianshou; assert '+cpu' in torch.__version__, torch.__version__"
 echo "integrations venv ready after $((SECONDS - start)) s"
 "$dir/bin/python" -m pytest -q -p no:cacheprovider tests_integrations/test_libraries.py
+
+# POGEMA 1.4 (pins gymnasium 0.28.1) in a venv of its own, no torch: the soft-collision test runs in the
+# integrations venv and drives POGEMA in a subprocess of this one (tests_integrations/pogema/driver.py)
+pdir=.venv-ci-pogema
+rm -rf "$pdir"
+python3 -m venv "$pdir"
+"$pdir/bin/pip" install -q "pogema==1.4.*"
+POGEMA_PYTHON="$PWD/$pdir/bin/python" "$dir/bin/python" -m pytest -q -p no:cacheprovider tests_integrations/test_pogema_soft.py
 
 adir=.venv-ci-agilerl
 venv "$adir"

@@ -1,0 +1,128 @@
+"""``collisions="soft"`` against POGEMA 1.4 itself (``collision_system="soft"``): the same map, starts
+and joint random actions stepped in both, positions equal after every step.
+
+POGEMA runs in its own venv (it pins gymnasium 0.28.1), driven over stdin/stdout by
+``pogema/driver.py``; ``POGEMA_PYTHON`` names that venv's interpreter (.ci/integrations.sh builds it).
+
+Finishing is matched rather than avoided: our level is POGEMA's map with one exit, every POGEMA
+robot's target is that exit cell, and POGEMA's ``on_target="finish"`` hides a robot on its target
+the way the race's ``finished="remove"`` takes a finished robot off the board. So robots that
+reach the exit leave both boards in the same step, and the comparison runs on through the whole
+episode (robots that finish, robots left).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+from collections import deque
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from babyrobot_marl import race_v0
+from babyrobot_marl.core.level import Level
+
+DRIVER = Path(__file__).parent / "pogema" / "driver.py"
+POGEMA_PYTHON = os.environ.get("POGEMA_PYTHON")
+TO_POGEMA = (0, 1, 4, 2, 3)  # our STAY, NORTH, EAST, SOUTH, WEST as POGEMA's action numbers ((row, column) moves)
+
+pytestmark = pytest.mark.skipif(not POGEMA_PYTHON, reason="POGEMA_PYTHON: POGEMA 1.4's venv (.ci/integrations.sh)")
+
+
+def random_map(side: int, seed: int, density: float = 0.3) -> list[str]:
+    """POGEMA's kind of map: each cell an obstacle with probability ``density``."""
+    g = np.random.default_rng(seed)
+    return ["".join("#" if g.random() < density else "." for _ in range(side)) for _ in range(side)]
+
+
+def exit_cell(rows: list[str]) -> tuple[int, int]:
+    """A free cell of the largest open region, nearest the centre: (x, y)."""
+    h, w = len(rows), len(rows[0])
+    seen: set[tuple[int, int]] = set()
+    best: list[tuple[int, int]] = []
+    for y in range(h):
+        for x in range(w):
+            if rows[y][x] == "#" or (x, y) in seen:
+                continue
+            region, todo = [], deque([(x, y)])
+            seen.add((x, y))
+            while todo:
+                cx, cy = todo.popleft()
+                region.append((cx, cy))
+                for nx, ny in ((cx + 1, cy), (cx - 1, cy), (cx, cy + 1), (cx, cy - 1)):
+                    if 0 <= nx < w and 0 <= ny < h and rows[ny][nx] == "." and (nx, ny) not in seen:
+                        seen.add((nx, ny))
+                        todo.append((nx, ny))
+            if len(region) > len(best):
+                best = region
+    return min(best, key=lambda c: (abs(c[0] - w // 2) + abs(c[1] - h // 2), c))
+
+
+class Pogema:
+    """POGEMA 1.4 in a subprocess of its own venv: ``step(actions)`` -> ``[(x, y, active), ...]``."""
+
+    def __init__(self, rows: list[str], starts: list[tuple[int, int]], target: tuple[int, int]):
+        self.proc = subprocess.Popen(
+            [POGEMA_PYTHON, str(DRIVER)], stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True, bufsize=1
+        )
+        task = {
+            "map": rows,
+            "agents_xy": [[y, x] for x, y in starts],  # POGEMA: (row, column)
+            "targets_xy": [[target[1], target[0]]] * len(starts),
+            "collision_system": "soft",
+            "on_target": "finish",
+        }
+        self.first = self._send(task)
+
+    def _send(self, message: object) -> list[tuple[int, int, bool]]:
+        self.proc.stdin.write(json.dumps(message) + "\n")
+        line = self.proc.stdout.readline()
+        assert line, "POGEMA's driver stopped"
+        return [(col, row, active) for row, col, active in json.loads(line)]
+
+    def step(self, actions: list[int]) -> list[tuple[int, int, bool]]:
+        return self._send([TO_POGEMA[a] for a in actions])
+
+    def close(self) -> None:
+        self.proc.stdin.close()
+        self.proc.wait(timeout=60)
+
+
+def on_board(env) -> list[tuple[int, int, bool]]:
+    """Each robot's cell and whether it is still racing, as POGEMA reports its agents."""
+    racing = set(env.agents)
+    return [(x, y, a in racing) for a, (x, y) in zip(env.possible_agents, env.robot_cells)]
+
+
+@pytest.mark.parametrize(("n_robots", "side", "steps"), [(8, 16, 1500), (32, 24, 1000), (64, 32, 600), (256, 48, 400)])
+def test_soft_collisions_step_as_pogema_does(n_robots, side, steps):
+    rows = random_map(side, seed=n_robots)
+    grid = Level.from_grid("\n".join(rows))
+    target = exit_cell(rows)
+    level = Level(width=grid.width, height=grid.height, blocked=grid.blocked, exits={target})
+    env = race_v0.parallel_env(level=level, n_robots=n_robots, collisions="soft", start="random", max_cycles=steps + 1)
+    env.reset(seed=n_robots)
+    starts = list(env.robot_cells)
+    pogema = Pogema(rows, starts, target)
+    g = np.random.default_rng(n_robots)
+    blocked = 0
+    try:
+        assert pogema.first == on_board(env)
+        for t in range(steps):
+            if not env.agents:
+                break
+            actions = g.integers(0, 5, n_robots).tolist()
+            _, _, _, _, infos = env.step({a: actions[i] for i, a in enumerate(env.possible_agents) if a in env.agents})
+            blocked += sum(info["blocked"] for info in infos.values())
+            theirs = pogema.step(actions)
+            assert theirs == on_board(env), f"step {t + 1}: robots differ: " + ", ".join(
+                f"{i}: ours {o}, POGEMA {p}" for i, (o, p) in enumerate(zip(on_board(env), theirs)) if o != p
+            )
+    finally:
+        pogema.close()
+    finished = n_robots - len(env.agents)
+    print(f"{n_robots} robots, {side}x{side}: {t + 1} steps equal, {blocked} stops by robots, {finished} finished")
+    assert t + 1 >= min(steps, 300) and blocked >= 100  # long runs, robots stopped by robots all along
