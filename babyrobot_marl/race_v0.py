@@ -81,6 +81,8 @@ seeded generator. Then collisions (`collisions=`):
   nothing changes.
 * `"bounce"`: as block, but all robots heading for one cell stay.
 * `"pass"`: robots do not interact and may share cells.
+* `"soft"`: POGEMA 1.4's soft rule, step for step: as block, but the lowest-numbered robot
+  heading for a cell gets it (no draw).
 
 A robot that reaches an exit is finished (terminated) and leaves the board.
 
@@ -138,7 +140,8 @@ race_v0.parallel_env(level="race-2", n_robots=2, collisions="block", max_cycles=
                      view_radius=None, k=None, obs_encoding="multidiscrete", hint=False, **rule_overrides)
 ```
 
-* `level`: a built-in name (`babyrobot_marl.levels.names()`), a level text or a `Level`; or
+* `level`: a built-in name (`babyrobot_marl.levels.names()`), a level text, a grid map (rows of
+  `.` and `#`, or a MovingAI `.map` file's path: `Level.from_grid`; a level needs an exit) or a `Level`; or
   levels drawn at every reset from the env's seeded generator: `"maze:A..B"` (square mazes, the
   side drawn from `A..B`, e.g. `"maze:8..16"`; one size: `"maze:16..16"`), a maze family
   `"maze-WxH-*"`, `babyrobot_marl.levels.sources.maze_family(W, H, seeds=...)` or
@@ -147,7 +150,7 @@ race_v0.parallel_env(level="race-2", n_robots=2, collisions="block", max_cycles=
   `BxB` maze: `W`, `H` in the observation spaces, `max_cycles` and the frame size are the
   largest level's (a smaller level's coordinates fit inside; its frames are its own size).
 * `n_robots`: how many robots race (`robot_0` ... `robot_{n-1}`).
-* `collisions`: `"block"`, `"bounce"` or `"pass"` (overrides `rules.collisions`).
+* `collisions`: `"block"`, `"bounce"`, `"pass"` or `"soft"` (overrides `rules.collisions`).
 * `max_cycles`: steps before the race is truncated (default `max(100, 4 * W * H)`).
 * `start`: `"level"` (the level's numbered starts; an error if it has fewer than
   `n_robots`), `"fill"` (the level's starts, then random free cells), `"random"` (random

@@ -263,7 +263,7 @@ CASES = [
     ("level width 0", Bad("width", lambda: Level(width=0, height=1, exits=[(0, 0)]))),
     ("level height str", Bad("height", lambda: Level(width=1, height="1", exits=[(0, 0)]))),
     ("level exits empty in a race", Bad("has no exit", lambda: race_v0.parallel_env(level=Level(width=2, height=1), n_robots=1))),
-    ("grid map bad character", Bad("line 2, column 1", lambda: race_v0.parallel_env(level="..\nx.", n_robots=1))),
+    ("grid map ragged", Bad("line 2, column 3", lambda: race_v0.parallel_env(level="..\n....", n_robots=1))),
     ("level start outside", Bad("starts", lambda: Level(width=2, height=1, exits=[(1, 0)], starts=[(5, 0)]))),
     ("level glass not an edge", Bad("glass", lambda: Level(width=2, height=1, exits=[(1, 0)], glass=[(0, 0)]))),
     ("level reward nan", Bad("rewards", lambda: Level(width=2, height=1, exits=[(1, 0)], rewards={(0, 0): float("nan")}))),

@@ -36,7 +36,8 @@ def add_level_arg(p: argparse.ArgumentParser, default: str = "default") -> None:
         default=default,
         type=level_spec,
         metavar="NAME|FILE|maze:A..B",
-        help=f"a built-in level (see '{PROG} levels'), maze-WxH[-sSEED], the path of a level text file, or maze:A..B: "
+        help=f"a built-in level (see '{PROG} levels'), maze-WxH[-sSEED], the path of a level text file or of a "
+        "MovingAI .map file, a grid map (rows of '.' and '#'; it has no exit), or maze:A..B: "
         f"a new square maze of side A..B for every episode, drawn from --seed (default: {default})",
     )
 

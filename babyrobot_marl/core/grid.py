@@ -28,13 +28,12 @@ _ALLOWED = "allowed: '.' (free), '#', '@', 'T', 'O' (blocked)"
 
 
 def looks_like_grid_map(spec: str) -> bool:
-    """A grid map rather than a level text, a name or a path: no ``+``, ``|`` or ``-``, and either
-    several lines or one line of grid characters only (a MovingAI header counts as several lines)."""
+    """A grid map rather than a level text, a name or a path: no ``+``, ``|`` or ``-``, and its rows
+    (blank lines and surrounding spaces aside) hold only ``.``, ``#``, ``@``, ``T`` and ``O``."""
     if any(ch in spec for ch in _NOT_IN_GRIDS) or not spec.strip():
         return False
-    if "\n" in spec or "\r" in spec:
-        return True
-    return all(ch in GRID_CHARS for ch in spec.strip())
+    rows = spec.replace("\r", "\n").split("\n")
+    return all(ch in GRID_CHARS for row in rows for ch in row.strip())
 
 
 def parse_grid(text: str) -> tuple[int, int, list[tuple[int, int]]]:
