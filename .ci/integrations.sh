@@ -32,6 +32,7 @@ rm -rf "$pdir"
 python3 -m venv "$pdir"
 "$pdir/bin/pip" install -q "pogema==1.4.*"
 POGEMA_PYTHON="$PWD/$pdir/bin/python" "$dir/bin/python" -m pytest -q -p no:cacheprovider tests_integrations/test_pogema_soft.py
+"$dir/bin/python" benchmarks/bench_pogema.py --quick --pogema-python "$pdir/bin/python"  # the race beside POGEMA: smoke run
 
 adir=.venv-ci-agilerl
 venv "$adir"
