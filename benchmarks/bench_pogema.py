@@ -166,6 +166,13 @@ def positive(text: str) -> int:
     return int(text)
 
 
+def seed(text: str) -> int:
+    """An integer >= 0 (``--seed``: POGEMA's seeds are)."""
+    if not text.isdigit():
+        raise argparse.ArgumentTypeError(f"an integer >= 0, got {text!r}")
+    return int(text)
+
+
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--pogema-python", default=os.environ.get("POGEMA_PYTHON"), metavar="PATH",
@@ -175,7 +182,7 @@ def main(argv: list[str] | None = None) -> int:
                    help="soft: the soft rule in both; default: POGEMA's priority beside the race's block (default: both)")
     p.add_argument("--rounds", type=positive, default=5, help="rounds per size (default: 5)")
     p.add_argument("--agent-steps", type=positive, default=150_000, help="agent-steps per round and env (default: 150,000)")
-    p.add_argument("--seed", type=int, default=0, help="POGEMA's map seed and the actions' (default: 0)")
+    p.add_argument("--seed", type=seed, default=0, help="POGEMA's map seed and the actions' (default: 0)")
     args = p.parse_args(argv)
     if not args.pogema_python or not Path(args.pogema_python).exists():
         p.error(f"--pogema-python: the python of a venv with pogema 1.4, got {args.pogema_python!r}; "
