@@ -178,8 +178,8 @@ def local_view(table: Table, radius: int) -> LocalView:
             inner[y, x, 0] = TERRAIN[kind]
     for x, y in level.blocked:
         inner[y, x, 0] = TERRAIN["blocked"]
-    for x, y in level.exits:
-        inner[y, x, 0] = TERRAIN["exit"]
+    for c in np.flatnonzero(table.is_exit).tolist():  # the table's: with own goals the exits are floor
+        inner[c // w, c % w, 0] = TERRAIN["exit"]
     for kind, edges in (("wall", level.walls), ("glass", level.glass)):
         for (ax, ay), (bx, by) in edges:  # a < b: b is east of a, or south of it
             if by == ay:
