@@ -305,3 +305,17 @@ def test_the_vector_race_takes_own_goals_and_given_goals():
     random_starts = RaceVectorEnv(2, level="race-4", n_robots=4, goals="own", start="random")
     with pytest.raises(ValueError, match=r'^options\["goals"\]: a vector race takes given goals with known starts'):
         random_starts.reset(options={"goals": goals})
+
+
+def test_goal_actions_are_the_hint_of_every_cell_and_the_optimal_actions_towards_an_exit_goal():
+    from babyrobot_marl.planning import goal_actions
+
+    best, hints = optimal_actions(OPEN), goal_actions(OPEN, (5, 0))
+    assert hints.shape == best.shape and hints.dtype == np.uint8
+    assert hints.tolist() == best.tolist()  # no puddles, no glass: shortest paths are optimal
+    env = race_v0.parallel_env(level=OPEN, n_robots=1, goals="own", observe="local", view_radius=1, hint=True)
+    other = goal_actions(OPEN, (0, 4))
+    for x, y in [(0, 0), (3, 2), (5, 4), (2, 3)]:
+        obs, _ = env.reset(seed=0, options={"starts": [(x, y)], "goals": [(0, 4)]})
+        assert obs["robot_0"][-5:].tolist() == other[y, x].tolist()
+    assert other[4, 0].tolist() == [0] * 5 and other[1, 2].tolist() == [0] * 5  # on the goal; a blocked cell

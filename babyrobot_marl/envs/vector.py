@@ -377,6 +377,12 @@ class RaceVectorEnv(_BatchVectorEnv):
     one frame per race), ``cell_size``, ``theme``, ``obs_encoding``, rule overrides; and
     ``autoreset_mode``. ``finished`` is always ``"freeze"``. ``reset(options={"starts": [(x, y), ...]})``
     places the robots of every reset race.
+
+    ``goals="own"``: each robot its own target, as in ``race_v0`` (drawn at each race's reset from
+    its generator, after the starts: the single env's targets for the same seed), and rows end with
+    the target's columns. ``reset(options={"goals": [(x, y), ...]})`` gives every reset race those
+    targets for that reset (with ``"starts"``, or ``start="level"``: given targets are checked
+    against known starts); auto-resets draw new ones.
     """
 
     _options_known = ("starts", "reset_mask")
