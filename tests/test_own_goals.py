@@ -226,12 +226,18 @@ def test_the_local_target_channel_marks_the_goal_or_its_projection_on_the_border
 
 def test_target_channel_equals_pogemas_clamped_offsets_everywhere():
     rng = np.random.default_rng(0)
-    w, h, r = 9, 7, 2
+    table = compile_level(race_v0.parallel_env(level="maze-16x16", n_robots=1).level)
+    w, h, r = table.width, table.height, 2
     ids = np.arange(w * h)
     xy = np.stack([ids % w, ids // w], axis=1)
-    cells, goals = rng.integers(0, w * h, 200), rng.integers(0, w * h, 200)
-    got = target_channel(xy, cells, goals, r).reshape(200, 2 * r + 1, 2 * r + 1)
-    for k in range(200):
+    cells, goals = rng.integers(0, w * h, 400), rng.integers(0, w * h, 400)
+    got = target_channel(table, cells, goals, r).reshape(400, 2 * r + 1, 2 * r + 1)
+    # written into wider rows, at a column: the same, and nothing else touched
+    wide = np.full((2, 200, 3 + (2 * r + 1) ** 2 + 4), 7, dtype=np.int64)
+    target_channel(table, cells.reshape(2, 200), goals.reshape(2, 200), r, wide, 3)
+    assert (wide[..., :3] == 7).all() and (wide[..., -4:] == 7).all()
+    assert wide[..., 3:-4].reshape(400, 2 * r + 1, 2 * r + 1).tolist() == got.tolist()
+    for k in range(400):
         dx, dy = xy[goals[k]] - xy[cells[k]]
         expected = np.zeros((2 * r + 1, 2 * r + 1), dtype=int)
         expected[min(max(dy, -r), r) + r, min(max(dx, -r), r) + r] = 1  # POGEMA's get_square_target, x/y as here

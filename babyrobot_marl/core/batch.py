@@ -355,10 +355,12 @@ class BatchRace:
         """``(n_envs, n_robots, 2 + 3 * (n_robots - 1))`` int64, as ``race_v0`` (``[x, y]`` for one robot);
         with an ``observer``, its rows. A new array each step, or one of the last two steps' arrays
         that the caller no longer holds (``observe.Recycler``, past 32 MB): never one the caller keeps."""
-        if self.goal_columns is not None:
-            rows = self._rows()
-            return np.concatenate([rows, self.goal_columns(self.table, self.cells, self.goals)], axis=-1)
-        return self._rows()
+        columns = self.goal_columns
+        if columns is None:
+            return self._rows()
+        if self.observer is not None:  # rows with room for the goal's columns, filled in place
+            return columns(self.table, self.cells, self.goals, out=self.observer(self.cells, self.racing, columns.size))
+        return np.concatenate([self._rows(), columns(self.table, self.cells, self.goals)], axis=-1)
 
     def _rows(self) -> np.ndarray:
         if self.observer is not None:

@@ -195,16 +195,34 @@ def goal_hints(table: Table, cells: np.ndarray, goals: np.ndarray) -> np.ndarray
     return ((ahead == here - 1) & (here > 0)).astype(np.int64)
 
 
-def target_channel(xy: np.ndarray, cells: np.ndarray, goals: np.ndarray, radius: int) -> np.ndarray:
+def target_channel(
+    table: Table, cells: np.ndarray, goals: np.ndarray, radius: int, out: np.ndarray | None = None, column: int = 0
+) -> np.ndarray:
     """``(..., (2r+1)^2)`` 0/1: the local window's target channel, as POGEMA's: 1 on the goal's cell when
     it lies in the window, else on the window's border cell its offset projects to (each of ``dx``,
-    ``dy`` clamped to ``-r..r``); rows north to south, west to east, as the window's cells."""
+    ``dy`` clamped to ``-r..r``); rows north to south, west to east, as the window's cells.
+    ``out``: C-contiguous int64 rows ``(..., m)`` to write the channel into, at columns ``column`` on."""
+    xs, ys, clamp_x, clamp_y = _offsets(table, radius)
     side = 2 * radius + 1
-    d = np.clip(xy[goals] - xy[cells], -radius, radius) + radius  # (..., 2): [dx, dy] in 0..2r
-    at = d[..., 1] * side + d[..., 0]
-    out = np.zeros((*np.shape(cells), side * side), dtype=np.int64)
-    np.put_along_axis(out, at[..., None], 1, axis=-1)
+    # the goal's clamped offset, by look-ups (offsets shifted to start at 0): cheaper than clip on short rows
+    at = clamp_y.take(ys.take(goals) - ys.take(cells)) * side + clamp_x.take(xs.take(goals) - xs.take(cells))
+    if out is None:
+        out = np.empty((*np.shape(cells), side * side), dtype=np.int64)
+    m = out.shape[-1]
+    out[..., column : column + side * side] = 0
+    flat = out.reshape(-1)  # a view: out is C-contiguous
+    flat[np.arange(0, flat.size, m) + column + at.ravel()] = 1
     return out
+
+
+@lru_cache(maxsize=COMPILED_CACHE)
+def _offsets(table: Table, radius: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Each cell's x and y, and the clamped offset ``min(max(d, -r), r) + r`` of each ``d`` (indexed by ``d``:
+    negative ``d`` read from the end, where ``-W + 1 .. -1`` lie)."""
+    w, h = table.width, table.height
+    ids = np.arange(table.n_cells, dtype=np.int64)
+    d_x, d_y = np.r_[0 : w, -w + 1 : 0], np.r_[0 : h, -h + 1 : 0]  # index k holds offset d (k - len for the tail)
+    return ids % w, ids // w, np.clip(d_x, -radius, radius) + radius, np.clip(d_y, -radius, radius) + radius
 
 
 @dataclass(frozen=True, eq=False)
@@ -222,14 +240,25 @@ class GoalColumns:
         part = [self.width, self.height] if self.radius is None else [2] * (2 * self.radius + 1) ** 2
         return part + [2] * (HINT_BITS if self.hint else 0)
 
-    def __call__(self, table: Table, cells: np.ndarray, goals: np.ndarray) -> np.ndarray:
-        """``(..., n, len(nvec))`` int64 from each robot's cell and goal cell, ``(..., n)``, on ``table``."""
-        xy = cell_xy(table)
+    @property
+    def size(self) -> int:
+        return len(self.nvec)
+
+    def __call__(self, table: Table, cells: np.ndarray, goals: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
+        """``(..., n, size)`` int64 from each robot's cell and goal cell, ``(..., n)``, on ``table``; ``out``:
+        rows ``(..., n, m)`` whose last ``size`` columns to fill instead (returned)."""
         cells, goals = np.asarray(cells, dtype=np.int64), np.asarray(goals, dtype=np.int64)
-        part = xy[goals] if self.radius is None else target_channel(xy, cells, goals, self.radius)
-        if not self.hint:
-            return part
-        return np.concatenate([part, goal_hints(table, cells, goals)], axis=-1)
+        if out is None:
+            out = np.empty((*cells.shape, self.size), dtype=np.int64)
+        first = out.shape[-1] - self.size  # the goal's columns, then the hint's
+        hint = first + self.size - (HINT_BITS if self.hint else 0)
+        if self.radius is None:
+            out[..., first:hint] = cell_xy(table)[goals]
+        else:
+            target_channel(table, cells, goals, self.radius, out, first)
+        if self.hint:
+            out[..., hint:] = goal_hints(table, cells, goals)
+        return out
 
 
 @lru_cache(maxsize=COMPILED_CACHE)

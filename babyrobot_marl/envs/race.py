@@ -194,6 +194,7 @@ class RaceEnv(RaceReadouts, OverlayMethods, ParallelEnv):
         if starts is None:
             starts = self._draw_starts(goals)
         self._goal_of = self._goals_for(starts, goals)
+        self._goal_arr = None if self._goal_of is None else np.array(self._goal_of, dtype=np.int64)
         n = self.n_robots
         self._started = True
         self._live, self._live_cells = list(range(n)), starts
@@ -238,8 +239,7 @@ class RaceEnv(RaceReadouts, OverlayMethods, ParallelEnv):
             self._lists, self.collisions, self._live_cells, acts, self._key, t, live, self.n_robots
         )
         if self._goal_of is not None:  # own goals: finished on its own target (the table has no exits)
-            goal_of = self._goal_of
-            finishing = [c == goal_of[i] for c, i in zip(cells, live)]
+            finishing = list(map(operator.eq, cells, map(self._goal_of.__getitem__, live)))
         self._last_step = (live, self._live_cells, acts, outcome, blocked, finishing, t)
         self._live_cells = cells
         self._t = t = t + 1
@@ -435,13 +435,12 @@ class RaceEnv(RaceReadouts, OverlayMethods, ParallelEnv):
 
     def _goal_observations(self) -> np.ndarray:
         """``_observations`` with own goals: each row, then its goal's columns (``core.goals.GoalColumns``)."""
-        ids, cells = self._agent_ids, np.array(self._cells)
-        if self._observer is not None:
-            rows = self._observer(cells, np.array(self._racing))[ids]
-        else:
-            rows = self._xyf.take([*self._live_cells, *self._parked], axis=0).ravel()[self._gather_reported]
-        goals = np.array(self._goal_of)[ids]
-        return self.encoder(np.concatenate([rows, self._goal_columns(self.table, cells[ids], goals)], axis=-1))
+        ids, cells, columns, goals = self._agent_ids, np.array(self._cells), self._goal_columns, self._goal_arr
+        if self._observer is not None:  # rows with room for the goal's columns, filled in place
+            rows = columns(self.table, cells, goals, out=self._observer(cells, np.array(self._racing), columns.size))
+            return self.encoder(rows if len(ids) == self.n_robots else rows[ids])  # all robots: already in order, fresh
+        rows = self._xyf.take([*self._live_cells, *self._parked], axis=0).ravel()[self._gather_reported]
+        return self.encoder(np.concatenate([rows, columns(self.table, cells[ids], goals[ids])], axis=-1))
 
     def _check_started(self, what: str) -> None:
         if not self._started:
