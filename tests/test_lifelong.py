@@ -163,3 +163,43 @@ def test_the_vector_race_and_the_gymnasium_race_take_lifelong():
         _, _, term, trunc, _ = g.step(g.action_space.sample())
         done, steps = term or trunc, steps + 1
     assert trunc and not term and steps == 25 and g.unwrapped.race.goals_reached[1] >= 2  # the shortest opponent kept going
+
+
+# ---------------------------------------------------------------------------- evaluate: throughput
+def test_throughput_by_hand_and_only_for_lifelong_runs():
+    from babyrobot_marl.experiments import Episode, crowd_metrics
+
+    eps = [Episode(0, "a", 10, [0, 0], goals_reached=5), Episode(1, "b", 20, [0, 0], goals_reached=2)]
+    m = crowd_metrics(eps, 2, 20, lifelong=True)
+    assert m["throughput"] == (0.5 + 0.1) / 2 and 0 <= m["throughput_low"] <= m["throughput"] <= m["throughput_high"] <= 2
+    assert "throughput" not in crowd_metrics(eps, 2, 20)
+
+
+def test_evaluate_own_goals_shortest_robots_reach_their_targets_and_lifelong_reports_throughput():
+    from babyrobot_marl.experiments import evaluate
+
+    ev = evaluate(None, level="race-4", n_robots=2, episodes=6, seed=0, goals="own", max_cycles=60)
+    assert ev.names[-1] == "makespan" and ev.metrics["shortest"]["success_rate"] > ev.metrics["random"]["success_rate"]
+    assert ev.metrics["shortest"]["success_rate"] >= 0.9
+    ev = evaluate(None, level="race-4", n_robots=2, episodes=6, seed=0, goals="own", lifelong=True, max_cycles=60)
+    shortest, rand = ev.metrics["shortest"], ev.metrics["random"]
+    assert ev.names[-1] == "throughput" and "throughput" in ev.table()
+    assert shortest["success_rate"] == 0.0 and shortest["throughput"] > 0.1 > rand["throughput"] >= 0
+    assert sum(e.goals_reached for e in ev.episodes["shortest"]) == round(shortest["throughput"] * 6 * 60)
+
+
+def test_the_evaluate_command_takes_goals_own_and_lifelong(capsys):
+    import json
+
+    from tests.cli_run import run
+
+    code = run(["evaluate", "shortest", "--level", "race-4", "--robots", "2", "--episodes", "3", "--goals", "own", "--lifelong"])
+    out, err = capsys.readouterr()
+    assert code == 0, err
+    last = json.loads(out.strip().splitlines()[-1])
+    assert last["policy"]["throughput"] > 0 and last["policy"]["throughput"] == last["shortest"]["throughput"]
+    code = run(["evaluate", "shortest", "--level", "race-4", "--lifelong"])
+    out, err = capsys.readouterr()
+    assert code == 2 and err.strip().splitlines() == [
+        "babyrobot-marl: error: --lifelong: new targets replace reached ones, so it needs --goals own"
+    ]

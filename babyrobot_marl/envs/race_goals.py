@@ -9,8 +9,30 @@ from typing import Any
 
 import numpy as np
 
-from ..core.goals import draw_goals, next_goal
+from ..core.goals import draw_goals, goal_step, next_goal
 from .checks import check_cells, check_goal_cells, check_goals_reach
+
+
+def towards_own_goal(race: Any, k: int, obs: Any = None) -> int:
+    """Robot ``k``'s first action on a shortest path to its own target in ``race`` (STAY on it or when it is out
+    of reach): the shortest-path robot of own goals (``obs`` unused: it reads the race)."""
+    table = race.table
+    return goal_step(table, table.cell_id(race.robot_cells[k]), table.cell_id(race.goals[race.possible_agents[k]]))
+
+
+class OwnGoalShortest:
+    """The shortest-path robot of own goals acting on its observation row: a ``"global"`` or ``"nearest"`` row
+    of an own-goal race (no hint, ``"multidiscrete"``) starts with the robot's ``[x, y]`` and ends with its
+    target's ``[x, y]``. The first action of a shortest path, STAY on the target or when it is out of reach."""
+
+    name = "shortest"
+
+    def __init__(self, table: Any):
+        self.table = table
+
+    def __call__(self, obs: Any) -> int:
+        t = self.table
+        return goal_step(t, t.cell_id((int(obs[0]), int(obs[1]))), t.cell_id((int(obs[-2]), int(obs[-1]))))
 
 
 class RaceGoals:

@@ -10,13 +10,13 @@ import gymnasium as gym
 import numpy as np
 
 from ..core.checks import check_action, check_seed
-from ..core.goals import goal_step
 from ..core.level import Level
 from ..core.rules import Rules, known_args
 from ..policies import POLICY_NAMES, make
 from ..render.rgb import Theme
 from .checks import check_cells, check_goal_cells, check_no_goals, check_options
 from .race import RaceEnv
+from .race_goals import towards_own_goal
 from .spec import StepLimitSpec
 
 _ARGS = (
@@ -151,7 +151,7 @@ class BabyRobotRaceEnv(gym.Env):
     def _opponent(self, name: str, k: int) -> Any:
         """Opponent ``k``'s policy; with own goals, ``"shortest"`` walks towards its own target."""
         if name == "shortest" and self.race.goals_mode == "own":
-            return partial(_towards_goal, self.race, k)
+            return partial(towards_own_goal, self.race, k)
         return make(name, self.race.table, seed=self.np_random)
 
     def render(self) -> str | None:
@@ -163,8 +163,3 @@ class BabyRobotRaceEnv(gym.Env):
     def _with_ranks(self, info: dict[str, Any]) -> dict[str, Any]:
         return {**info, "ranks": np.array(self.race.ranks, dtype=np.int64)}
 
-
-def _towards_goal(race: RaceEnv, k: int, obs: Any) -> int:
-    """Robot ``k``'s first action on a shortest path to its own target (STAY on it, or when it is out of reach)."""
-    table = race.table
-    return goal_step(table, table.cell_id(race.robot_cells[k]), table.cell_id(race.goals[f"robot_{k}"]))
