@@ -36,7 +36,7 @@ from .checks import (
 )
 from .drawing import EnvDrawing, OverlayMethods
 from .encodings import Encoder
-from .race_goals import RaceGoals
+from .race_goals import RaceGoals, next_goals
 from .race_readouts import RaceReadouts
 from .single import default_max_steps
 from .starts import draw_starts, new_generator, placement
@@ -246,10 +246,11 @@ class RaceEnv(RaceGoals, RaceReadouts, OverlayMethods, ParallelEnv):
         if self._goal_of is not None:  # own goals: finished on its own target (the table has no exits)
             finishing = list(map(operator.eq, cells, map(self._goal_of.__getitem__, live)))
             if True in finishing:
-                self._count_reached(live, finishing)
+                for i, f in zip(live, finishing):
+                    self._reached[i] += f
                 if self.lifelong:  # a new target instead, and the robot keeps going
                     reached, finishing = finishing, [False] * len(finishing)
-                    self._next_goals(live, cells, reached)
+                    self._goal_arr = next_goals(self.np_random, self.table, self._goal_of, live, cells, reached)
         self._last_step = (live, self._live_cells, acts, outcome, blocked, finishing, t)
         self._live_cells = cells
         self._t = t = t + 1

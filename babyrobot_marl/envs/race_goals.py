@@ -20,6 +20,19 @@ def towards_own_goal(race: Any, k: int, obs: Any = None) -> int:
     return goal_step(table, table.cell_id(race.robot_cells[k]), table.cell_id(race.goals[race.possible_agents[k]]))
 
 
+def next_goals(rng: np.random.Generator, table: Any, goal_of: list[int], live: list[int], cells: Sequence[int],
+               reached: list[bool]) -> np.ndarray:  # fmt: skip
+    """Lifelong: each racing robot that ``reached`` its target gets a new one in ``goal_of`` (robot order, drawn
+    from ``rng``: ``core.goals.next_goal``); every robot's target as an array."""
+    taken = set(goal_of)
+    for i, c, r in zip(live, cells, reached):
+        if r:
+            taken.discard(goal_of[i])
+            goal_of[i] = g = next_goal(rng, table, c, taken)
+            taken.add(g)
+    return np.array(goal_of, dtype=np.int64)
+
+
 class OwnGoalShortest:
     """The shortest-path robot of own goals acting on its observation row: a ``"global"`` or ``"nearest"`` row
     of an own-goal race (no hint, ``"multidiscrete"``) starts with the robot's ``[x, y]`` and ends with its
@@ -36,7 +49,7 @@ class OwnGoalShortest:
 
 
 class RaceGoals:
-    """``RaceEnv``'s own-goal steps: ``_cell_options``, ``_goals_for``, ``_goal_observations``, ``_next_goals``."""
+    """``RaceEnv``'s own-goal steps, stateless (the env holds the state): ``_cell_options``, ``_goals_for``, ...."""
 
     def _goal_observations(self) -> np.ndarray:
         """``_observations`` with own goals: each row, then its goal's columns (``core.goals.GoalColumns``)."""
@@ -46,21 +59,6 @@ class RaceGoals:
             return self.encoder(rows if len(ids) == self.n_robots else rows[ids])  # all robots: already in order, fresh
         rows = self._xyf.take([*self._live_cells, *self._parked], axis=0).ravel()[self._gather_reported]
         return self.encoder(np.concatenate([rows, columns(self.table, cells[ids], goals[ids])], axis=-1))
-
-    def _count_reached(self, live: list[int], reached: list[bool]) -> None:
-        for i, r in zip(live, reached):
-            self._reached[i] += r
-
-    def _next_goals(self, live: list[int], cells: Sequence[int], reached: list[bool]) -> None:
-        """Lifelong: each robot that reached its target gets a new one from the race's generator, in robot order."""
-        goal_of = self._goal_of
-        taken = set(goal_of)
-        for i, c, r in zip(live, cells, reached):
-            if r:
-                taken.discard(goal_of[i])
-                goal_of[i] = g = next_goal(self.np_random, self.table, c, taken)
-                taken.add(g)
-        self._goal_arr = np.array(goal_of, dtype=np.int64)
 
     def _cell_options(self, options: Mapping[str, Any]) -> tuple[list[int] | None, list[int] | None]:
         """``reset``'s ``"starts"`` and ``"goals"`` as cell ids (None: not given), checked on this level."""
