@@ -56,8 +56,8 @@ numbers (nvec 2 each), one per action in the order above: 1 if the action is opt
 robot alone (`babyrobot_marl.planning.optimal_actions`: value iteration on the level; other
 robots ignored), else 0; all 0 on the exit. Planned once per level (each level drawn at reset
 too), not per step.
-A finished robot's `[x, y]` is the exit it took; it is off the board (it blocks nobody, and
-local windows and nearest lists do not show it).
+A finished robot's `[x, y]` is the exit it took (own goals: its target); it is off the board (it
+blocks nobody, and local windows and nearest lists do not show it).
 
 `state()` is `[x, y, finished]` of every robot in robot order: a global view for critics.
 
@@ -156,10 +156,10 @@ stack them):
 
 | key        | type                 | meaning                                                                  |
 |------------|----------------------|--------------------------------------------------------------------------|
-| `cell`     | int64 array `[x, y]` | its cell (a finished robot: the exit it took)                            |
+| `cell`     | int64 array `[x, y]` | its cell (a finished robot: the exit it took, or its own target)         |
 | `outcome`  | int                  | code into `babyrobot_marl.OUTCOME_NAMES` (below)                         |
 | `blocked`  | bool                 | another robot stopped it this step                                       |
-| `finished` | bool                 | it has reached an exit                                                   |
+| `finished` | bool                 | it has reached an exit (`goals="own"`: its own target)                   |
 | `rank`     | int                  | 0 until it finishes, then 1 = first (robots finishing together share it) |
 
 Outcome codes: 0 moved, 1 stayed, 2 bumped, 3 skidded, 4 glass, 5 start (after reset), 6 finished (parked).

@@ -47,7 +47,7 @@ class RaceReadouts:
 
     @property
     def robot_cells(self) -> list[Cell]:
-        """Each robot's ``(x, y)`` (a finished robot: the exit it took)."""
+        """Each robot's ``(x, y)`` (a finished robot: the exit it took, or its own target)."""
         return [self._xy[c] for c in self._cells]
 
     @property
