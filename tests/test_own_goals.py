@@ -325,3 +325,16 @@ def test_goal_actions_are_the_hint_of_every_cell_and_the_optimal_actions_towards
         obs, _ = env.reset(seed=0, options={"starts": [(x, y)], "goals": [(0, 4)]})
         assert obs["robot_0"][-5:].tolist() == other[y, x].tolist()
     assert other[4, 0].tolist() == [0] * 5 and other[1, 2].tolist() == [0] * 5  # on the goal; a blocked cell
+
+
+def test_the_trainers_reset_draws_valid_own_goals_for_every_env():
+    from babyrobot_marl.core.goals import reach
+
+    env = race_v0.parallel_env(level="mixed-8x8", n_robots=5, start="random", goals="own", finished="freeze")
+    batch = env.batch(64)
+    batch.reset_drawn(np.arange(64), np.random.default_rng(0))
+    part, t = reach(env.table).component, env.table
+    for cells, goals in zip(batch.cells.tolist(), batch.goals.tolist()):
+        assert len(set(goals)) == 5 and all(g not in t.blocked.nonzero()[0] for g in goals)
+        assert all(g != c and part[g] == part[c] and t.move_prob[g] == 1.0 for c, g in zip(cells, goals))
+    assert len({tuple(g) for g in batch.goals.tolist()}) > 50  # drawn per env, not copied
