@@ -86,6 +86,14 @@ def parse_level_family(spec: str, seeds: Sequence[int] | range | None = None) ->
     return maze_range_family(int(m[1]), int(m[2]), seeds)
 
 
+def family_of(spec: str, seeds: Sequence[int] | range | None = None) -> LevelSource | None:
+    """The family of a spec of either form, ``"maze:A..B"`` or ``"maze-WxH-*"``, its maze seeds drawn from
+    ``seeds`` (``None`` if ``spec`` names no family)."""
+    family = parse_level_family(spec, seeds)
+    m = _FAMILY.fullmatch(spec) if family is None and isinstance(spec, str) else None
+    return maze_family(int(m[1]), int(m[2]), seeds) if m else family
+
+
 def level_source(level: Any) -> LevelSource | None:
     """The drawing function of ``level=`` (``None`` for one fixed level: a name, a text or a ``Level``)."""
     if isinstance(level, str):
