@@ -14,7 +14,7 @@ pytest.importorskip("torch", reason="needs the train extra")
 
 from babyrobot_marl.levels import builtin  # noqa: E402
 from babyrobot_marl.training.ppo import window  # noqa: E402
-from babyrobot_marl.training.ppo.window import Family, atlas_capacity, stack_levels  # noqa: E402
+from babyrobot_marl.training.ppo.window import Family, stack_levels  # noqa: E402
 from tests.cli_run import run  # noqa: E402
 
 TINY = ["--n-envs", "8", "--n-steps", "8", "--batch-size", "64", "--no-progress"]
@@ -61,6 +61,8 @@ def test_the_policy_is_saved_before_the_final_evaluation_which_may_still_fail(tm
 
 
 def test_an_atlas_holds_as_many_mazes_as_the_level_limit_allows():
+    from babyrobot_marl.training.ppo.window import atlas_capacity
+
     assert atlas_capacity(256, 256) == 1 and atlas_capacity(128, 128) == 3 and atlas_capacity(20, 20) == 156
     maze = builtin.get("maze-20x20")
     level, _ = stack_levels([maze] * atlas_capacity(20, 20))  # fits: 20 x 3,275 cells
