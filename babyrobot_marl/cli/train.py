@@ -10,7 +10,8 @@
 On a terminal a progress bar shows steps/s and the mean training return; elsewhere (a log, a
 pipe) one line per evaluation. Every argument is checked before training (a ``--steps`` that
 whole rollouts round up is said in one line first); a run whose loss or weights stop being finite
-numbers ends with one error line and saves nothing. After training, one line gives the speed in
+numbers ends with one error line and saves nothing; otherwise ``--save`` is written as soon as training
+ends, before any evaluation. After training, one line gives the speed in
 wall-clock and in CPU time. The LAST line is always one JSON object: ``env_steps_per_second``
 (timesteps over wall-clock training seconds: rollouts and updates, evaluations excluded),
 ``timesteps``, ``seconds``, ``cpu_seconds`` and ``env_steps_per_cpu_second`` (the same over the
