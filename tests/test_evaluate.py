@@ -145,3 +145,58 @@ def test_a_saved_policy_samples_by_default_seeded_by_seed_and_takes_its_argmax_w
     greedy = policy_metrics("--seed", "5", "--greedy")
     assert policy_metrics("--seed", "5", "--greedy") == greedy
     assert greedy != sampled
+
+
+def test_a_policy_file_of_format_1_or_2_is_evaluated_as_play_runs_it(capsys, tmp_path):
+    from babyrobot_marl.training.ppo import PPOConfig, train_ppo
+
+    config = PPOConfig(n_envs=8, n_steps=16, batch_size=128, eval_every=0)
+    for robots, version in ((1, 1), (2, 2)):
+        path = tmp_path / f"p{robots}.pt"
+        train_ppo("maze-8x8", robots, 512, seed=0, config=config).save(path)
+        data = torch.load(path, weights_only=True)
+        del data["observation"]  # files of format 1 and 2 had none: they read the global rows
+        torch.save({**data, "version": version}, path)
+        assert run(["play", "--level", "maze-8x8", "--policy", str(path), "--seed", "0", "--no-delay"]) == 0
+        capsys.readouterr()
+        code, out, err = cli(capsys, str(path), "--level", "maze-8x8", "--robots", str(robots), "--episodes", "2")
+        assert code == 0, err
+        inside_ranges(json.loads(out.strip().splitlines()[-1])["policy"], robots, 4 * 8 * 8)
+
+
+def test_a_maze_family_by_size_is_evaluated_on_unseen_mazes_and_named_as_given(capsys):
+    ev = evaluate(None, level="maze-6x6-*", n_robots=2, episodes=12, seed=0)
+    names = [e.level for e in ev.episodes["shortest"]]
+    assert ev.level == "maze-6x6-*" and len(set(names)) >= 8
+    assert all(int(name.rsplit("-s", 1)[1]) in EVAL_MAZE_SEEDS for name in names)  # never a training seed
+    code, out, err = cli(capsys, "shortest", "--level", "maze-6x6-*", "--robots", "2", "--episodes", "3")
+    assert code == 0, err
+    assert out.startswith("3 episodes on maze-6x6-*, 2 robots")
+
+
+def test_the_table_names_each_crowd_and_shows_a_baseline_policy_once(capsys, tmp_path):
+    code, out, err = cli(capsys, "shortest", "--level", "maze:6..8", "--robots", "2", "--episodes", "4")
+    assert code == 0, err
+    rows = [line.split("  ")[0] for line in out.splitlines()[2:-1]]
+    assert rows == ["shortest-path robots (the policy)", "random robots"]
+    last = json.loads(out.strip().splitlines()[-1])
+    assert list(last) == ["policy", "shortest", "random"] and last["policy"] == last["shortest"]
+
+
+def test_the_json_rounds_to_four_significant_digits(capsys):
+    code, out, err = cli(capsys, "random", "--level", "maze:6..8", "--robots", "3", "--episodes", "7", "--seed", "2")
+    assert code == 0, err
+    figures = [v for m in json.loads(out.strip().splitlines()[-1]).values() for v in m.values()]
+    assert all(float(f"{v:.4g}") == v for v in figures)
+    assert any(len(repr(v).replace(".", "").strip("0")) > 2 for v in figures)  # not all round numbers anyway
+
+
+def test_a_saved_policy_row_is_named_by_its_file(capsys, tmp_path):
+    from babyrobot_marl.training.ppo import PPOConfig, train_ppo
+
+    path = tmp_path / "p.pt"
+    train_ppo("maze-8x8", 2, 512, seed=0, config=PPOConfig(n_envs=8, n_steps=16, batch_size=128, eval_every=0)).save(path)
+    code, out, err = cli(capsys, str(path), "--level", "maze-8x8", "--robots", "2", "--episodes", "2")
+    assert code == 0, err
+    rows = [line.split("  ")[0] for line in out.splitlines()[2:-1]]
+    assert rows == [f"policy robots ({path})", "shortest-path robots", "random robots"]

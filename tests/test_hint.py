@@ -120,3 +120,27 @@ def test_planned_once_per_level_not_per_step_or_reset(monkeypatch):
 def test_bad_hint_arguments_are_clear_errors(kw, message):
     with pytest.raises(ValueError, match=message):
         race_v0.parallel_env(level="race-2", **kw)
+
+
+def test_a_rewarding_cell_kind_is_refused_by_name_before_any_planning(monkeypatch):
+    from babyrobot_marl import race_v0
+    from babyrobot_marl.planning import hint
+
+    def never(*args, **kwargs):
+        raise AssertionError("planned a problem without a finite optimum")
+
+    monkeypatch.setattr(hint, "value_iteration", never)
+    with pytest.raises(ValueError, match=r"^floor_reward: the goal hint .* got 1\.0$"):
+        hint.optimal_actions("maze-8x8", {"floor_reward": 1.0})
+    with pytest.raises(ValueError, match=r"^small_puddle_reward: the goal hint"):
+        hint.optimal_actions("puddles", {"small_puddle_reward": 0.5})
+    with pytest.raises(ValueError, match="floor_reward"):
+        race_v0.parallel_env(level="maze-8x8", n_robots=2, start="random", observe="local", hint=True,
+                             rules={"floor_reward": 2.0})
+
+
+def test_a_reward_of_a_kind_the_level_lacks_or_of_zero_plans():
+    from babyrobot_marl.planning.hint import optimal_actions
+
+    assert optimal_actions("maze-6x6", {"large_puddle_reward": 3.0}).shape == (6, 6, 5)  # no puddles in a maze
+    assert optimal_actions("maze-6x6", {"floor_reward": 0.0}).shape == (6, 6, 5)

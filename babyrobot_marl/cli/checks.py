@@ -9,11 +9,14 @@ from __future__ import annotations
 import argparse
 import math
 import os
+import shlex
 from collections.abc import Callable
+from typing import Any
 
 from .. import policies
 from ..core.checks import check_batch, shown
 from ..levels.sources import parse_level_family
+from ..training.checks import MAX_LAYER_SIZE, MAX_LAYERS
 from ..training.policy import is_policy_spec
 
 MAX_RACES = 100_000  # races of one `race --races N`: run one after another, each kept for the table
@@ -43,6 +46,11 @@ def int_at_least(minimum: int) -> Callable[[str], int]:
 
 non_negative_int = int_at_least(0)
 positive_int = int_at_least(1)
+
+# a seed of any command and backend: NumPy's legacy seeding (Stable-Baselines3) takes seeds below 2**32
+MAX_SEED = 2**32 - 1
+seed_int = int_in(0, MAX_SEED, " (a seed below 2**32)")
+SEED_HELP = "0 <= N < 2**32"
 
 # `race --races N`: every race is kept for the metrics table, one after another
 race_count = int_in(1, MAX_RACES, " (races run one after another: split a larger experiment into seeded runs)")
@@ -118,14 +126,28 @@ def policy_list(text: str) -> list[str]:
     return names
 
 
+def policies_form(names: list[str]) -> dict[str, Any]:
+    """The env arguments of the observations the saved policies among ``names`` read (``{}``: the env's
+    default); ``--policies`` that read different local windows cannot share one race."""
+    from ..training.policy import observation_kwargs
+
+    forms = {path: observation_kwargs(path) for path in dict.fromkeys(names) if path not in policies.POLICY_NAMES}
+    local = {path: form for path, form in forms.items() if form}
+    if len({tuple(form.items()) for form in local.values()}) > 1:
+        (a, fa), (b, fb) = list(local.items())[:2]
+        raise ValueError(f"--policies: one race shows one observation form; {a} reads {fa}, {b} reads {fb}")
+    return next(iter(local.values()), {})
+
+
 def layer_sizes(text: str) -> tuple[int, ...]:
-    """``--net-arch``: hidden layer sizes such as ``64,64``."""
+    """``--net-arch``: hidden layer sizes such as ``64,64``, within ``MAX_LAYERS`` layers of ``MAX_LAYER_SIZE``."""
     try:
-        sizes = tuple(int(s) for s in text.split(",") if s.strip())
+        sizes = tuple(int(s) for s in text.split(",") if s.strip()) if len(text) < 1000 else (0,)
     except ValueError:
         sizes = (0,)
-    if not sizes or min(sizes) < 1:
-        raise argparse.ArgumentTypeError(f"must be layer sizes such as 64,64, got {text!r}")
+    if not sizes or min(sizes) < 1 or max(sizes) > MAX_LAYER_SIZE or len(sizes) > MAX_LAYERS:
+        raise argparse.ArgumentTypeError(f"must be layer sizes such as 64,64: 1 to {MAX_LAYERS} layers of 1..{MAX_LAYER_SIZE:,} "
+                                         f"units, got {shown(text)}")
     return sizes
 
 
@@ -150,7 +172,9 @@ def check_train_args(args: argparse.Namespace, n_envs: int, family: bool = False
     if args.observe == "local" and args.load:
         raise ValueError("--load: continuing from a saved policy is for --observe global; drop --load")
     if args.observe == "local" and args.gif:
-        raise ValueError("--gif: not for --observe local; watch the policy with 'babyrobot-marl race'")
+        path = shlex.quote(args.save or "POLICY.pt")
+        raise ValueError(f"--gif: not for --observe local; train without it, then watch the saved policy with 'babyrobot-marl "
+                         f"race --level {shlex.quote(args.level)} --robots {args.robots} --start random --policies {path}'")
     if args.algo == "dqn" and (args.backend != "sb3" or args.robots > 1):
         raise ValueError("--algo dqn: only for one robot with --backend sb3")
     if args.robots > 1 and args.gif:
@@ -164,8 +188,8 @@ def check_train_args(args: argparse.Namespace, n_envs: int, family: bool = False
                          f"--robots 2 or more (--near-radius {args.near_radius})")
     n, obs = args.robots, 3 * args.robots - 1 if args.robots > 1 else 2  # the envs' global rows
     check_batch(n_envs, n, obs, what="--n-envs")
-    if n > 1:  # the final evaluation races every race at once in one batch
-        check_batch(args.episodes or 100, n, obs, what="--episodes")
+    # the final evaluation plays its episodes (races) at once in one batch: one rule for every robot count
+    check_batch(args.episodes or 200, n, obs, what="--episodes")
 
 
 _RACE_FLAGS = {"n_robots": "--robots", "level": "--level", "collisions": "--collisions"}

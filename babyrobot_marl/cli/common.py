@@ -8,7 +8,7 @@ import os
 from typing import NoReturn, TextIO
 
 from ..play.screen import DEFAULT_DELAY, Display, isatty
-from .checks import level_spec, non_negative_int, seconds
+from .checks import SEED_HELP, level_spec, seconds, seed_int
 
 PROG = "babyrobot-marl"
 EXIT_USAGE = 2  # bad input, as argparse uses
@@ -45,10 +45,11 @@ def add_level_arg(p: argparse.ArgumentParser, default: str = "default") -> None:
 def add_seed_arg(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--seed",
-        type=non_negative_int,
+        type=seed_int,
         default=None,
         metavar="N",
-        help="seed of the episode and of random policies (default: a fresh one, printed at the end so it can be replayed)",
+        help=f"seed of the episode and of random policies, {SEED_HELP} (default: a fresh one, printed at the end so it "
+        "can be replayed)",
     )
 
 

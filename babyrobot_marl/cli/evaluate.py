@@ -8,7 +8,7 @@ from typing import Any, TextIO
 
 from ..core.goals import GOAL_MODES
 from ..core.rules import COLLISION_MODES
-from .checks import check_race_flags, int_in, non_negative_int, output_path, policy_spec, positive_int
+from .checks import SEED_HELP, check_race_flags, int_in, output_path, policy_spec, positive_int, seed_int
 from .common import add_level_arg
 
 MAX_EPISODES = 100_000  # episodes of one run, each kept for the metrics
@@ -29,7 +29,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--robots", type=positive_int, default=4, metavar="N", help="robots in each episode (default: 4)")
     p.add_argument("--episodes", type=int_in(1, MAX_EPISODES, " (episodes run one after another)"), default=200, metavar="E",
                    help="seeded episodes per crowd (default: 200)")
-    p.add_argument("--seed", type=non_negative_int, default=0, metavar="S", help="episode i resets with S + i (default: 0)")
+    p.add_argument("--seed", type=seed_int, default=0, metavar="S", help=f"episode i resets with S + i, {SEED_HELP} (default: 0)")
     p.add_argument("--collisions", choices=COLLISION_MODES, default="block", help="collision rule (default: block)")
     p.add_argument("--goals", choices=GOAL_MODES, default="exit",
                    help="exit: the robots race to the exits (default); own: each robot has its own target cell, drawn "
@@ -48,10 +48,10 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace, out: TextIO) -> int:
     from ..experiments.evaluate import evaluate
 
-    if args.plot:  # before the episodes: a missing matplotlib is known now
-        _matplotlib()
     if args.lifelong and args.goals != "own":
         raise ValueError("--lifelong: new targets replace reached ones, so it needs --goals own")
+    if args.plot:  # before the episodes: a missing matplotlib is known now
+        _matplotlib()
     policy, form = _policy(args.policy, args.greedy, args.seed)
     check_race_flags(args.level, args.robots, args.collisions)
     ev = evaluate(policy, level=args.level, n_robots=args.robots, episodes=args.episodes, seed=args.seed,
@@ -69,36 +69,19 @@ def _policy(spec: str, greedy: bool, seed: int) -> tuple[Any, dict[str, Any]]:
     """The policy of ``POLICY`` and the observation form its env needs (a saved file records it)."""
     from .. import policies
 
-    if spec in policies.POLICY_NAMES:  # a scripted crowd: it reads [x, y] of any form
-        return _Scripted(spec), {}
+    if spec in policies.POLICY_NAMES:  # a baseline's crowd: played once, shown once
+        return spec, {}
+    from ..training.checks import GLOBAL_FORM
     from ..training.policy import load_checkpoint, load_policy
 
-    form = dict(load_checkpoint(spec)["observation"])  # observe, obs_encoding (and view_radius, hint once recorded)
+    # observe, obs_encoding (and view_radius, hint once recorded); files of format 1 and 2 read the global rows
+    form = dict(load_checkpoint(spec).get("observation", GLOBAL_FORM))
     policy = load_policy(spec, deterministic=greedy, seed=seed)
     policy.name = spec
     return policy, {k: v for k, v in form.items() if k in _FORM and v is not None}
 
 
 _FORM = ("observe", "view_radius", "k", "obs_encoding", "hint")  # what a saved policy's observation form sets on its env
-
-
-class _Scripted:
-    """A scripted policy's crowd on each episode's level: bound to the env at every episode (``for_env``)."""
-
-    def __init__(self, name: str):
-        self.name = name
-
-    def for_env(self, env: Any) -> Any:
-        from .. import policies
-
-        if self.name == "shortest" and env.goals_mode == "own":  # each robot to its own target
-            from ..envs.race_goals import OwnGoalShortest
-
-            return OwnGoalShortest(env.table)
-        return policies.make(self.name, env.table, seed=env.np_random.integers(2**63))
-
-    def __call__(self, obs: Any) -> int:  # never called unbound
-        raise RuntimeError("bind with for_env(env) first")
 
 
 def _matplotlib() -> None:

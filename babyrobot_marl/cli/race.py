@@ -14,7 +14,7 @@ from ..levels.sources import parse_level_family
 from ..play.screen import animate
 from ..render.ansi import robot_glyph
 from ..training.policy import make_policy
-from .checks import non_negative_int, policy_list, positive_int, race_count
+from .checks import non_negative_int, policies_form, policy_list, positive_int, race_count
 from .common import add_display_args, add_level_arg, add_seed_arg, display_of, fresh_seed
 
 
@@ -93,18 +93,18 @@ def run(args: argparse.Namespace, out: TextIO) -> int:
     level = args.level if family else load_level(args.level)
     if len(args.policies) not in (1, args.robots):
         raise ValueError(f"policies: give one policy for all robots or one per robot ({args.robots}), got {len(args.policies)}")
-    # The env checks the robots against the level's starts and free cells before anything per robot exists.
-    env = RaceEnv(
-        level=level, n_robots=args.robots, collisions=args.collisions, start=args.start, max_cycles=args.max_cycles
-    )
     names = args.policies * args.robots if len(args.policies) == 1 else args.policies
+    # The env checks the robots against the level's starts and free cells before anything per robot exists;
+    # it shows the observations the saved policies read
+    env = RaceEnv(level=level, n_robots=args.robots, collisions=args.collisions, start=args.start,
+                  max_cycles=args.max_cycles, **policies_form(names))
     seed = fresh_seed() if args.seed is None else args.seed
     if args.races:  # experiments: the metrics table of N races (babyrobot_marl.experiments)
         if args.human is not None:
             raise ValueError("--human: you drive one race with frames; drop --races (N races without frames) or --human")
         from ..experiments.races import run_races
 
-        kw = {"collisions": args.collisions, "start": args.start, "max_cycles": args.max_cycles}
+        kw = {"collisions": args.collisions, "start": args.start, "max_cycles": args.max_cycles, **policies_form(names)}
         out.write(f"{run_races(level, _race_policies(names, env), args.races, seed, **kw).table()}\nseed {seed}\n")
         return 0
     if family:  # the scripted robots plan on the level this seed draws (the race below resets with it again)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from typing import TextIO
 
-from .checks import int_at_least, non_negative_int, positive_float, probability
+from .checks import SEED_HELP, int_at_least, positive_float, probability, seed_int
 from .common import add_level_arg
 from .levels import level_of
 
@@ -24,8 +24,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
         "--theta", type=positive_float, default=1e-9, metavar="T", help="stop when no value moves by T (default: 1e-9)"
     )
     p.add_argument("--decimals", type=int_at_least(0), default=1, metavar="N", help="decimals of the values (default: 1)")
-    p.add_argument("--seed", type=non_negative_int, default=0, metavar="N",
-                   help="with --level maze:A..B: the seed that draws the maze, as an env reset with it does (default: 0)")
+    p.add_argument("--seed", type=seed_int, default=0, metavar="N",
+                   help=f"with --level maze:A..B: the seed that draws the maze, as an env reset with it does, {SEED_HELP} "
+                   "(default: 0)")
     p.set_defaults(func=run)
 
 

@@ -10,7 +10,8 @@
 On a terminal a progress bar shows steps/s and the mean training return; elsewhere (a log, a
 pipe) one line per evaluation. Every argument is checked before training (a ``--steps`` that
 whole rollouts round up is said in one line first); a run whose loss or weights stop being finite
-numbers ends with one error line and saves nothing. After training, one line gives the speed in
+numbers ends with one error line and saves nothing; otherwise ``--save`` is written as soon as training
+ends, before any evaluation. After training, one line gives the speed in
 wall-clock and in CPU time. The LAST line is always one JSON object: ``env_steps_per_second``
 (timesteps over wall-clock training seconds: rollouts and updates, evaluations excluded),
 ``timesteps``, ``seconds``, ``cpu_seconds`` and ``env_steps_per_cpu_second`` (the same over the
@@ -42,6 +43,7 @@ from ..play.screen import isatty
 from ..training.checks import MAX_NEAR_RADIUS, check_finite_sb3
 from ..training.deps import INSTALL_HINT
 from .checks import (
+    SEED_HELP,
     check_train_args,
     int_in,
     layer_sizes,
@@ -50,6 +52,7 @@ from .checks import (
     output_path,
     positive_float,
     positive_int,
+    seed_int,
     unit_real,
 )
 from .common import add_level_arg
@@ -100,8 +103,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--backend", choices=BACKENDS, default="fast",
                    help="fast: PPO on the batch engine (default); sb3: Stable-Baselines3")
     p.add_argument("--algo", choices=("ppo", "dqn"), default="ppo", help="dqn: single robot, --backend sb3 only (default: ppo)")
-    p.add_argument("--seed", type=non_negative_int, default=0, metavar="N",
-                   help="seed of training and evaluation (default: 0)")
+    p.add_argument("--seed", type=seed_int, default=0, metavar="N",
+                   help=f"seed of training and evaluation, {SEED_HELP} (default: 0)")
     p.add_argument("--episodes", type=positive_int, default=None, metavar="N",
                    help="final evaluation: episodes (one robot, default 20) or races per opponent (default 100)")
     p.add_argument("--save", type=output_path, metavar="PATH",
@@ -217,13 +220,13 @@ def _fast(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> dic
         raise ValueError(f"--lr {config.learning_rate:g}: {str(err).split(': ', 1)[1]}; nothing was saved") from None
     finally:
         progress.close()
+    _save(args, lambda path: result.save(path), "policy", out)  # first: nothing after training can lose it
     agent = result.policy()
     figures = _speed(args, level, result.timesteps, result.seconds, result.cpu_seconds, out)
     reached = result.reached
     figures.update(finish(agent, out, args, reached))
     points = [(p.timesteps, p.train_return, p.score) for p in result.history]
-    _outputs(args, level, agent, out, points, score_name, target,
-             lambda path: result.save(path), "policy")
+    _outputs(args, level, agent, out, points, score_name, target)
     return figures
 
 
@@ -232,6 +235,7 @@ UNBOUNDED = 2**62  # timesteps of a run bounded by --seconds
 # 0.05 after 20 s with 1,024)
 FAMILY_ENVS = 256
 FAMILY_EVAL_EVERY = 2**21  # a family's evaluations play whole races on the batch engine: fewer than one per rollout
+EVAL_ATLASES = 8  # the final evaluation's atlases at most: large mazes fit few to an atlas, each played in turn
 
 
 def _env_kwargs(args: argparse.Namespace) -> dict[str, Any]:
@@ -280,10 +284,11 @@ def _family(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> d
         raise ValueError(f"--lr {config.learning_rate:g}: {str(err).split(': ', 1)[1]}; nothing was saved") from None
     finally:
         progress.close()
+    _save(args, lambda path: result.save(path), "policy", out)  # first: nothing after training can lose it
     figures = _speed(args, level, result.timesteps, result.seconds, result.cpu_seconds, out)
-    judge.rng = np.random.default_rng(args.seed + 1)
-    atlas = judge.atlas(min(episodes, 256))
-    score = play_atlas(result.net, atlas, args.robots, episodes, judge.max_steps, np.random.default_rng(args.seed + 2))
+    judge.rng = np.random.default_rng(args.seed + 1)  # up to 256 unseen mazes, in atlases that fit
+    mazes = 1 if one_level else min(episodes, 256, EVAL_ATLASES * judge.atlas_capacity)
+    score = judge.play(result.net, episodes, mazes, np.random.default_rng(args.seed + 2))
     where = _name(level, args) if one_level else f"{args.level}, mazes of the evaluation seeds"
     reads = f"view_radius {config.view_radius}{', hint' if config.hint else ''}{', memory' if config.memory else ''}"
     out.write(f"fast PPO, one policy for {args.robots} robot(s) reading local windows ({reads}"
@@ -292,7 +297,7 @@ def _family(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> d
     figures.update({k: _round(v) for k, v in score.items()})
     figures.update(level=_name(level, args) if one_level else args.level, episodes=episodes)
     points = [(p.timesteps, p.train_return, p.score) for p in result.history]
-    _outputs(args, level, None, out, points, score_name, None, lambda path: result.save(path), "policy")
+    _outputs(args, level, None, out, points, score_name, None)
     return figures
 
 
@@ -366,9 +371,15 @@ def _race_figures(rates: dict[str, Any], level: Level, args: argparse.Namespace,
             "vs_shortest": {"win_rate": _round(s.win_rate), "tie_rate": _round(s.tie_rate), "opponents": ["shortest"] * (n - 1)}}
 
 
+def _save(args: argparse.Namespace, save: Any, what: str, out: TextIO) -> None:
+    """``--save``: the trained policy written as soon as training ends, before any evaluation."""
+    if args.save:
+        out.write(f"{what} saved to {save(args.save)}\n")
+
+
 def _outputs(args: argparse.Namespace, level: Level, agent: Any, out: TextIO, points: list, score_name: str,
-             target: float | None, save: Any, what: str) -> None:
-    """The GIF, the curve and the saved policy, each reported with the path it was written to."""
+             target: float | None) -> None:
+    """The GIF and the curve, each reported with the path it was written to."""
     if args.gif:
         from ..render.video import episode_frames, save_gif
 
@@ -382,8 +393,6 @@ def _outputs(args: argparse.Namespace, level: Level, agent: Any, out: TextIO, po
             out.write(f"learning curve saved to {save_curve(points, args.curve, score_name, target, title)}\n")
         else:
             out.write("no learning curve: no evaluation ran\n")
-    if args.save:
-        out.write(f"{what} saved to {save(args.save)}\n")
 
 
 # ---------------------------------------------------------------------------- Stable-Baselines3
@@ -432,6 +441,13 @@ def _sb3(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> dict
             seconds, cpu = time.perf_counter() - t0, time.process_time() - c0
             timesteps, reached, points, target, score_name = int(agent.num_timesteps), None, [], RACE_TARGET, "win rate vs random"
     check_finite_sb3(agent, args.lr)
+
+    def save(path: str) -> str:
+        with open(path, "wb") as f:  # an open file: SB3 writes exactly here (given a name, it appends .zip)
+            agent.save(f)
+        return path
+
+    _save(args, save, "model", out)  # first: nothing after training can lose it
     figures = _speed(args, level, timesteps, seconds, cpu, out)
     if single:
         figures.update(finish(agent, out, args, reached))
@@ -446,13 +462,8 @@ def _sb3(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> dict
         out.write("no learning curve: the sb3 race backend runs no evaluations while training\n")
         args.curve = None
 
-    def save(path: str) -> str:
-        with open(path, "wb") as f:  # an open file: SB3 writes exactly here (given a name, it appends .zip)
-            agent.save(f)
-        return path
-
     def policy(obs: Any) -> int:
         return int(agent.predict(obs, deterministic=True)[0])
 
-    _outputs(args, level, policy, out, points, score_name, target, save, "model")
+    _outputs(args, level, policy, out, points, score_name, target)
     return figures

@@ -5,7 +5,8 @@
     print(ev.table()); ev.plot(); ev.metrics["shortest"]["success_rate"]
 
 Every crowd plays the same episodes: episode ``i`` resets its env with ``seed + i``, so each draws
-the same level (a family spec draws from ``EVAL_MAZE_SEEDS``: mazes the fast trainer never saw)
+the same level (a family spec, ``"maze:A..B"`` or ``"maze-WxH-*"``, draws from ``EVAL_MAZE_SEEDS``:
+mazes the fast trainer never saw)
 and the same starts (``start="random"``). All robots of a crowd act with one policy. Metrics
 (POGEMA's), each with a 95% interval inside its range:
 
@@ -38,13 +39,15 @@ from .. import policies as policy_module
 from ..core.checks import check_int
 from ..envs.race import RaceEnv
 from ..envs.race_goals import OwnGoalShortest
-from ..levels.sources import EVAL_MAZE_SEEDS, parse_level_family
+from ..levels.sources import EVAL_MAZE_SEEDS, family_of
 from .races import bound_policy
 from .stats import mean_interval, wilson
 
 METRICS = ("success_rate", "all_reached_rate", "sum_of_costs", "makespan")
 LIFELONG_METRICS = (*METRICS, "throughput")
 BASELINES = ("shortest", "random")
+CROWDS = {"shortest": "shortest-path robots", "random": "random robots"}  # the table's rows; a policy's: "NAME robots"
+JSON_DIGITS = 4  # significant digits: 95% intervals of a few hundred episodes tell no more
 Policy = Callable[[np.ndarray], int]
 
 
@@ -94,6 +97,8 @@ class Evaluation:
     limit: int
     episodes: dict[str, list[Episode]]
     metrics: dict[str, dict[str, float]]
+    policy_name: str = ""  # the policy's own name in the table (a saved policy: its file)
+    policy_is: str | None = None  # a baseline's name when the policy is that baseline: its row is shown once
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -101,10 +106,18 @@ class Evaluation:
         return LIFELONG_METRICS if "throughput" in next(iter(self.metrics.values())) else METRICS
 
     def table(self) -> str:
-        """One row per crowd: each metric as ``value [low, high]``."""
-        rows = [["robots", *self.names]]
+        """One row per crowd (a crowd of the policy's robots, of shortest-path and of random robots): each
+        metric as ``value [low, high]``."""
+        rows = [["crowd", *self.names]]
         for name, m in self.metrics.items():
-            rows.append([name] + [_shown(k, m[k], m[f"{k}_low"], m[f"{k}_high"]) for k in self.names])
+            if name not in BASELINES and self.policy_is is not None:
+                continue  # the same crowd as a baseline's row
+            label = CROWDS.get(name, f"{name} robots")
+            if name not in BASELINES and self.policy_name:
+                label += f" ({self.policy_name})"
+            if name == self.policy_is:
+                label += " (the policy)"
+            rows.append([label] + [_shown(k, m[k], m[f"{k}_low"], m[f"{k}_high"]) for k in self.names])
         widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
         n = len(next(iter(self.episodes.values())))
         head = (f"{n} episodes on {self.level}, {self.n_robots} robots, collisions {self.collisions}, "
@@ -112,8 +125,9 @@ class Evaluation:
         return "\n".join([head] + ["  ".join(c.ljust(w) for c, w in zip(r, widths)).rstrip() for r in rows])
 
     def json(self) -> str:
-        """``{"policy": M, "shortest": M, "random": M}`` on one line."""
-        return json.dumps(self.metrics, separators=(", ", ": "))
+        """``{"policy": M, "shortest": M, "random": M}`` on one line, each figure to ``JSON_DIGITS`` significant digits."""
+        rounded = {name: {k: float(f"{v:.{JSON_DIGITS}g}") for k, v in m.items()} for name, m in self.metrics.items()}
+        return json.dumps(rounded, separators=(", ", ": "))
 
     def plot(self, axes: Any = None) -> Any:
         """The four metrics per crowd with their 95% intervals, one panel each (matplotlib, imported here)."""
@@ -123,7 +137,7 @@ class Evaluation:
             raise ImportError("Evaluation.plot needs matplotlib: pip install 'babyrobot_marl[plot]'") from err
         if axes is None:
             _, axes = plt.subplots(1, len(self.names), figsize=(3.0 * len(self.names), 3.2), layout="constrained")
-        names = list(self.metrics)
+        names = [n for n in self.metrics if n in BASELINES or self.policy_is is None]
         x = np.arange(len(names))
         for ax, k, top in zip(axes, self.names, (1.05, 1.05, None, None, None)):
             v = np.array([self.metrics[n][k] for n in names])
@@ -148,7 +162,7 @@ def _shown(metric: str, v: float, low: float, high: float) -> str:
 
 
 def evaluate(
-    policy: Policy | None,
+    policy: Policy | str | None,
     level: Any = "maze:8..16",
     n_robots: int = 4,
     episodes: int = 200,
@@ -161,7 +175,8 @@ def evaluate(
     """``policy`` (every robot acting with it), the shortest-path robots and random robots on the same
     ``episodes`` seeded episodes; returns their metrics with 95% intervals (``Evaluation``).
 
-    ``policy``: a callable ``observation -> action``, or ``None`` for the two baselines only; one with
+    ``policy``: a callable ``observation -> action``, ``None`` for the two baselines only, or a baseline's
+    name (``"shortest"``, ``"random"``: its crowd plays once, ``metrics["policy"]`` is its figures); one with
     ``for_env(env)`` (a ``TrainedPolicy``) is bound to its env at every episode. ``policy_env``: the
     observation form it reads (``observe``, ``view_radius``, ``k``, ``obs_encoding``, ``hint``);
     ``level``: a level name, text or ``Level``, or a family spec ``"maze:A..B"`` (drawn from
@@ -169,11 +184,14 @@ def evaluate(
     same for every crowd. Robots start at random cells (``start="random"``).
     """
     n_robots, episodes, seed = check_int(n_robots, "n_robots", 1), check_int(episodes, "episodes", 1), check_int(seed, "seed", 0)
-    family = parse_level_family(level, EVAL_MAZE_SEEDS) if isinstance(level, str) else None
+    family = family_of(level, EVAL_MAZE_SEEDS) if isinstance(level, str) else None
     kw = {"n_robots": n_robots, "collisions": collisions, "start": "random", **env_kwargs}
     envs = {n: RaceEnv(level=family or level, observe="nearest", k=1, **kw) for n in BASELINES}  # [x, y] is all they read
     crowds: dict[str, Policy | str] = dict(zip(BASELINES, BASELINES))
-    if policy is not None:
+    baseline = policy if isinstance(policy, str) else None
+    if baseline is not None and baseline not in BASELINES:
+        raise ValueError(f"policy: a callable, None, or one of {', '.join(BASELINES)}, got {policy!r}")
+    if policy is not None and baseline is None:
         envs = {name: RaceEnv(level=family or level, **dict(policy_env or {}), **kw), **envs}
         crowds = {name: policy, **crowds}
         bound_policy(policy, envs[name])  # a policy that cannot read this env fails here, before any episode
@@ -182,7 +200,10 @@ def evaluate(
     label = level if isinstance(level, str) and family is not None else envs[BASELINES[0]].level.name or "custom level"
     lifelong = envs[BASELINES[0]].lifelong
     metrics = {n: crowd_metrics(r, n_robots, limit, lifelong) for n, r in runs.items()}
-    return Evaluation(label, n_robots, envs[BASELINES[0]].collisions, limit, runs, metrics)
+    if baseline is not None:  # the policy is that baseline: its figures under both names, played once
+        runs, metrics = {name: runs[baseline], **runs}, {name: metrics[baseline], **metrics}
+    policy_name = "" if policy is None or baseline is not None else str(getattr(policy, "name", ""))
+    return Evaluation(label, n_robots, envs[BASELINES[0]].collisions, limit, runs, metrics, policy_name, baseline)
 
 
 def _episode(env: RaceEnv, crowd: Policy | str, seed: int, i: int) -> Episode:

@@ -16,10 +16,15 @@ the vector envs run one level for all their envs and refuse drawn levels.
 
 Training and evaluation draw their mazes from disjoint seeds: ``TRAIN_MAZE_SEEDS`` and
 ``EVAL_MAZE_SEEDS`` (the fast trainer and ``babyrobot-marl evaluate``), so evaluation mazes are unseen.
+Small mazes repeat across seeds (a 5x5 maze of one seed often equals one of another), so those of
+16 to 49 cells are also split by content (``maze_part``): a family drawing from either set redraws a
+maze of the other's part, and no evaluation maze equals a training maze. Mazes of fewer cells are too
+few to split (a 2x2 maze is one of two); larger ones practically never repeat.
 """
 
 from __future__ import annotations
 
+import hashlib
 import re
 from collections.abc import Callable, Sequence
 from typing import Any
@@ -37,6 +42,26 @@ _RANGE = re.compile(r"maze:(\d{1,9})\.\.(\d{1,9})")  # "maze:A..B"
 FAMILY_SEEDS = 2**31  # "maze-WxH-*" and "maze:A..B" draw their maze seed from 0 .. FAMILY_SEEDS - 1
 TRAIN_MAZE_SEEDS = range(0, 2**30)  # the fast trainer's mazes
 EVAL_MAZE_SEEDS = range(2**30, 2**31)  # evaluation's mazes: never trained on
+SPLIT_CELLS = range(16, 50)  # mazes of this many cells are split between training and evaluation by content
+_PARTS = ((TRAIN_MAZE_SEEDS, 0), (EVAL_MAZE_SEEDS, 1))
+MAX_REDRAWS = 1000  # a part is about half of a size's mazes: a draw needs two tries on average
+
+
+def maze_part(level: Level) -> int:
+    """0 (a training maze) or 1 (an evaluation maze): one bit of a hash of the maze's walls, the same
+    for equal mazes of any seed."""
+    text = f"{level.width}x{level.height}:{sorted(level.walls)}".encode()
+    return hashlib.blake2b(text, digest_size=1).digest()[0] & 1
+
+
+def _draw_maze(width: int, height: int, pool: Sequence[int] | range, rng: np.random.Generator) -> Level:
+    """A maze of a seed drawn from ``pool``; from the training or evaluation seeds, a small maze of that part."""
+    part = next((p for seeds, p in _PARTS if pool == seeds), None)
+    for _ in range(MAX_REDRAWS):
+        level = builtin.get(f"maze-{width}x{height}-s{int(pool[int(rng.integers(len(pool)))])}")
+        if part is None or width * height not in SPLIT_CELLS or min(width, height) < 2 or maze_part(level) == part:
+            return level
+    raise RuntimeError(f"no {width}x{height} maze of part {part} in {MAX_REDRAWS} draws")  # about 2**-1000
 
 
 def maze_family(width: int, height: int, seeds: Sequence[int] | range | None = None) -> LevelSource:
@@ -47,7 +72,7 @@ def maze_family(width: int, height: int, seeds: Sequence[int] | range | None = N
     mazes.maze(width, height, int(pool[0]))  # a bad size fails here, not at the first reset
 
     def draw(rng: np.random.Generator) -> Level:
-        return builtin.get(f"maze-{width}x{height}-s{int(pool[int(rng.integers(len(pool)))])}")
+        return _draw_maze(width, height, pool, rng)
 
     draw.family = f"maze-{width}x{height}-*"  # type: ignore[attr-defined]
     return draw
@@ -67,7 +92,7 @@ def maze_range_family(low: int, high: int, seeds: Sequence[int] | range | None =
 
     def draw(rng: np.random.Generator) -> Level:
         side = int(rng.integers(low, high + 1))
-        return builtin.get(f"maze-{side}x{side}-s{int(pool[int(rng.integers(len(pool)))])}")
+        return _draw_maze(side, side, pool, rng)
 
     draw.family = f"maze:{low}..{high}"  # type: ignore[attr-defined]
     draw.largest = (high, high)  # type: ignore[attr-defined]
@@ -84,6 +109,14 @@ def parse_level_family(spec: str, seeds: Sequence[int] | range | None = None) ->
     if m is None:
         raise ValueError(bad_family(spec))
     return maze_range_family(int(m[1]), int(m[2]), seeds)
+
+
+def family_of(spec: str, seeds: Sequence[int] | range | None = None) -> LevelSource | None:
+    """The family of a spec of either form, ``"maze:A..B"`` or ``"maze-WxH-*"``, its maze seeds drawn from
+    ``seeds`` (``None`` if ``spec`` names no family)."""
+    family = parse_level_family(spec, seeds)
+    m = _FAMILY.fullmatch(spec) if family is None and isinstance(spec, str) else None
+    return maze_family(int(m[1]), int(m[2]), seeds) if m else family
 
 
 def level_source(level: Any) -> LevelSource | None:

@@ -6,6 +6,7 @@ The rules for integers and reals are the core's (``core.checks``); the sentences
 from __future__ import annotations
 
 from collections import deque
+from typing import Any
 
 import numpy as np
 
@@ -65,3 +66,18 @@ def check_proper(m: Model, pi: np.ndarray, live: np.ndarray) -> None:
             f"policy: with gamma=1 it must reach an exit from every cell that can reach one; it never does from {cells}"
             f"{' ...' if stuck.size > 5 else ''} (its values would be infinite; use gamma < 1 or another policy)"
         )
+
+
+def check_hint_rules(level: Any, rules: Any) -> None:
+    """The goal hint plans without discount: a cell kind of ``level`` whose reward is > 0 would let a robot
+    collect it forever (no finite optimum), so it is refused by the rule's name before any planning."""
+    kinds = {
+        "floor_reward": level.n_cells - len(level.blocked) - len(level.small_puddles) - len(level.large_puddles)
+        - len(level.exits) > 0,
+        "small_puddle_reward": bool(level.small_puddles),
+        "large_puddle_reward": bool(level.large_puddles),
+    }
+    for name, present in kinds.items():
+        if present and getattr(rules, name) > 0:
+            raise ValueError(f"{name}: the goal hint (hint=True) needs a level with a finite optimum, a reward <= 0 for "
+                             f"every cell a robot can stay in, got {getattr(rules, name)!r}")

@@ -23,6 +23,7 @@ from ..core.level import Level
 from ..core.rules import Rules, resolve_rules
 from ..core.table import compile_level
 from ..levels.resolve import resolve_level
+from .checks import check_hint_rules
 from .dp import value_iteration
 from .mdp import model
 
@@ -30,8 +31,13 @@ HINT_CACHE = 64  # levels whose hints are kept (a family of mazes draws a new on
 
 
 def optimal_actions(level: str | Level, rules: Rules | dict[str, Any] | None = None) -> np.ndarray:
-    """``uint8[H, W, 5]``: 1 where the action is optimal from that cell for one robot (read-only, cached)."""
-    return _optimal(resolve_level(level), resolve_rules(rules, {}))
+    """``uint8[H, W, 5]``: 1 where the action is optimal from that cell for one robot (read-only, cached).
+
+    A ``ValueError`` naming the reward if a cell kind of the level rewards a robot (``> 0``): then no
+    optimum is finite."""
+    level, rules = resolve_level(level), resolve_rules(rules, {})
+    check_hint_rules(level, rules)
+    return _optimal(level, rules)
 
 
 def goal_actions(level: str | Level, goal: tuple[int, int], rules: Rules | dict[str, Any] | None = None) -> np.ndarray:

@@ -15,6 +15,7 @@ from typing import Any
 from ..core.checks import MAX_LEVEL_CELLS, MAX_LEVEL_TEXT_CHARS, check_int, check_real, shown
 from .deps import torch_module
 
+MAX_LAYER_SIZE, MAX_LAYERS = 4096, 8  # a net's hidden layers: a setting or a policy file never asks for gigabytes
 MAX_NEAR_RADIUS = 4  # 40 cells: a key (16 bits of cell, one bit per cell) stays within int64
 
 # A saved policy (training.policy): its fields, and the observation form the fast trainer's policies read,
@@ -50,7 +51,9 @@ def check_config(cfg: Any, start_choices: Sequence[str]) -> tuple[int, ...]:
         check_real(getattr(cfg, name), name, 0)
     arch = tuple(cfg.net_arch)
     for h in arch:
-        check_int(h, "net_arch", 1)
+        check_int(h, "net_arch", 1, MAX_LAYER_SIZE)
+    if len(arch) > MAX_LAYERS:
+        raise ValueError(f"net_arch: at most {MAX_LAYERS} hidden layers, got {len(arch)}")
     if cfg.start not in start_choices:
         raise ValueError(f"start: must be one of {', '.join(map(repr, start_choices))}, got {cfg.start!r}")
     return arch
@@ -105,8 +108,10 @@ def check_fields(data: dict[str, Any], version: int, config_type: type) -> None:
     if version >= 4:
         check_observation_form(data["observation"])
     arch = data["net_arch"]
-    if not isinstance(arch, (list, tuple)) or not all(type(x) is int and x >= 1 for x in arch):
-        raise ValueError(f"net_arch: must be a list of layer sizes >= 1, got {shown(arch)}")
+    if (not isinstance(arch, (list, tuple)) or len(arch) > MAX_LAYERS
+            or not all(type(x) is int and 1 <= x <= MAX_LAYER_SIZE for x in arch)):
+        raise ValueError(f"net_arch: must be a list of up to {MAX_LAYERS} layer sizes in 1..{MAX_LAYER_SIZE:,}, "
+                         f"got {shown(arch)}")
     config = data["config"]
     if not isinstance(config, dict) or not set(config) <= {f.name for f in fields(config_type)}:
         raise ValueError(f"config: must be the PPO settings the policy was trained with, got {shown(config)}")

@@ -23,6 +23,7 @@ from __future__ import annotations
 import copy
 import os
 import warnings
+from collections import OrderedDict
 from dataclasses import asdict
 from pathlib import Path
 from typing import Any
@@ -187,10 +188,35 @@ class TrainedPolicy:
             self.deterministic = saved
 
 
+PROBS_CACHE = 8192  # a window policy's action probabilities kept, the least recently used dropped first (~10 MB)
+
+
+class LastUsed:
+    """A mapping of at most ``size`` entries that drops the least recently used one: memory stays flat
+    however many distinct inputs a long evaluation shows."""
+
+    def __init__(self, size: int):
+        self.size, self._data = size, OrderedDict()
+
+    def __len__(self) -> int:
+        return len(self._data)
+
+    def get(self, key: bytes) -> Any:
+        value = self._data.get(key)
+        if value is not None:
+            self._data.move_to_end(key)
+        return value
+
+    def put(self, key: bytes, value: Any) -> None:
+        self._data[key] = value
+        if len(self._data) > self.size:
+            self._data.popitem(last=False)
+
+
 class WindowPolicy(TrainedPolicy):
     """A level family's policy: acts on ``race_v0``'s ``observe="local"`` rows of its ``view_radius`` (and
     hint bits, if trained with ``hint``), on any level. ``for_env(env)`` checks that ``env`` shows that
-    form and undoes its ``obs_encoding``. The net runs once per distinct input (cached).
+    form and undoes its ``obs_encoding``. The net runs once per distinct input (the last ``PROBS_CACHE`` kept).
 
     Trained with ``memory``, it also reads the action it took last (``last``, none at first): one
     instance acts for one robot in one episode, so bind a new one (``for_env``) per robot and episode,
@@ -201,7 +227,7 @@ class WindowPolicy(TrainedPolicy):
         self.net, self.form, self.n_robots, self.encoder = net, form, n_robots, encoder
         self.deterministic = deterministic
         self.rng = np.random.default_rng(seed)
-        self._probs: dict[bytes, np.ndarray] = {}
+        self._probs = LastUsed(PROBS_CACHE)  # shared by the bound copies
         self.last = NO_ACTION  # the action it took last (read with ``memory``)
 
     @property
@@ -210,11 +236,17 @@ class WindowPolicy(TrainedPolicy):
         return {"observe": "local", "view_radius": self.form.radius, "hint": self.form.hint}
 
     def for_env(self, env: Any) -> WindowPolicy:
+        """This policy reading ``env``'s observations: a race env's of its own form, or a one-robot
+        ``BabyRobotEnv``'s ``[x, y]`` read as that robot's local window (``SingleWindowRows``)."""
         e = getattr(env, "unwrapped", env)
         e = getattr(e, "race", e)
         encoder = getattr(e, "encoder", None)
         if encoder is None:
             raise TypeError(f"env: expected an env of babyrobot_marl (race_v0), got {type(env).__name__}")
+        if not hasattr(e, "possible_agents"):  # one robot, no race: its window read from the level
+            bound = copy.copy(self)
+            bound.encoder, bound.last = SingleWindowRows(e, self.form), NO_ACTION
+            return bound
         observer = getattr(e, "_observer", None)
         radius = observer.view.radius if getattr(e, "observe", "global") == "local" else None
         hint = bool(getattr(e, "hint", False))
@@ -251,7 +283,7 @@ class WindowPolicy(TrainedPolicy):
             # one thread: on a busy machine torch's own threads wait on each other, 5 ms for this 1-row pass
             with torch.no_grad(), torch_threads(1):
                 p = torch.softmax(self.net.actor(torch.from_numpy(rows)), 1).double().numpy()[0]
-            self._probs[key] = p
+            self._probs.put(key, p)
         return p
 
     def __call__(self, obs: Any = None) -> int:
@@ -260,6 +292,26 @@ class WindowPolicy(TrainedPolicy):
         return self.last
 
     act = __call__
+
+
+class SingleWindowRows:
+    """A one-robot env's ``[x, y]`` (``BabyRobotEnv``) decoded into the row race_v0's ``observe="local"``
+    shows a lone robot there: its window of ``form.radius`` and, with ``form.hint``, the goal hint."""
+
+    def __init__(self, env: Any, form: WindowForm):
+        from ..core.observe import local_view
+        from ..planning.hint import optimal_actions
+
+        self.env, self.view = env, local_view(env.table, form.radius)
+        self.hint = optimal_actions(env.table.level, env.rules).reshape(-1, 5) if form.hint else None
+
+    def decode(self, obs: Any) -> np.ndarray:
+        from ..core.observe import local_observations
+
+        x, y = (int(v) for v in self.env.encoder.decode(np.asarray(obs).reshape(-1))[:2])
+        cell = self.env.table.cell_id((x, y))
+        row = local_observations(self.view, np.array([[cell]]), np.array([[True]]))[0, 0]
+        return row if self.hint is None else np.concatenate([row, self.hint[cell].astype(np.int64)])
 
 
 def save_policy(result: Any, path: str | os.PathLike) -> str:
@@ -332,6 +384,15 @@ def inputs_of(data: dict[str, Any]) -> Inputs | WindowForm:
     if form.get("observe") == "local":
         return WindowForm(form["view_radius"], near, form["hint"], bool(data["config"].get("memory", False)))
     return Inputs(data["width"], data["height"], near)
+
+
+def observation_kwargs(path: str | os.PathLike) -> dict[str, Any]:
+    """The env arguments of the observations a saved policy reads: ``{}`` for the global rows (an env's
+    default), else ``observe="local"`` with its ``view_radius`` and ``hint``."""
+    form = load_checkpoint(path).get("observation", GLOBAL_FORM)
+    if form.get("observe") != "local":
+        return {}
+    return {"observe": "local", "view_radius": form["view_radius"], "hint": form["hint"]}
 
 
 def load_net(data: dict[str, Any]) -> Any:

@@ -29,6 +29,7 @@ import numpy as np
 
 from ...core.actions import N_ACTIONS
 from ...core.batch import BatchRace
+from ...core.checks import MAX_LEVEL_CELLS
 from ...core.level import Level
 from ...core.observe import LOCAL_FEATURES, TERRAIN, local_observations, local_view
 from ...core.rules import Rules
@@ -251,8 +252,30 @@ class Family:
         self.spec = str(getattr(source, "family", None) or first.name or "a level family")
         self.first = first
 
+    @property
+    def atlas_capacity(self) -> int:
+        """The most levels of the family's largest size one atlas holds (its stacked level within
+        ``MAX_LEVEL_CELLS``): one for a 256x256 maze."""
+        return atlas_capacity(*getattr(self.source, "largest", (self.first.width, self.first.height)))
+
     def atlas(self, size: int) -> Atlas:
-        return Atlas([self.source(self.rng) for _ in range(size)], self.rules, self.form)
+        """An atlas of ``size`` levels drawn from the family, at most ``atlas_capacity`` of them."""
+        return Atlas([self.source(self.rng) for _ in range(min(size, self.atlas_capacity))], self.rules, self.form)
+
+    def play(self, net: Any, episodes: int, mazes: int, rng: np.random.Generator, deterministic: bool = True) -> dict[str, float]:
+        """``play_atlas`` over ``episodes`` episodes on ``mazes`` levels drawn from the family: in chunks of
+        atlases that fit (``atlas_capacity``), so any level size plays in bounded memory; the figures are
+        the episodes' means over all chunks."""
+        per = min(mazes, self.atlas_capacity)
+        chunks = [len(c) for c in np.array_split(np.arange(episodes), -(-mazes // per)) if len(c)]
+        scores = [(n, play_atlas(net, self.atlas(per), self.n_robots, n, self.max_steps, rng, deterministic)) for n in chunks]
+        return {k: sum(n * s[k] for n, s in scores) / episodes for k in scores[0][1]}
+
+
+def atlas_capacity(width: int, height: int) -> int:
+    """How many levels of ``width x height`` one atlas stacks within ``MAX_LEVEL_CELLS`` (a blocked row
+    between two): at least one, as a level itself is within the limit."""
+    return max(1, (MAX_LEVEL_CELLS // width + 1) // (height + 1))
 
 
 def play_atlas(net: Any, atlas: Atlas, n_robots: int, n_envs: int, max_steps: int, rng: np.random.Generator,
