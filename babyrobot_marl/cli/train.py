@@ -304,7 +304,7 @@ def _family(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> d
     where = _name(level, args) if one_level else f"{args.level}, mazes of the evaluation seeds"
     reads = f"view_radius {config.view_radius}{', hint' if config.hint else ''}{', memory' if config.memory else ''}"
     out.write(f"fast PPO, one policy for {args.robots} robot(s) reading local windows ({reads}{_crowd_note(args)}"
-              f") on {where}: {episodes} episodes, success rate {score['success_rate']:.3f}, "
+              f") on {where}: {episodes} episodes, greedy: success rate {score['success_rate']:.3f}, "
               f"all reached {score['all_reached_rate']:.3f}, makespan {score['makespan']:.1f}\n")
     figures.update({k: _round(v) for k, v in score.items()})
     figures.update(level=_name(level, args) if one_level else args.level, episodes=episodes)
