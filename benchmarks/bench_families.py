@@ -1,9 +1,14 @@
 """Crowds that learn: the fast trainer on a level family, judged on unseen mazes beside the shortest-path and random robots.
 
-    python benchmarks/bench_families.py --level maze:8..16 --robots 4 --hint --seconds 600       # issue 27 target (a)
-    python benchmarks/bench_families.py --level maze:8..16 --robots 4 --memory --seconds 600     # (b): no hint, memory
-    python benchmarks/bench_families.py --level maze:16..16 --robots 32 --hint --collisions bounce --seconds 600  # (c)
-    python benchmarks/bench_families.py --quick     # CI's smoke run: maze:8..8, 2 robots, hint, 3 s, 10 races
+    python benchmarks/bench_families.py --level maze:8..16 --robots 4 --hint --seconds 120
+    python benchmarks/bench_families.py --level maze:8..16 --robots 4 --memory --seconds 600     # no hint, memory
+    python benchmarks/bench_families.py --level maze:16..16 --robots 32 --hint --collisions bounce --seconds 600
+    python benchmarks/bench_families.py --quick     # a smoke run: maze:8..8, 2 robots, hint, 3 s, 10 races
+
+It trains as ``babyrobot-marl train --level L --robots N --observe local ...`` does with the same flags (the
+same ``PPOConfig``: 256 envs, and for a crowd, several robots under ``block`` or ``bounce``, the crowd defaults
+``near_radius`` 2 and ``blocked_cost`` 0.5 unless given), and prints that command first; ``babyrobot-marl
+evaluate`` judges a saved policy on seeded episodes of its own.
 
 Training: ``train_ppo(level, n_robots, config=PPOConfig(view_radius=..., hint=..., ...))`` for ``--seconds`` of
 wall-clock training time (rollouts and updates), mazes from ``TRAIN_MAZE_SEEDS`` (an atlas of 64 on the batch
@@ -11,7 +16,7 @@ engine, drawn anew every 16 rollouts). Evaluation: ``--episodes`` seeded races o
 ``race_v0.parallel_env(level=<the family on EVAL_MAZE_SEEDS>, observe="local", view_radius=..., hint=...,
 start="random", collisions=...)`` (``experiments.run_races``: every robot one policy), the trained policy
 taking its most likely action and sampling it, then the shortest-path and the random robots on the same
-seeded races, and the issue's floor for the crowd's makespan: shortest-path robots that wait (stay) at random
+seeded races, and a floor for the crowd's makespan: shortest-path robots that wait (stay) at random
 on 20% of steps (``--wait``; they read the goal hint, the shortest-path robot's action).
 Figures: ``success_rate`` (robots that reached the exit, Wilson 95% interval),
 ``all_reached_rate`` (races every robot finished), ``makespan`` (mean race length, 95% interval; its median beside it: a
@@ -32,6 +37,7 @@ import numpy as np
 
 from babyrobot_marl.experiments import run_races, wilson
 from babyrobot_marl.levels.sources import EVAL_MAZE_SEEDS, parse_level_family
+from babyrobot_marl.training.crowd import crowd_defaults, said
 
 
 def load() -> str:
@@ -69,6 +75,19 @@ class WaitingShortest:
         return int(np.argmax(hint))
 
 
+def cli_command(args: argparse.Namespace) -> str:
+    """The ``babyrobot-marl train`` command that trains as this run does (flags left at the CLI's defaults omitted)."""
+    flags = [f"--level {args.level}", f"--robots {args.robots}", f"--collisions {args.collisions}", "--observe local"]
+    flags += ["--hint"] * args.hint + ["--memory"] * args.memory
+    flags += [f"--view-radius {args.view_radius}"] * (args.view_radius != 2)
+    for flag, value, default in (("--n-envs", args.n_envs, 256), ("--batch-size", args.batch_size, 16384),
+                                 ("--ent-coef", args.ent_coef, 0.01), ("--gamma", args.gamma, 0.99),
+                                 ("--near-radius", args.near_radius, None), ("--blocked-cost", args.blocked_cost, None)):
+        if value is not None and value != default:
+            flags.append(f"{flag} {value:g}")
+    return f"babyrobot-marl train {' '.join(flags)} --seconds {args.seconds:g} --seed {args.seed}"
+
+
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     p.add_argument("--level", default="maze:8..16")
@@ -81,10 +100,10 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--n-envs", type=int, default=256)
     p.add_argument("--batch-size", type=int, default=16384)
     p.add_argument("--ent-coef", type=float, default=0.01)
-    p.add_argument("--near-radius", type=int, default=1)
+    p.add_argument("--near-radius", type=int, default=None, help="default: 1, or the crowd default")
     p.add_argument("--gamma", type=float, default=0.99)
-    p.add_argument("--blocked-cost", type=float, default=0.0, help="PPOConfig.blocked_cost: a robot's training reward "
-                   "loses this on a step another robot stops its move")
+    p.add_argument("--blocked-cost", type=float, default=None, help="PPOConfig.blocked_cost: a robot's training reward "
+                   "loses this on a step another robot stops its move (default: 0, or the crowd default)")
     p.add_argument("--view-radius", type=int, default=2)
     p.add_argument("--memory", action="store_true", help="PPOConfig.memory: the net also reads the robot's last action "
                    "(one bound policy per robot and race remembers it)")
@@ -113,9 +132,12 @@ def main(argv: list[str] | None = None) -> int:
         policy = load_policy(args.load)
         print(f"policy {args.load}")
     else:
+        chosen = {k: v for k, v in (("near_radius", args.near_radius), ("blocked_cost", args.blocked_cost)) if v is not None}
+        crowd = crowd_defaults(args.robots, args.collisions, chosen)
         config = PPOConfig(n_envs=args.n_envs, batch_size=args.batch_size, hint=args.hint, ent_coef=args.ent_coef,
-                           near_radius=args.near_radius, gamma=args.gamma, view_radius=args.view_radius,
-                           blocked_cost=args.blocked_cost, memory=args.memory, eval_every=0)
+                           gamma=args.gamma, view_radius=args.view_radius, memory=args.memory, eval_every=0,
+                           **chosen, **crowd)
+        print(f"the same training: {cli_command(args)}" + (f" (crowd defaults {said(crowd)})" if crowd else ""))
         before = load()
         result = train_ppo(args.level, args.robots, 2**62, args.seed, config, max_seconds=args.seconds,
                            env_kwargs={"collisions": args.collisions})

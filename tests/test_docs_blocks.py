@@ -26,6 +26,7 @@ gives regular expressions that must each match a line of what the block printed.
 
 from __future__ import annotations
 
+import argparse
 import importlib.util
 import os
 import re
@@ -314,3 +315,89 @@ def test_every_docstring_a_page_includes_has_its_sections(module, attr):
         sys.path.remove(str(ROOT / "docs" / "_scripts"))
     sections = hooks.docstring_sections(module, attr)
     assert sections.startswith("## ") and sections.count("\n## ") >= 2
+
+
+# ---------------------------------------------------------------------------- the commands the pages name
+# pages whose result tables each name the babyrobot-marl command that produced them
+RESULT_PAGES = [ROOT / "docs" / "guides" / "fast-trainer.md"]
+INLINE_CODE = re.compile(r"`([^`\n]+)`")
+
+
+def cli_commands(text: str) -> list[str]:
+    """Every ``babyrobot-marl ...`` command of a page's text: in code blocks (one per line, up to a trailing comment,
+    ``&&`` or a pipe) and in inline code."""
+    found = []
+    for piece in [*INLINE_CODE.findall(text), *text.splitlines()]:
+        for part in re.split(r"&&|\||;", re.sub(r"\s+#.*$", "", piece)):
+            m = re.search(r"(?:^|\s|\$ )(babyrobot-marl(?: .*)?)$", part.strip())
+            if m:
+                found.append(m.group(1).strip())
+    return sorted(set(found))
+
+
+def unknown_flag(command: str) -> str | None:
+    """What in ``command`` the command line does not have (a command, a flag), or None."""
+    import shlex
+
+    from babyrobot_marl.cli.entry import build_parser
+
+    parser = build_parser()
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    words = shlex.split(command)[1:]
+    if not words or words[0].startswith("-"):
+        known = set(parser._option_string_actions)
+    elif words[0] in sub.choices:
+        known, words = set(sub.choices[words[0]]._option_string_actions), words[1:]
+    else:
+        return f"no command {words[0]!r}"
+    return next((f"no flag {w.split('=')[0]!r}" for w in words if w.startswith("-") and w != "-"
+                 and not re.fullmatch(r"-\d.*", w) and w.split("=")[0] not in known), None)
+
+
+def tables(text: str) -> list[tuple[str, str]]:
+    """``[(the paragraph right above a table, the table)]`` of a Markdown page."""
+    out, lines = [], text.splitlines()
+    n = 0
+    while n < len(lines):
+        if lines[n].startswith("|"):
+            end = n
+            while end < len(lines) and lines[end].startswith("|"):
+                end += 1
+            start = n - 1
+            while start >= 0 and not lines[start].strip():
+                start -= 1
+            top = start
+            while top >= 0 and lines[top].strip() and not lines[top].startswith("|"):
+                top -= 1
+            out.append(("\n".join(lines[top + 1:start + 1]), "\n".join(lines[n:end])))
+            n = end
+        n += 1
+    return out
+
+
+def test_the_command_checker_finds_a_flag_or_command_that_does_not_exist():
+    page = ("Run `babyrobot-marl train --level maze:8..8 --blocked-cost 0.5`.\n"
+            "```bash\nbabyrobot-marl evaluate p.pt --robotz 3\n```\n")
+    assert cli_commands(page) == ["babyrobot-marl evaluate p.pt --robotz 3", "babyrobot-marl train --level maze:8..8 "
+                                  "--blocked-cost 0.5"]
+    assert unknown_flag("babyrobot-marl evaluate p.pt --robotz 3") == "no flag '--robotz'"
+    assert unknown_flag("babyrobot-marl trian --steps 3") == "no command 'trian'"
+    assert unknown_flag("babyrobot-marl train --level maze:8..8 --blocked-cost 0.5 --seed=1") is None
+    assert tables("intro\n\nmeasured by `babyrobot-marl x`:\n\n| a |\n|---|\n| 1 |\n\nafter\n") == [
+        ("measured by `babyrobot-marl x`:", "| a |\n|---|\n| 1 |")]
+
+
+@pytest.mark.parametrize("path", DOC_FILES, ids=lambda p: str(p.relative_to(ROOT)))
+def test_every_command_a_page_names_has_those_flags(path):
+    text = path.read_text(encoding="utf-8")
+    wrong = {cmd: why for cmd in cli_commands(text) if (why := unknown_flag(cmd))}
+    assert not wrong, f"{path.relative_to(ROOT)}: commands the command line does not take: {wrong}"
+
+
+@pytest.mark.parametrize("path", RESULT_PAGES, ids=lambda p: str(p.relative_to(ROOT)))
+def test_every_result_table_names_the_command_that_produced_it(path):
+    found = tables(path.read_text(encoding="utf-8"))
+    assert found, f"{path.relative_to(ROOT)} has no result table"
+    for caption, table in found:
+        named = [c for c in cli_commands(caption + "\n" + table) if len(c.split()) > 2]
+        assert named, f"{path.relative_to(ROOT)}: no babyrobot-marl command above or in the table:\n{table[:300]}"

@@ -143,7 +143,7 @@ def test_train_memory_saves_a_policy_that_reads_its_last_action_and_evaluate_run
     argv = ["train", "--level", "maze:8..8", "--robots", "2", "--observe", "local", "--memory", "--steps", "2048",
             "--episodes", "10", "--save", str(policy), "--no-progress", *SMALL]
     assert run(argv) == 0
-    assert "(view_radius 2, memory)" in capsys.readouterr().out
+    assert "(view_radius 2, memory; crowd defaults near_radius 2, blocked_cost 0.5)" in capsys.readouterr().out
     assert load_checkpoint(policy)["config"]["memory"] is True
     assert run(["evaluate", str(policy), "--level", "maze:8..8", "--robots", "2", "--episodes", "3"]) == 0
     assert 0 <= last_json(capsys.readouterr().out)["policy"]["success_rate"] <= 1

@@ -186,6 +186,11 @@ def check_train_args(args: argparse.Namespace, n_envs: int, family: bool = False
     if args.near_radius is not None and args.robots == 1:
         raise ValueError(f"--near-radius: a lone robot (--robots 1) sees no other robot; drop --near-radius or race "
                          f"--robots 2 or more (--near-radius {args.near_radius})")
+    if args.blocked_cost is not None and args.backend != "fast":
+        raise ValueError("--blocked-cost: only the fast backend trains with it; drop it or use --backend fast")
+    if args.blocked_cost is not None and args.robots == 1:
+        raise ValueError(f"--blocked-cost: a lone robot (--robots 1) is never stopped by another; drop --blocked-cost or "
+                         f"race --robots 2 or more (--blocked-cost {args.blocked_cost:g})")
     n, obs = args.robots, 3 * args.robots - 1 if args.robots > 1 else 2  # the envs' global rows
     check_batch(n_envs, n, obs, what="--n-envs")
     # the final evaluation plays its episodes (races) at once in one batch: one rule for every robot count

@@ -8,6 +8,7 @@ from typing import Any, TextIO
 
 from ..core.goals import GOAL_MODES
 from ..core.rules import COLLISION_MODES
+from ..policies import POLICY_NAMES
 from .checks import SEED_HELP, check_race_flags, int_in, output_path, policy_spec, positive_int, seed_int
 from .common import add_level_arg
 
@@ -57,6 +58,8 @@ def run(args: argparse.Namespace, out: TextIO) -> int:
     ev = evaluate(policy, level=args.level, n_robots=args.robots, episodes=args.episodes, seed=args.seed,
                   collisions=args.collisions, policy_env=form, goals=args.goals, lifelong=args.lifelong)
     out.write(ev.table() + "\n")
+    if args.policy not in POLICY_NAMES:  # a saved policy: what it was trained with
+        out.write(_trained_with(args.policy) + "\n")
     if args.plot:
         axes = ev.plot()
         axes[0].figure.savefig(args.plot, dpi=100)
@@ -79,6 +82,20 @@ def _policy(spec: str, greedy: bool, seed: int) -> tuple[Any, dict[str, Any]]:
     policy = load_policy(spec, deterministic=greedy, seed=seed)
     policy.name = spec
     return policy, {k: v for k, v in form.items() if k in _FORM and v is not None}
+
+
+# the training settings a saved policy's line shows: the rollout, the knobs a crowd's result depends on
+_SHOWN = ("n_envs", "n_steps", "batch_size", "ent_coef", "gamma", "near_radius", "blocked_cost")
+
+
+def _trained_with(spec: str) -> str:
+    """One line: what the saved policy at ``spec`` was trained on and with (its file's ``config``)."""
+    from ..training.policy import load_checkpoint
+
+    data = load_checkpoint(spec)
+    settings = ", ".join(f"{k} {data['config'][k]:g}" for k in _SHOWN if k in data["config"])
+    return (f"{spec}: trained {data['timesteps']:,} timesteps on {data['level_name'] or 'its level'} with "
+            f"{data['n_robots']} robot(s); {settings}")
 
 
 _FORM = ("observe", "view_radius", "k", "obs_encoding", "hint")  # what a saved policy's observation form sets on its env

@@ -41,6 +41,7 @@ from ..levels.files import load_level
 from ..levels.sources import parse_level_family
 from ..play.screen import isatty
 from ..training.checks import MAX_NEAR_RADIUS, check_finite_sb3
+from ..training.crowd import CROWD_DEFAULTS, crowd_defaults, said
 from ..training.deps import INSTALL_HINT
 from .checks import (
     SEED_HELP,
@@ -122,7 +123,12 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     knobs.add_argument("--net-arch", type=layer_sizes, default=None, metavar="H1,H2", help="hidden layers (default: 64,64)")
     knobs.add_argument("--eval-every", type=positive_int, default=None, metavar="N", help="timesteps between evaluations")
     knobs.add_argument("--near-radius", type=int_in(0, MAX_NEAR_RADIUS), default=None, metavar="N",
-                       help="fast backend, race: a robot sees the robots within N steps of it, 0..4 (default: 1)")
+                       help="fast backend, race: a robot sees the robots within N steps of it, 0..4 (default: 1; "
+                       f"{CROWD_DEFAULTS['near_radius']} for a crowd: see --blocked-cost)")
+    knobs.add_argument("--blocked-cost", type=non_negative_float, default=None, metavar="X",
+                       help="fast backend, race: a robot's training reward loses X on each step another robot stops its "
+                       "move (default: 0; a crowd, 2 or more robots under --collisions block or bounce, trains with the "
+                       f"crowd defaults {said(CROWD_DEFAULTS)} unless given, as train's summary line says)")
     p.set_defaults(func=run)
 
 
@@ -133,6 +139,8 @@ def run(args: argparse.Namespace, out: TextIO) -> int:
     # a missing package: MissingTrainExtraError, one line from the CLI's main (exit 2); called through the
     # package (training.require_train), where tests put a stand-in
     training.require_train(*(("torch", "tqdm") if args.backend == "fast" else ()))
+    chosen = {"near_radius": args.near_radius, "blocked_cost": args.blocked_cost}
+    args.crowd = crowd_defaults(args.robots, args.collisions, chosen) if args.backend == "fast" else {}
     tty = not args.no_progress and isatty(out) and isatty(sys.stderr)
     run = _family if family is not None else _fast if args.backend == "fast" else _sb3
     figures = run(args, level, tty, out)
@@ -171,6 +179,12 @@ def _knobs(args: argparse.Namespace) -> dict[str, Any]:
     return chosen
 
 
+def _crowd_note(args: argparse.Namespace) -> str:
+    """The crowd defaults this run trained with, for its summary line ("" if none)."""
+    crowd = getattr(args, "crowd", {})
+    return f"; crowd defaults {said(crowd)}" if crowd else ""
+
+
 def _round(x: float | None, digits: int = 4) -> float | None:
     return None if x is None or not math.isfinite(x) else round(x, digits)
 
@@ -188,10 +202,10 @@ def _fast(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> dic
     from ..training.progress import TrainProgress
 
     knobs = _knobs(args)
-    for name in ("eval_every", "near_radius"):
+    for name in ("eval_every", "near_radius", "blocked_cost"):
         if getattr(args, name) is not None:
             knobs[name] = getattr(args, name)
-    config = PPOConfig(threads=args.threads or None, **knobs)  # each knob checked by its flag's type
+    config = PPOConfig(threads=args.threads or None, **knobs, **args.crowd)  # each knob checked by its flag's type
     if args.observe == "local":  # one level, the net reading its local windows: an atlas of that one level
         return _family(args, level, tty, out)
     init = None
@@ -206,6 +220,7 @@ def _fast(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> dic
             config = config.replace(net_arch=tuple(data["net_arch"]))
         if "near_radius" not in knobs and "near_radius" in data["config"]:
             config = config.replace(near_radius=data["config"]["near_radius"])
+            args.crowd.pop("near_radius", None)  # the saved net's input, not the crowd's default
     _say_rounded_steps(args, out)  # every argument checked, the saved policy too
     single = args.robots == 1
     evaluate, target, score_name, finish = _single_eval(level, args) if single else _race_eval(level, args)
@@ -253,8 +268,10 @@ def _family(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> d
     from ..training.progress import TrainProgress
 
     knobs = _knobs(args)
-    if args.near_radius is not None:
-        knobs["near_radius"] = args.near_radius
+    for name in ("near_radius", "blocked_cost"):
+        if getattr(args, name) is not None:
+            knobs[name] = getattr(args, name)
+    knobs.update(args.crowd)
     knobs["eval_every"] = args.eval_every or FAMILY_EVAL_EVERY
     knobs.setdefault("n_envs", FAMILY_ENVS)
     config = PPOConfig(threads=args.threads or None, view_radius=2 if args.view_radius is None else args.view_radius,
@@ -291,8 +308,8 @@ def _family(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> d
     score = judge.play(result.net, episodes, mazes, np.random.default_rng(args.seed + 2))
     where = _name(level, args) if one_level else f"{args.level}, mazes of the evaluation seeds"
     reads = f"view_radius {config.view_radius}{', hint' if config.hint else ''}{', memory' if config.memory else ''}"
-    out.write(f"fast PPO, one policy for {args.robots} robot(s) reading local windows ({reads}"
-              f") on {where}: {episodes} episodes, success rate {score['success_rate']:.3f}, "
+    out.write(f"fast PPO, one policy for {args.robots} robot(s) reading local windows ({reads}{_crowd_note(args)}"
+              f") on {where}: {episodes} episodes, greedy: success rate {score['success_rate']:.3f}, "
               f"all reached {score['all_reached_rate']:.3f}, makespan {score['makespan']:.1f}\n")
     figures.update({k: _round(v) for k, v in score.items()})
     figures.update(level=_name(level, args) if one_level else args.level, episodes=episodes)
@@ -361,8 +378,8 @@ def _race_eval(level: Level, args: argparse.Namespace) -> tuple[Any, float, str,
 def _race_figures(rates: dict[str, Any], level: Level, args: argparse.Namespace, out: TextIO) -> dict[str, Any]:
     """The race's lines and JSON figures from win and tie rates against each kind of opponent."""
     n = args.robots
-    out.write(f"{args.backend} PPO, one policy for {n} robots on {_name(level, args)}; robot_0 from the level's start "
-              f"against {n - 1} scripted robots, {rates['random'].races} races each:\n")
+    out.write(f"{args.backend} PPO, one policy for {n} robots on {_name(level, args)}{_crowd_note(args)}; robot_0 from the "
+              f"level's start against {n - 1} scripted robots, {rates['random'].races} races each:\n")
     for opponent, res in rates.items():
         out.write(f"  vs {opponent}: win rate {res.win_rate:.3f} (ties included), tie rate {res.tie_rate:.3f}\n")
     r, s = rates["random"], rates["shortest"]

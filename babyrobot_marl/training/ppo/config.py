@@ -30,6 +30,9 @@ class PPOConfig:
     its move (``BatchRace.step``'s ``blocked``): each robot's return counts only its own steps, so
     pressing into a robot that stays or contesting a cell otherwise costs it no more than waiting;
     a crowd jams on it. Training only: the figures and returns reported are the env's.
+    ``babyrobot-marl train`` trains a crowd (several robots under ``block`` or ``bounce``) with
+    ``near_radius=2`` and ``blocked_cost=0.5`` unless given (``training.crowd.crowd_defaults``); these
+    fields' own defaults stay those of one robot.
     """
 
     n_envs: int = 1024
