@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from typing import Any
 
-# collision rules under which a robot stops another's move: a crowd can jam ("soft" once the engine has it)
+# collision rules under which a robot stops another's move: a crowd can jam
 CROWD_COLLISIONS = ("block", "bounce", "soft")
 # what trained 32 robots on maze:16..16 under "bounce" best: every robot that could contest the next cell in
 # view (near_radius 2), and a cost on each move another robot stops, which breaks the jams a crowd otherwise keeps
