@@ -127,7 +127,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                        f"{CROWD_DEFAULTS['near_radius']} for a crowd: see --blocked-cost)")
     knobs.add_argument("--blocked-cost", type=non_negative_float, default=None, metavar="X",
                        help="fast backend, race: a robot's training reward loses X on each step another robot stops its "
-                       "move (default: 0; a crowd, 2 or more robots under --collisions block or bounce, trains with the "
+                       "move (default: 0; a crowd, 2 or more robots under --collisions block, bounce or soft, trains with the "
                        f"crowd defaults {said(CROWD_DEFAULTS)} unless given, as train's summary line says)")
     p.set_defaults(func=run)
 
