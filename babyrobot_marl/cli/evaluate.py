@@ -7,7 +7,7 @@ import argparse
 from typing import Any, TextIO
 
 from ..core.rules import COLLISION_MODES
-from .checks import check_race_flags, int_in, non_negative_int, output_path, policy_spec, positive_int
+from .checks import check_race_flags, crowd_policy, int_in, non_negative_int, output_path, positive_int
 from .common import add_level_arg
 
 MAX_EPISODES = 100_000  # episodes of one run, each kept for the metrics
@@ -22,16 +22,17 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
         "sum_of_costs and makespan with 95% intervals; the last line is one JSON object "
         '{"policy": M, "shortest": M, "random": M}.',
     )
-    p.add_argument("policy", type=policy_spec, metavar="POLICY",
+    p.add_argument("policy", type=crowd_policy, metavar="POLICY",
                    help="the path of a policy saved by 'train --save' (or shortest, random: a scripted crowd)")
     add_level_arg(p, default="maze:8..16")
     p.add_argument("--robots", type=positive_int, default=4, metavar="N", help="robots in each episode (default: 4)")
-    p.add_argument("--episodes", type=int_in(1, MAX_EPISODES, " (episodes run one after another)"), default=200, metavar="E",
+    p.add_argument("--episodes", type=int_in(1, MAX_EPISODES, " (episodes run one after another)"), default=200, metavar="N",
                    help="seeded episodes per crowd (default: 200)")
-    p.add_argument("--seed", type=non_negative_int, default=0, metavar="S", help="episode i resets with S + i (default: 0)")
+    p.add_argument("--seed", type=non_negative_int, default=0, metavar="N",
+                   help="episode i resets with seed N + i (default: 0)")
     p.add_argument("--collisions", choices=COLLISION_MODES, default="block", help="collision rule (default: block)")
-    p.add_argument("--plot", type=output_path, default=None, metavar="FILE.png",
-                   help="also draw the metrics with their intervals to this image (matplotlib: the plot extra)")
+    p.add_argument("--plot", type=output_path, default=None, metavar="PATH",
+                   help="also draw the metrics with their intervals to this PNG image (matplotlib: the plot extra)")
     p.add_argument("--greedy", action="store_true",
                    help="a saved policy takes its most likely action (default: it samples its actions, seeded by --seed: "
                    "a memoryless policy that always takes the same action where its views look alike can loop)")

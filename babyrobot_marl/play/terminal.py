@@ -39,7 +39,7 @@ def require_terminal(stdin: Any, stdout: Any, what: str) -> int:
     if not ok:
         raise ValueError(
             f"{what}: the keyboard game needs an interactive terminal, and stdin or stdout is not one "
-            "(run it in a terminal; to watch scripted robots use --policy shortest or random)"
+            "(run it in a terminal; to watch scripted robots, leave out --human)"
         )
     try:
         import termios  # noqa: F401  (POSIX only)
