@@ -41,12 +41,16 @@ POLICY_FLAGS = {"play": "--policy", "race": "--policies", "evaluate": "POLICY", 
 LEVEL_FLAGS = {"levels": "NAME"}
 
 
+def _flag_value(m: re.Match) -> str:
+    return f"{FLAGS[m[1]]} {m[2] if m[2] is not None else m[3]}"
+
+
 def flag_words(message: str, command: str | None = None) -> str:
     """An error of the Python API in the command line's words: ``n_robots: ...`` becomes ``--robots: ...``,
     ``start='fill'`` becomes ``--start fill``, ``hint=True`` becomes ``--hint``."""
     names = "|".join(FLAGS)
     text = re.sub(rf"\b({names})=(True|False)\b", lambda m: FLAGS[m[1]] if m[2] == "True" else f"no {FLAGS[m[1]]}", message)
-    text = re.sub(rf"\b({names})=(?:'([^']*)'|([^\s,;)]+))", lambda m: f"{FLAGS[m[1]]} {m[2] or m[3]}", text)
+    text = re.sub(rf"\b({names})=(?:'([^']*)'|([^\s,;)]+))", _flag_value, text)
     text = re.sub(r"\b(n_robots|max_cycles|max_steps|view_radius|near_radius)\b", lambda m: FLAGS[m[1]], text)
     level = LEVEL_FLAGS.get(command or "", "--level")
     text = re.sub(r"^level( file| text)?\b", lambda m: level + (m[1] or ""), text)
