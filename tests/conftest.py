@@ -1,14 +1,27 @@
-"""Shared test set-up: make the package importable from a source checkout (no install needed), and
-keep Hypothesis's files out of the checkout: a run leaves nothing behind in the repository."""
+"""Shared test set-up: make the package importable from a source checkout (no install needed), keep
+Hypothesis's files out of the checkout (a run leaves nothing behind in the repository), draw plots
+headless, and mark the heavy tests that the quick loop ``pytest -q -m "not heavy"`` leaves out."""
 
 from __future__ import annotations
 
+import os
 import sys
 from pathlib import Path
 
-import pytest
+# Before anything imports matplotlib: a headless backend. Gymnasium's import tries the TkAgg one
+# otherwise, and warns "matplotlib is not installed" where Tk is missing.
+os.environ.setdefault("MPLBACKEND", "Agg")
+
+import pytest  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[1]
+# Test files that start a browser, run notebooks in a kernel, train or soak: the full suite runs them,
+# the quick loop does not (docs blocks that train are marked in tests/test_docs_blocks.py)
+HEAVY_FILES = (
+    "test_browser.py", "test_browser_harness.py", "test_browser_play.py", "test_browser_reopen.py", "test_browser_replay.py",
+    "test_notebooks.py", "test_reliability_soak.py", "test_ppo.py", "test_family_trainer.py", "test_training_race.py",
+    "test_training_single.py", "test_train_cli.py", "test_examples.py", "test_policy_files.py", "test_cli_solve_train.py",
+)
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
@@ -35,3 +48,10 @@ def pytest_configure(config: pytest.Config) -> None:
         from hypothesis import configuration
 
         configuration.set_hypothesis_home_dir(config._tmp_path_factory.mktemp("hypothesis"))
+
+
+def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
+    """``heavy``: the browser, notebook, training and soak tests (``slow`` ones included)."""
+    for item in items:
+        if item.path.name in HEAVY_FILES or item.get_closest_marker("slow"):
+            item.add_marker(pytest.mark.heavy)
