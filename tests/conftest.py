@@ -4,13 +4,25 @@ headless, and mark the heavy tests that the quick loop ``pytest -q -m "not heavy
 
 from __future__ import annotations
 
+import contextlib
 import os
 import sys
 from pathlib import Path
 
-# Before anything imports matplotlib: a headless backend. Gymnasium's import tries the TkAgg one
-# otherwise, and warns "matplotlib is not installed" where Tk is missing.
+# Plots headless (matplotlib's Agg backend). gymnasium.utils.play asks for TkAgg when imported, which
+# fails once pyplot is loaded on a machine without a display, and it then warns "matplotlib is not
+# installed": import it first, while pyplot is not loaded (the request only sets a name), then go
+# back to Agg.
 os.environ.setdefault("MPLBACKEND", "Agg")
+os.environ.setdefault("PYGAME_HIDE_SUPPORT_PROMPT", "1")
+with contextlib.suppress(Exception):  # no pygame (the play extra): the module does not load, and warns nothing
+    import gymnasium.utils.play  # noqa: E402, F401
+try:
+    import matplotlib  # noqa: E402
+except ImportError:
+    pass
+else:
+    matplotlib.use("Agg")
 
 import pytest  # noqa: E402
 
