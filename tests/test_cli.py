@@ -167,6 +167,24 @@ def test_animate_off_a_terminal_separates_frames_with_a_blank_line():
     assert out.text == "a\nb\n\nc\n"
 
 
+@pytest.mark.parametrize(("frames", "expected"), [
+    ([], ""),
+    (["a"], "a\n"),
+    (["a", "b"], "a\n\nb\n"),
+    (["a", "b", "c", "d"], "a\n\n(2 frames left out: one per step on a terminal, or every one here with --all-frames)\n\nd\n"),
+])
+def test_animate_into_a_log_shows_the_first_and_the_last_frame_and_counts_the_rest(frames, expected):
+    out = TextSink()
+    assert screen.animate(iter(frames), screen.Display(colour=False, clear=False, delay=0.0, ends_only=True), out) == len(frames)
+    assert out.text == expected
+
+
+@pytest.mark.parametrize(("tty", "all_frames", "ends_only"), [(True, False, False), (False, False, True), (False, True, False)])
+def test_only_a_log_without_all_frames_shows_the_ends(tty, all_frames, ends_only):
+    args = cli.build_parser().parse_args(["race"] + (["--all-frames"] if all_frames else []))
+    assert common.display_of(args, TextSink(tty=tty)).ends_only is ends_only
+
+
 @pytest.mark.parametrize(
     ("tty", "delay", "expected"), [(True, None, screen.DEFAULT_DELAY), (False, None, 0.0), (False, 0.5, 0.5)]
 )
