@@ -38,7 +38,7 @@ def test_the_package_has_no_import_circle(graph):
 
 
 def test_the_package_keeps_every_rule(graph):
-    # circles, upward and peer imports, imports of shims, modules over 500 lines, check_* outside checks.py
+    # circles, upward and peer imports, modules over 500 lines, check_* outside checks.py
     assert arch.problems(graph) == []
 
 
@@ -52,22 +52,20 @@ def test_the_rules_find_each_kind_of_break(tmp_path):
     (pkg / "core" / "a.py").write_text("from ..envs import b\n")  # upward
     # a deferred import back down: a circle; and a check_* outside a checks.py
     (pkg / "envs" / "b.py").write_text("def f():\n    from ..core import a\n\n\ndef check_x():\n    pass\n")
-    (pkg / "render" / "c.py").write_text("from ..checks import shown\n" + "x = 1\n" * 501)  # a shim, too long
-    (pkg / "checks.py").write_text("shown = repr\n")
+    (pkg / "render" / "c.py").write_text("from ..core import a\n" + "x = 1\n" * 501)  # too long
     (pkg / "stray.py").write_text("")  # a root module in no layer
     found = "\n".join(arch.problems(arch.import_graph(pkg), pkg))
     assert "circle: core.a <-> envs.b" in found
     assert "upward: core.a (core) -> envs.b (envs)" in found
-    assert "imports a shim: render.c -> checks" in found
     assert "long: render.c has 502 lines" in found
     assert "check outside checks.py: envs.b defines check_x" in found
     assert "unknown layer: stray" in found
 
 
-def test_the_root_holds_the_public_face_and_the_shims_only():
+def test_the_root_holds_the_public_face_only():
     face = {name for row in arch.LAYERS[-1:] for name in row}
     root = {p.stem for p in (ROOT / "babyrobot_marl").glob("*.py")}
-    assert root == face | {name for name in arch.DEPRECATED if "." not in name}
+    assert root == face
     subpackages = {p.parent.name for p in (ROOT / "babyrobot_marl").glob("*/__init__.py")}
     assert subpackages == {name for row in arch.LAYERS[:-1] for name in row}
 

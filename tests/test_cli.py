@@ -61,11 +61,32 @@ def test_play_shortest_on_the_default_level_reaches_the_exit_in_4_steps(capsys):
     out = capsys.readouterr().out
     seed, steps, ret, outcome = summary(out)
     assert (seed, steps, ret, outcome) == (0, DEFAULT_SHORTEST_STEPS, DEFAULT_SHORTEST_RETURN, "reached the exit")
-    # one frame after the reset and one after each step; the last shows the robot on the exit
+    # into a pipe: the first frame, how many were left out, the last (the robot on the exit) with the key, the summary
     frames = out.split("\n\n")
-    assert len(frames) == DEFAULT_SHORTEST_STEPS + 2  # + the summary
+    assert len(frames) == 4
     assert frames[0].splitlines()[1] == "|R    |"
-    assert frames[-2].splitlines()[5] == "|    R|"
+    left_out = "frames left out: one per step on a terminal, or every one here with --all-frames"
+    assert frames[1] == f"({DEFAULT_SHORTEST_STEPS - 1} {left_out})"
+    assert frames[2].splitlines()[5] == "|    R|"
+    assert frames[2].splitlines()[-1] == "key: R robot, +-| wall, S start, E exit"
+
+
+def test_play_all_frames_prints_one_frame_per_step_into_a_pipe(capsys):
+    assert run(["play", "--level", "default", "--policy", "shortest", "--seed", "0", "--no-delay", "--all-frames"]) == 0
+    frames = capsys.readouterr().out.split("\n\n")
+    assert len(frames) == DEFAULT_SHORTEST_STEPS + 2  # one after the reset, one per step, the summary
+    assert [f.count("step ") for f in frames[:-1]] == [1] * (DEFAULT_SHORTEST_STEPS + 1)
+
+
+def test_the_key_names_only_the_symbols_the_level_shows():
+    from babyrobot_marl import levels
+    from babyrobot_marl.render.ansi import symbols
+
+    assert symbols(levels.get("default")) == "key: +-| wall, S start, E exit"
+    race4 = symbols(levels.get("race-4"), "A..D robots")
+    for part in ("A..D robots", "# blocked cell", "* glass wall", "p/P small/large puddle", "0-3 numbered starts", "E exit"):
+        assert part in race4, part
+    assert "S start" not in race4 and "p/P" not in symbols(levels.get("glass"))
 
 
 def test_play_random_is_repeatable_with_the_same_seed_and_differs_with_another(capsys):
@@ -146,6 +167,24 @@ def test_animate_off_a_terminal_separates_frames_with_a_blank_line():
     assert out.text == "a\nb\n\nc\n"
 
 
+@pytest.mark.parametrize(("frames", "expected"), [
+    ([], ""),
+    (["a"], "a\n"),
+    (["a", "b"], "a\n\nb\n"),
+    (["a", "b", "c", "d"], "a\n\n(2 frames left out: one per step on a terminal, or every one here with --all-frames)\n\nd\n"),
+])
+def test_animate_into_a_log_shows_the_first_and_the_last_frame_and_counts_the_rest(frames, expected):
+    out = TextSink()
+    assert screen.animate(iter(frames), screen.Display(colour=False, clear=False, delay=0.0, ends_only=True), out) == len(frames)
+    assert out.text == expected
+
+
+@pytest.mark.parametrize(("tty", "all_frames", "ends_only"), [(True, False, False), (False, False, True), (False, True, False)])
+def test_only_a_log_without_all_frames_shows_the_ends(tty, all_frames, ends_only):
+    args = cli.build_parser().parse_args(["race"] + (["--all-frames"] if all_frames else []))
+    assert common.display_of(args, TextSink(tty=tty)).ends_only is ends_only
+
+
 @pytest.mark.parametrize(
     ("tty", "delay", "expected"), [(True, None, screen.DEFAULT_DELAY), (False, None, 0.0), (False, 0.5, 0.5)]
 )
@@ -170,7 +209,7 @@ def test_version_prints_the_package_version(capsys):
 
 BAD_INPUT = {
     "unknown level": (["play", "--level", "nope"], "unknown level 'nope'"),
-    "unknown policy": (["play", "--policy", "greedy"], "invalid choice: 'greedy'"),
+    "unknown policy": (["play", "--policy", "greedy"], "--policy: unknown policy 'greedy'; give random, shortest, keys or"),
     "negative seed": (["play", "--seed", "-1"], "--seed: must be an integer >= 0"),
     "seed not an integer": (["play", "--seed", "1.5"], "--seed: must be an integer >= 0"),
     "negative delay": (["play", "--delay", "-0.1"], "--delay: must be a number of seconds >= 0"),
@@ -186,7 +225,7 @@ BAD_INPUT = {
     "race unknown policy": (["race", "--policies", "shortest,greedy"], "unknown policy 'greedy'"),
     "race policies count": (["race", "--robots", "3", "--policies", "shortest,random"], "one policy for all robots or one per"),
     "race zero robots": (["race", "--robots", "0"], "--robots: must be an integer >= 1"),
-    "race too few starts": (["race", "--level", "race-2", "--robots", "3", "--start", "level"], "start='fill'"),
+    "race too few starts": (["race", "--level", "race-2", "--robots", "3", "--start", "level"], "pass --start fill"),
     "race unknown collisions": (["race", "--collisions", "crash"], "invalid choice: 'crash'"),
 }
 

@@ -147,6 +147,8 @@ def check_run(argv: list[str]) -> None:
     assert proc.returncode in (0, 2), f"exit status {proc.returncode} for {argv!r:.300}:\n{err[-2000:]}"
     if proc.returncode == 2:
         assert err.count("\n") == 1 and ERROR_LINE.match(err), f"not one error line for {argv!r:.300}:\n{err[-2000:]}"
+        # in the command line's words: its flags, never the Python arguments behind them
+        assert not re.search(r"\b(n_robots|max_cycles|max_steps|view_radius|near_radius)\b|\b(start|observe)=", err), err
 
 
 def test_every_special_level_file_is_an_answer_in_time_not_a_hang_or_traceback(level_files):

@@ -4,6 +4,7 @@ no traceback, no hang, nothing large allocated before the input is checked (issu
 from __future__ import annotations
 
 import os
+import re
 import subprocess
 import sys
 import tracemalloc
@@ -169,3 +170,48 @@ def test_races_at_the_limit_are_accepted_by_the_argument_parser():
     from babyrobot_marl.cli.checks import MAX_RACES, race_count
 
     assert race_count(str(MAX_RACES)) == MAX_RACES == 100_000
+
+
+# The library's errors name its Python arguments (n_robots, start='fill'); the command line's name its flags.
+PYTHON_NAMES = ("n_robots", "max_cycles", "max_steps", "view_radius", "near_radius", "start=", "observe=", "hint=")
+IN_FLAGS = {
+    "robots that do not fit": (["race", "--robots", "99"], "--robots: 99 robots do not fit"),
+    "robots that do not fit (train)": (["train", "--level", "default", "--robots", "40", "--steps", "10"], "--robots: 40 robots"),
+    "too few numbered starts": (["race", "--level", "race-2", "--robots", "3", "--start", "level"], "pass --start fill"),
+    "unknown level": (["play", "--level", "nope"], "--level: unknown level 'nope'"),
+    "unknown level (evaluate)": (["evaluate", "shortest", "--level", "nope"], "--level: unknown level 'nope'"),
+    "unknown level to show": (["levels", "nope"], "NAME: unknown level 'nope'"),
+    "maze side": (["play", "--level", "maze-0x0"], "--level 'maze-0x0': a maze side is an integer in 1..256"),
+    "missing policy file": (["play", "--policy", "gone.pt"], "--policy: no such file 'gone.pt'"),
+    "missing policy file (race)": (["race", "--policies", "shortest,gone.pt"], "--policies: no such file 'gone.pt'"),
+    "missing policy file (evaluate)": (["evaluate", "gone.pt"], "POLICY: no such file 'gone.pt'"),
+    "missing policy file (train)": (["train", "--steps", "10", "--load", "gone.pt"], "--load: no such file 'gone.pt'"),
+    "keys in evaluate": (["evaluate", "keys"], "'keys' (you at the keyboard) is for 'play --policy' and 'race --human'"),
+    "policies count": (["race", "--robots", "3", "--policies", "shortest,random"], "--policies: give one policy for all"),
+}
+
+
+@pytest.mark.parametrize(("argv", "message"), IN_FLAGS.values(), ids=IN_FLAGS.keys())
+def test_errors_name_the_command_lines_flags_not_pythons_arguments(argv, message, capsys):
+    assert run(argv) == 2
+    err = capsys.readouterr().err  # argparse's line names the command too: "babyrobot-marl play: error: ..."
+    assert "Traceback" not in err and err.count("\n") == 1 and re.match(r"babyrobot-marl( \w+)?: error: ", err), err
+    assert message in err
+    assert not any(name in err for name in PYTHON_NAMES), err
+    assert "invalid choice" not in err
+
+
+def test_a_policy_folder_is_refused_as_a_folder(capsys, tmp_path):
+    assert run(["play", "--policy", str(tmp_path)]) == 2
+    assert "is a folder, not a saved policy" in capsys.readouterr().err
+
+
+def test_flag_words_turns_python_arguments_into_flags():
+    from babyrobot_marl.cli.common import flag_words
+
+    assert flag_words("n_robots: 9 robots do not fit") == "--robots: 9 robots do not fit"
+    assert flag_words("start: use start='fill' or start='random'") == "--start: use --start fill or --start random"
+    assert flag_words("policy: trained on observe='local', view_radius=2, hint=True", "evaluate") == (
+        "POLICY: trained on --observe local, --view-radius 2, --hint")
+    assert flag_words("policy: x", "train") == "--load: x" and flag_words("level: unknown", "levels") == "NAME: unknown"
+    assert flag_words("a sentence about a level: kept") == "a sentence about a level: kept"

@@ -14,7 +14,8 @@ under it, exactly.
 Each ```` ```bash ```` block runs top to bottom in a temporary folder (holding links to
 ``examples/`` and ``benchmarks/``), every command in order, each exiting 0, except the
 commands ``NOT_RUN`` names: set-up lines (``pip install``, ``python3 -m venv``, ...), which
-``.ci/run`` runs word for word, CI's own commands, benchmarks (CI runs their quick modes; their
+``.ci/run`` runs word for word, getting the code (``git clone``, ``cd babyrobot_marl``),
+CI's own commands, benchmarks (CI runs their quick modes; their
 figures measure a stated machine) and a command whose comment starts ``# interactive`` (it
 waits for a person: a window, the keyboard, a server). ``# requires: EXTRA`` on a block's first
 line works as for Python blocks.
@@ -103,6 +104,7 @@ SHELL = [b for b in ALL if b.lang in ("bash", "sh", "shell")]
 # The commands of shell blocks that this test does not run, and why: narrow, by how a command starts.
 NOT_RUN = (
     (r"^(python3 -m venv |\. \.venv/bin/activate$|pip install |apt-get install )", "set-up: .ci/run runs it word for word"),
+    (r"^(git clone |cd babyrobot_marl$)", "getting the code: the tests run in a checkout"),
     (r"^pytest\b", "the suite itself: .ci/run runs it"),
     (r"^(bash \.ci/|mkdocs build )", "CI itself: .ci/run and .ci/docs.sh run it"),
     (r"^python benchmarks/", "a benchmark: .ci/run runs it in quick mode; its figures measure a stated machine"),
@@ -177,7 +179,12 @@ def test_block_parser_reads_fences_and_requires(tmp_path):
     assert found[2].text == "$ echo hi\nhi\n"
 
 
-@pytest.mark.parametrize("block", PYTHON, ids=lambda b: b.id)
+def params(found: list[Block]) -> list:
+    """The blocks as test parameters; a block that trains is ``heavy`` (the quick loop leaves it out)."""
+    return [pytest.param(b, id=b.id, marks=[pytest.mark.heavy] if "train" in required_extras(b) else []) for b in found]
+
+
+@pytest.mark.parametrize("block", params(PYTHON))
 def test_python_block_runs_alone(block, tmp_path, monkeypatch, capsys):
     why = missing_extra(block)
     if why:
@@ -260,7 +267,7 @@ python() { "$DOCS_PYTHON" "$@"; }
 SHELL_RUN = [b for b in SHELL if any(why is None for _, why in shell_commands(b))]
 
 
-@pytest.mark.parametrize("block", SHELL_RUN, ids=lambda b: b.id)
+@pytest.mark.parametrize("block", params(SHELL_RUN))
 def test_shell_block_runs_and_prints_what_the_page_claims(block, tmp_path):
     why = missing_extra(block)
     if why:

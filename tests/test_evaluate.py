@@ -126,7 +126,7 @@ def test_a_saved_policy_is_evaluated_and_refused_by_name_on_levels_it_cannot_rea
     inside_ranges(last["policy"], 2, 4 * 8 * 8)
     assert last["shortest"]["success_rate"] == 1.0
     code, out, err = cli(capsys, str(path), "--level", "maze:8..16", "--robots", "2")  # trained on one 8x8 level
-    assert code == 2 and out == "" and err.count("\n") == 1 and "policy: trained on a 8x8 level" in err
+    assert code == 2 and out == "" and err.count("\n") == 1 and "POLICY: trained on a 8x8 level" in err
 
 
 def test_a_saved_policy_samples_by_default_seeded_by_seed_and_takes_its_argmax_with_greedy(capsys, tmp_path):

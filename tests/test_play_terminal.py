@@ -137,6 +137,7 @@ def test_arrow_keys_drive_the_robot_to_the_exit_and_q_restores_the_terminal(prog
     assert len(moves) > 6
     p = program("play", "--level", "walls", "--policy", "keys", "--seed", "0")
     p.read_until("arrows/WASD move")
+    assert "key: R you, +-| wall, S start, E exit" in p.text  # the symbols on the screen, explained
     for k, a in enumerate(moves):
         p.type(ARROWS[a])
         p.read_until(rf"step {k + 1}/")  # every key is answered with a frame before the next one
@@ -172,6 +173,7 @@ def test_wasd_bump_restart_and_a_second_episode(program):
 def test_ctrl_c_ends_the_game_with_130_and_restores_the_terminal(program):
     p = program("play", "--level", "walls", "--policy", "keys", "--seed", "0")
     p.read_until("arrows/WASD move")
+    assert "key: R you, +-| wall, S start, E exit" in p.text  # the symbols on the screen, explained
     p.type("d")
     p.read_until("step 1/")
     p.type("\x03")  # the terminal's interrupt key: SIGINT to the game
@@ -215,6 +217,7 @@ def test_race_human_drives_robot_0_home_then_the_others_are_played_out(program, 
     p = program("race", "--level", str(level), "--robots", "2", "--policies", "random", "--collisions", "pass",
                 "--human", "0", "--seed", "3", "--delay", "0")  # fmt: skip
     p.read_until("you are A")
+    p.read_until("key: +-| wall")
     for k, a in enumerate(RACE_KEYS):
         p.type(ARROWS[a])
         p.read_until(rf"step {k + 1}/")

@@ -68,6 +68,8 @@ def test_the_legend_names_every_robot_and_explains_the_footer():
     lines = legend(["shortest", "shortest", "random", "random"])
     assert lines[0] == "robots: A robot_0 shortest  B robot_1 shortest  C robot_2 random  D robot_3 random"
     assert "'A#2': A finished 2nd" in lines[1]
+    board = legend(["shortest"] * 4, level=RaceEnv(level="race-4", n_robots=4).level)[1]
+    assert board.startswith("key: +-| wall, # blocked cell, * glass wall") and "E exit" in board
     many = legend(["random"] * 12)
     assert many[0] == "robots: A..L robot_0..robot_11 (12 random)"
 
@@ -99,7 +101,10 @@ def test_the_readme_race_on_a_terminal_stops_its_frames_once_every_place_is_know
     assert cli.main([*README_JOB, "--seed", str(seed), "--no-delay"]) == 0
     monkeypatch.undo()
     assert text[text.index("rank  robot"):] == pipe.text[pipe.text.index("rank  robot"):]
-    assert pipe.text.count("step ") == n_steps + 1 and f"{n_steps} steps" in text
+    assert f"{n_steps} steps" in text
+    # into a pipe: the first and the last frame, the legend once, the results
+    assert pipe.text.count("step ") == 3 and f"({n_steps - 1} frames left out" in pipe.text
+    assert pipe.text.count("robots: A robot_0 shortest") == 1 and "key: +-| wall, # blocked cell" in pipe.text
 
 
 def test_the_readme_race_is_watched_in_seconds_instead_of_until_the_last_random_robot_stops():

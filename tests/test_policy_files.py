@@ -178,7 +178,8 @@ def test_every_broken_field_is_one_error_line_and_status_2_from_every_command(br
                 "race": ["race", "--level", "race-4", "--policies", f"{path},shortest,shortest,shortest", "--no-delay"]}[command]
         assert run(argv) == 2, path.name
         captured = capsys.readouterr()
-        assert f"policy: {str(path)!r}" in one_error_line(captured.err), path.name
+        flag = {"play": "--policy", "train": "--load", "race": "--policies"}[command]  # the command's own flag
+        assert f"{flag}: {str(path)!r}" in one_error_line(captured.err), path.name
         assert "steps" not in captured.out  # refused before anything ran
 
 
@@ -188,7 +189,7 @@ def test_a_plain_pickle_is_one_line_without_torchs_warning(tmp_path):
     done = subprocess.run([sys.executable, "-m", "babyrobot_marl", "play", "--policy", str(path), "--no-delay"],
                           capture_output=True, text=True, cwd=ROOT, env=_env(), timeout=300)
     assert done.returncode == 2
-    assert one_error_line(done.stderr).startswith(f"babyrobot-marl: error: policy: {str(path)!r} is not a policy saved by")
+    assert one_error_line(done.stderr).startswith(f"babyrobot-marl: error: --policy: {str(path)!r} is not a policy saved by")
 
 
 # ---------------------------------------------------------------------------- item 4: race --races, no torch

@@ -69,25 +69,26 @@ def test_a_race_reports_win_and_tie_rates_and_its_policy_races(tmp_path, capsys)
 
 @pytest.mark.parametrize(("argv", "message"), [
     (["train", "--steps", "10", "--algo", "dqn"], "--algo dqn: only for one robot with --backend sb3"),
-    (["train", "--steps", "10", "--load", "nowhere.pt"], "policy: no such policy file 'nowhere.pt'"),
-    (["train", "--steps", "10", "--backend", "sb3", "--load", "x"], "--load: starting from a saved policy needs --backend fast"),
+    (["train", "--steps", "10", "--load", "nowhere.pt"], "argument --load: no such file 'nowhere.pt'"),
+    (["train", "--steps", "10", "--backend", "sb3", "--load", __file__],
+     "--load: starting from a saved policy needs --backend fast"),
     (["train", "--steps", "10", "--net-arch", "64,x"], "--net-arch: must be layer sizes"),
     (["train", "--steps", "10", "--gamma", "2"], "--gamma: must be a number in [0, 1]"),
     (["train", "--steps", "10", "--backend", "sb3", "--near-radius", "2"], "--near-radius: only the fast backend"),
     (["train", "--steps", "10", "--near-radius", "-1"], "--near-radius: "),
-    (["play", "--policy", "missing.pt"], "invalid choice: 'missing.pt'"),
-    (["train"], "--seconds: give either --steps N (timesteps) or --seconds T (a wall-clock budget), not neither"),
-    (["train", "--steps", "10", "--seconds", "5"], "--seconds: give either --steps N (timesteps) or --seconds T"),
+    (["play", "--policy", "missing.pt"], "argument --policy: no such file 'missing.pt'"),
+    (["train"], "--seconds: give either --steps N (timesteps) or --seconds SECONDS (a wall-clock budget), not neither"),
+    (["train", "--steps", "10", "--seconds", "5"], "--seconds: give either --steps N (timesteps) or --seconds SECONDS"),
     (["train", "--seconds", "5", "--backend", "sb3"], "--seconds: only the fast backend has it"),
     (["train", "--level", "maze:8..16", "--robots", "4", "--seconds", "5"], "--observe: a level family (maze:8..16) trains"),
     (["train", "--level", "maze:8..16", "--robots", "4", "--seconds", "5", "--observe", "local", "--collisions", "x"],
      "--collisions: invalid choice: 'x'"),
-    (["train", "--level", "maze:9..8", "--robots", "4", "--seconds", "5", "--observe", "local"], "level: "),
+    (["train", "--level", "maze:9..8", "--robots", "4", "--seconds", "5", "--observe", "local"], "--level: "),
     (["train", "--steps", "10", "--hint"], "--hint: only with --observe local"),
     (["train", "--steps", "10", "--memory"], "--memory: only with --observe local"),
     (["train", "--steps", "10", "--collisions", "bounce"], "--collisions: a lone robot (--robots 1) meets nobody"),
     (["train", "--level", "maze:8..8", "--robots", "2", "--steps", "10", "--observe", "local", "--view-radius", "9"],
-     "view_radius"),
+     "--view-radius"),
 ])
 def test_bad_train_input_is_one_line_and_status_2(argv, message, capsys):
     assert run(argv) == 2

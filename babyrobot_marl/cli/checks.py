@@ -17,7 +17,6 @@ from .. import policies
 from ..core.checks import check_batch, shown
 from ..levels.sources import parse_level_family
 from ..training.checks import MAX_LAYER_SIZE, MAX_LAYERS
-from ..training.policy import is_policy_spec
 
 MAX_RACES = 100_000  # races of one `race --races N`: run one after another, each kept for the table
 
@@ -105,24 +104,57 @@ def level_spec(text: str) -> str:
     return text
 
 
+def _policy_problem(text: str, scripted: tuple[str, ...]) -> str | None:
+    """Why ``text`` names no policy a command takes (``scripted`` names, or a saved policy's file), or None."""
+    if text in scripted:
+        return None
+    try:
+        is_dir, is_file = os.path.isdir(text), os.path.isfile(text)
+    except (OSError, ValueError):  # a NUL byte, a name too long for a path
+        is_dir, is_file = False, False
+    if is_file:
+        return None
+    choices = (f"{', '.join(scripted)} or " if scripted else "") + "the path of a policy saved by 'train --save'"
+    if is_dir:
+        return f"{shown(text)} is a folder, not a saved policy; give {choices}"
+    if text == "keys":
+        return f"'keys' (you at the keyboard) is for 'play --policy' and 'race --human'; give {choices}"
+    if os.sep in text or "." in text:  # meant as a file
+        return f"no such file {shown(text)}; give {choices}"
+    return f"unknown policy {shown(text)}; give {choices}"
+
+
+def policy_file(text: str) -> str:
+    """``train --load``: the path of a saved policy, which must exist now."""
+    problem = _policy_problem(text, ())
+    if problem:
+        raise argparse.ArgumentTypeError(problem if "folder" in problem else f"no such file {shown(text)}")
+    return text
+
+
 def policy_spec(text: str) -> str:
-    """``--policy``: a scripted policy, ``keys`` (you drive), or the path of a saved policy."""
-    if text != "keys" and not is_policy_spec(text):
-        raise argparse.ArgumentTypeError(
-            f"invalid choice: {shown(text)} (choose from {', '.join(policies.POLICY_NAMES)}, keys, or the path of a saved policy)"
-        )
+    """``play --policy``: a scripted policy, ``keys`` (you drive), or the path of a saved policy."""
+    problem = _policy_problem(text, (*policies.POLICY_NAMES, "keys"))
+    if problem:
+        raise argparse.ArgumentTypeError(problem)
+    return text
+
+
+def crowd_policy(text: str) -> str:
+    """``evaluate POLICY``: a scripted policy or the path of a saved policy (no keyboard: nobody plays 200 episodes)."""
+    problem = _policy_problem(text, tuple(policies.POLICY_NAMES))
+    if problem:
+        raise argparse.ArgumentTypeError(problem)
     return text
 
 
 def policy_list(text: str) -> list[str]:
-    """``random,shortest,...``: scripted policy names or saved policies' paths, comma-separated."""
+    """``race --policies``: scripted policy names or saved policies' paths, comma-separated."""
     names = [p.strip() for p in text.split(",")]
-    bad = [p for p in names if not is_policy_spec(p)]
-    if bad:
-        raise argparse.ArgumentTypeError(
-            f"unknown policy {shown(bad[0])}; give a comma-separated list of {', '.join(policies.POLICY_NAMES)} "
-            "or paths of saved policies"
-        )
+    for name in names:
+        problem = _policy_problem(name, tuple(policies.POLICY_NAMES))
+        if problem:
+            raise argparse.ArgumentTypeError(f"{problem} (a comma-separated list, one per robot or one for all)")
     return names
 
 
@@ -155,7 +187,7 @@ def check_train_args(args: argparse.Namespace, n_envs: int, family: bool = False
     """What ``train``'s argument types cannot check alone, before any training (errors name the flags);
     ``n_envs``: the envs of one rollout of the chosen backend; ``family``: ``--level`` is a level family."""
     if (args.steps is None) == (args.seconds is None):
-        raise ValueError("--seconds: give either --steps N (timesteps) or --seconds T (a wall-clock budget), "
+        raise ValueError("--seconds: give either --steps N (timesteps) or --seconds SECONDS (a wall-clock budget), "
                          f"not {'both' if args.steps is not None else 'neither'}")
     fast_only = [flag for flag, on in (("--seconds", args.seconds is not None), ("--observe local", args.observe == "local"),
                                        ("--collisions", args.collisions is not None)) if on]

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import re
 from typing import NoReturn, TextIO
 
 from ..play.screen import DEFAULT_DELAY, Display, isatty
@@ -29,16 +30,51 @@ def one_line(err: BaseException | str, limit: int = 1000) -> str:
     return text if len(text) <= limit else f"{text[: limit - 40]}... ({len(text):,} characters)"
 
 
+# The envs' and trainers' argument names, as the command line spells them: an error from below names the flag
+FLAGS = {
+    "n_robots": "--robots", "max_cycles": "--max-cycles", "max_steps": "--max-steps", "view_radius": "--view-radius",
+    "near_radius": "--near-radius", "collisions": "--collisions", "start": "--start", "observe": "--observe",
+    "hint": "--hint", "memory": "--memory", "seed": "--seed", "level": "--level",
+}
+# the flag that names a policy, by command (a saved policy's errors start "policy:"); `levels` takes a NAME
+POLICY_FLAGS = {"play": "--policy", "race": "--policies", "evaluate": "POLICY", "train": "--load"}
+LEVEL_FLAGS = {"levels": "NAME"}
+
+
+def _flag_value(m: re.Match) -> str:
+    return f"{FLAGS[m[1]]} {m[2] if m[2] is not None else m[3]}"
+
+
+def flag_words(message: str, command: str | None = None) -> str:
+    """An error of the Python API in the command line's words: ``n_robots: ...`` becomes ``--robots: ...``,
+    ``start='fill'`` becomes ``--start fill``, ``hint=True`` becomes ``--hint``."""
+    names = "|".join(FLAGS)
+    text = re.sub(rf"\b({names})=(True|False)\b", lambda m: FLAGS[m[1]] if m[2] == "True" else f"no {FLAGS[m[1]]}", message)
+    text = re.sub(rf"\b({names})=(?:'([^']*)'|([^\s,;)]+))", _flag_value, text)
+    text = re.sub(r"\b(n_robots|max_cycles|max_steps|view_radius|near_radius)\b", lambda m: FLAGS[m[1]], text)
+    level = LEVEL_FLAGS.get(command or "", "--level")
+    text = re.sub(r"^level( file| text)?\b", lambda m: level + (m[1] or ""), text)
+    text = re.sub(r"^((?:--level|NAME) '[^']*'): (width|height): ", r"\1: ", text)  # a maze name's side
+    text = text.removesuffix(", or pass a Level or a level text")  # Python's other ways to give a level
+    first, colon, rest = text.partition(":")
+    if colon and first in FLAGS:
+        return FLAGS[first] + colon + rest
+    if colon and first == "policy" and command in POLICY_FLAGS:
+        return POLICY_FLAGS[command] + colon + rest
+    return text
+
+
 # ------------------------------------------------------------------------ shared arguments
-def add_level_arg(p: argparse.ArgumentParser, default: str = "default") -> None:
+def add_level_arg(p: argparse.ArgumentParser, default: str = "default", family: str = "a new square maze of side A..B "
+                  "for every episode, drawn from --seed") -> None:
+    """``--level``; ``family`` says what ``maze:A..B`` gives this command (a command of one level: that level)."""
     p.add_argument(
         "--level",
         default=default,
         type=level_spec,
         metavar="NAME|FILE|maze:A..B",
         help=f"a built-in level (see '{PROG} levels'), maze-WxH[-sSEED], the path of a level text file or of a "
-        "MovingAI .map file, a grid map (rows of '.' and '#'; it has no exit), or maze:A..B: "
-        f"a new square maze of side A..B for every episode, drawn from --seed (default: {default})",
+        f"MovingAI .map file, a grid map (rows of '.' and '#'; it has no exit), or maze:A..B: {family} (default: {default})",
     )
 
 
@@ -63,6 +99,8 @@ def add_display_args(p: argparse.ArgumentParser) -> None:
         help=f"pause between frames (default: {DEFAULT_DELAY} on a terminal, 0 when the output is a file or pipe)",
     )
     delay.add_argument("--no-delay", dest="delay", action="store_const", const=0.0, help="no pause between frames")
+    p.add_argument("--all-frames", action="store_true",
+                   help="into a file or pipe, print every frame (default there: the first and the last)")
     p.add_argument("--no-color", action="store_true", help="no ANSI colours (also: set the NO_COLOR environment variable)")
 
 
@@ -70,7 +108,7 @@ def display_of(args: argparse.Namespace, out: TextIO) -> Display:
     tty = isatty(out)
     colour = tty and not args.no_color and not os.environ.get("NO_COLOR")
     delay = args.delay if args.delay is not None else (DEFAULT_DELAY if tty else 0.0)
-    return Display(colour=colour, clear=tty, delay=delay)
+    return Display(colour=colour, clear=tty, delay=delay, ends_only=not tty and not args.all_frames)
 
 
 def fresh_seed() -> int:

@@ -10,7 +10,7 @@ from importlib import metadata
 
 from ..training.deps import MissingTrainExtraError
 from . import evaluate, levels, play, race, solve, train
-from .common import EXIT_INTERRUPTED, EXIT_USAGE, PROG, Parser, one_line
+from .common import EXIT_INTERRUPTED, EXIT_USAGE, PROG, Parser, flag_words, one_line
 
 COMMANDS = (levels, play, race, solve, train, evaluate)  # each: add_parser(sub) and run(args, out)
 
@@ -46,8 +46,8 @@ def main(argv: list[str] | None = None) -> int:
     except MissingTrainExtraError as err:  # e.g. a saved policy without torch: how to install it, on one line
         print(f"{PROG}: error: {one_line(err)}", file=sys.stderr)
         return EXIT_USAGE
-    except (ValueError, TypeError) as err:
-        print(f"{PROG}: error: {one_line(err)}", file=sys.stderr)
+    except (ValueError, TypeError) as err:  # the library names its arguments: say the flags instead
+        print(f"{PROG}: error: {flag_words(one_line(err), args.command)}", file=sys.stderr)
         return EXIT_USAGE
     except KeyboardInterrupt:
         print(file=sys.stderr)

@@ -9,7 +9,7 @@ from typing import Any, TextIO
 from ..core.goals import GOAL_MODES
 from ..core.rules import COLLISION_MODES
 from ..policies import POLICY_NAMES
-from .checks import SEED_HELP, check_race_flags, int_in, output_path, policy_spec, positive_int, seed_int
+from .checks import SEED_HELP, check_race_flags, crowd_policy, int_in, output_path, positive_int, seed_int
 from .common import add_level_arg
 
 MAX_EPISODES = 100_000  # episodes of one run, each kept for the metrics
@@ -24,13 +24,14 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
         "sum_of_costs and makespan with 95% intervals; the last line is one JSON object "
         '{"policy": M, "shortest": M, "random": M}.',
     )
-    p.add_argument("policy", type=policy_spec, metavar="POLICY",
+    p.add_argument("policy", type=crowd_policy, metavar="POLICY",
                    help="the path of a policy saved by 'train --save' (or shortest, random: a scripted crowd)")
     add_level_arg(p, default="maze:8..16")
     p.add_argument("--robots", type=positive_int, default=4, metavar="N", help="robots in each episode (default: 4)")
-    p.add_argument("--episodes", type=int_in(1, MAX_EPISODES, " (episodes run one after another)"), default=200, metavar="E",
+    p.add_argument("--episodes", type=int_in(1, MAX_EPISODES, " (episodes run one after another)"), default=200, metavar="N",
                    help="seeded episodes per crowd (default: 200)")
-    p.add_argument("--seed", type=seed_int, default=0, metavar="S", help=f"episode i resets with S + i, {SEED_HELP} (default: 0)")
+    p.add_argument("--seed", type=seed_int, default=0, metavar="N",
+                   help=f"episode i resets with seed N + i, {SEED_HELP} (default: 0)")
     p.add_argument("--collisions", choices=COLLISION_MODES, default="block", help="collision rule (default: block)")
     p.add_argument("--goals", choices=GOAL_MODES, default="exit",
                    help="exit: the robots race to the exits (default); own: each robot has its own target cell, drawn "
@@ -38,8 +39,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--lifelong", action="store_true",
                    help="with --goals own: a robot on its target gets a new one and keeps going; adds throughput "
                    "(targets reached per step)")
-    p.add_argument("--plot", type=output_path, default=None, metavar="FILE.png",
-                   help="also draw the metrics with their intervals to this image (matplotlib: the plot extra)")
+    p.add_argument("--plot", type=output_path, default=None, metavar="PATH",
+                   help="also draw the metrics with their intervals to this PNG image (matplotlib: the plot extra)")
     p.add_argument("--greedy", action="store_true",
                    help="a saved policy takes its most likely action (default: it samples its actions, seeded by --seed: "
                    "a memoryless policy that always takes the same action where its views look alike can loop)")

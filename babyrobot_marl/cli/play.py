@@ -11,7 +11,7 @@ from ..core.actions import Action
 from ..core.outcomes import OUTCOME_NAMES
 from ..envs.single import BabyRobotEnv
 from ..play.screen import animate
-from ..render.ansi import frame
+from ..render.ansi import frame, symbols
 from ..training.policy import make_policy
 from .checks import policy_spec, positive_int
 from .common import add_display_args, add_level_arg, add_seed_arg, display_of, fresh_seed
@@ -54,10 +54,11 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=run)
 
 
-def _episode_frames(env: BabyRobotEnv, policy: Callable, summary: EpisodeSummary, colour: bool) -> Iterator[str]:
-    """Run one episode, yielding a frame after the reset and after every step."""
+def _episode_frames(env: BabyRobotEnv, policy: Callable, summary: EpisodeSummary, colour: bool, key: str = "") -> Iterator[str]:
+    """Run one episode, yielding a frame after the reset and after every step (``key``: a line under each)."""
     obs, _ = env.reset(seed=summary.seed)
-    yield frame(env.level, [env.robot_cell], f"step 0/{env.max_steps}  return 0", colour=colour)
+    key = f"\n{key}" if key else ""
+    yield frame(env.level, [env.robot_cell], f"step 0/{env.max_steps}  return 0{key}", colour=colour)
     while True:
         action = policy(obs)
         obs, reward, terminated, truncated, info = env.step(action)
@@ -65,7 +66,7 @@ def _episode_frames(env: BabyRobotEnv, policy: Callable, summary: EpisodeSummary
         summary.ret += reward
         summary.reached_exit = terminated
         outcome = OUTCOME_NAMES[info["outcome"]]
-        status = f"step {summary.steps}/{env.max_steps}  return {summary.ret:g}  {Action(action).name} -> {outcome}"
+        status = f"step {summary.steps}/{env.max_steps}  return {summary.ret:g}  {Action(action).name} -> {outcome}{key}"
         yield frame(env.level, [env.robot_cell], status, colour=colour)
         if terminated or truncated:
             return
@@ -82,7 +83,10 @@ def run(args: argparse.Namespace, out: TextIO) -> int:
     policy = make_policy(args.policy, env.table, seed, env=env)  # a saved policy reads this env's observations
     display = display_of(args, out)
     summary = EpisodeSummary(seed=seed)
-    animate(_episode_frames(env, policy, summary, display.colour), display, out)
+    key = symbols(env.level, "R robot")
+    animate(_episode_frames(env, policy, summary, display.colour, key if display.clear else ""), display, out)
+    if not display.clear:  # a log: the key once, under the frames
+        out.write(f"{key}\n")
     outcome = "reached the exit" if summary.reached_exit else f"did not reach the exit (truncated after {env.max_steps} steps)"
     out.write(
         f"\nlevel {level.name or args.level}, policy {args.policy}, seed {seed}: "

@@ -92,7 +92,7 @@ def run(args: argparse.Namespace, out: TextIO) -> int:
     family = parse_level_family(args.level) is not None  # maze:A..B: a new maze every race, drawn by the env
     level = args.level if family else load_level(args.level)
     if len(args.policies) not in (1, args.robots):
-        raise ValueError(f"policies: give one policy for all robots or one per robot ({args.robots}), got {len(args.policies)}")
+        raise ValueError(f"--policies: give one policy for all robots or one per robot ({args.robots}), got {len(args.policies)}")
     names = args.policies * args.robots if len(args.policies) == 1 else args.policies
     # The env checks the robots against the level's starts and free cells before anything per robot exists;
     # it shows the observations the saved policies read
@@ -123,8 +123,11 @@ def run(args: argparse.Namespace, out: TextIO) -> int:
         from ..play.watch import watch_race
 
         watch_race(env, robot_policies, seed, frames, names, display.delay, display.colour, out)
-    else:
+    else:  # a file or pipe: the frames, then the key once
+        from ..play.watch import legend
+
         animate(frames, display, out)
+        out.write("\n".join(legend(names, level=env.level)) + "\n")
     name = f"{env.level.name} (from {args.level})" if family else level.name or args.level
     out.write(
         f"\nrace on {name}, {args.robots} robots, collisions {args.collisions}, seed {seed}, "

@@ -17,11 +17,11 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
         description="Dynamic programming on the exact model of one robot: prints the value grid and the greedy policy "
         "as arrows (o: STAY, E: exit, #: blocked, .: no exit reachable).",
     )
-    add_level_arg(p)
+    add_level_arg(p, family="one square maze of side A..B, drawn from --seed")
     p.add_argument("--method", choices=("value", "policy"), default="value", help="value or policy iteration (default: value)")
-    p.add_argument("--gamma", type=probability, default=1.0, metavar="G", help="discount in (0, 1] (default: 1)")
+    p.add_argument("--gamma", type=probability, default=1.0, metavar="X", help="discount in (0, 1] (default: 1)")
     p.add_argument(
-        "--theta", type=positive_float, default=1e-9, metavar="T", help="stop when no value moves by T (default: 1e-9)"
+        "--theta", type=positive_float, default=1e-9, metavar="X", help="stop when no value moves by X (default: 1e-9)"
     )
     p.add_argument("--decimals", type=int_at_least(0), default=1, metavar="N", help="decimals of the values (default: 1)")
     p.add_argument("--seed", type=seed_int, default=0, metavar="N",

@@ -51,6 +51,7 @@ from .checks import (
     non_negative_float,
     non_negative_int,
     output_path,
+    policy_file,
     positive_float,
     positive_int,
     seed_int,
@@ -89,12 +90,12 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--robots", type=positive_int, default=1, metavar="N", help="1: single robot; more: a race (default: 1)")
     p.add_argument("--steps", type=positive_int, default=None, metavar="N",
                    help="training timesteps (one per robot per step); or --seconds")
-    p.add_argument("--seconds", type=positive_float, default=None, metavar="T",
-                   help="fast backend: train for T seconds of wall-clock time (rollouts and updates) instead of --steps")
+    p.add_argument("--seconds", type=positive_float, default=None, metavar="SECONDS",
+                   help="fast backend: train for SECONDS of wall-clock time (rollouts and updates) instead of --steps")
     p.add_argument("--observe", choices=("global", "local"), default="global",
                    help="fast backend: what the net reads; 'local' (needed for a level family, --level maze:A..B): the "
                    "local window of --view-radius, which any maze shows alike (default: global, the robot's cell)")
-    p.add_argument("--view-radius", type=non_negative_int, default=None, metavar="R",
+    p.add_argument("--view-radius", type=non_negative_int, default=None, metavar="N",
                    help="--observe local: the window's radius, as race_v0's view_radius (default: 2)")
     p.add_argument("--hint", action="store_true", help="--observe local: the net also reads the goal hint (race_v0's hint=True)")
     p.add_argument("--memory", action="store_true",
@@ -110,7 +111,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                    help="final evaluation: episodes (one robot, default 20) or races per opponent (default 100)")
     p.add_argument("--save", type=output_path, metavar="PATH",
                    help="save the trained policy to exactly PATH (fast: a torch file; sb3: SB3's zip); its folder must exist")
-    p.add_argument("--load", metavar="PATH", help="fast backend: start from a policy saved by --save")
+    p.add_argument("--load", type=policy_file, metavar="PATH", help="fast backend: start from a policy saved by --save")
     p.add_argument("--gif", type=output_path, metavar="PATH", help="single robot: write a GIF of the learnt policy here")
     p.add_argument("--curve", type=output_path, metavar="PATH", help="write the learning curve here as a PNG")
     p.add_argument("--threads", type=non_negative_int, default=1, metavar="N",

@@ -24,11 +24,13 @@ SHOW_CURSOR = "\x1b[?25h"
 
 @dataclass(frozen=True)
 class Display:
-    """How frames reach the terminal: colour, clearing between frames, pause between frames."""
+    """How frames reach the terminal: colour, clearing between frames, pause between frames; ``ends_only``:
+    in a file or pipe, the first and the last frame (a log reader wants the outcome, not every step)."""
 
     colour: bool
     clear: bool
     delay: float
+    ends_only: bool = False
 
 
 def isatty(out: TextIO) -> bool:
@@ -44,8 +46,11 @@ def animate(frames: Iterable[str], display: Display, out: TextIO, sleep: Callabl
     On a terminal (``display.clear``) each frame is redrawn in place: cursor home, the frame
     with every line cleared to its end, the rest of the screen cleared (no flicker from a full
     clear). Elsewhere frames follow each other, separated by a blank line, so a log reads top
-    to bottom.
+    to bottom; with ``display.ends_only``, only the first and the last, with a line saying how many
+    lie between.
     """
+    if display.ends_only and not display.clear:
+        return _ends(frames, out)
     n = 0
     if display.clear:
         out.write(HIDE_CURSOR + CLEAR_SCREEN)
@@ -63,6 +68,21 @@ def animate(frames: Iterable[str], display: Display, out: TextIO, sleep: Callabl
         if display.clear:
             out.write(SHOW_CURSOR)
             out.flush()
+    return n
+
+
+def _ends(frames: Iterable[str], out: TextIO) -> int:
+    """The first and the last of ``frames``, and how many were left out between them; returns how many there were."""
+    n, last = 0, None
+    for text in frames:
+        if n == 0:
+            out.write(text + "\n")
+            out.flush()
+        last, n = text, n + 1
+    if n > 1:
+        between = f"({n - 2:,} frames left out: one per step on a terminal, or every one here with --all-frames)\n\n"
+        out.write(("\n" + between if n > 2 else "\n") + last + "\n")
+    out.flush()
     return n
 
 

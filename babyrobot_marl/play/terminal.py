@@ -21,7 +21,7 @@ from ..core.checks import check_int
 from ..envs.keys import HELP, QUIT, RESTART, Command, decode
 from ..envs.race import RaceEnv
 from ..envs.single import BabyRobotEnv
-from ..render.ansi import frame
+from ..render.ansi import frame, symbols
 from .game import RaceGame, SingleGame
 from .screen import CLEAR_SCREEN, HIDE_CURSOR, SHOW_CURSOR, draw
 from .watch import schedule, settled_step
@@ -39,7 +39,7 @@ def require_terminal(stdin: Any, stdout: Any, what: str) -> int:
     if not ok:
         raise ValueError(
             f"{what}: the keyboard game needs an interactive terminal, and stdin or stdout is not one "
-            "(run it in a terminal; to watch scripted robots use --policy shortest or random)"
+            "(run it in a terminal; to watch scripted robots, leave out --human)"
         )
     try:
         import termios  # noqa: F401  (POSIX only)
@@ -141,7 +141,7 @@ def _exit_on_signal(signum: int, _frame: object) -> None:
 
 # ------------------------------------------------------------------------ one robot
 def single_screen(game: SingleGame, title: str, colour: bool) -> str:
-    status = "\n".join([*game.status(), HELP])
+    status = "\n".join([*game.status(), HELP, symbols(game.env.level, "R you")])
     return f"{title}\n" + frame(game.env.level, game.robots, status, colour=colour)
 
 
@@ -171,7 +171,7 @@ def play_keys(env: BabyRobotEnv, seed: int, name: str, colour: bool, out: TextIO
 # ------------------------------------------------------------------------ a race
 def race_screen(game: RaceGame, title: str, colour: bool, extra: Sequence[str] = ()) -> str:
     hint = "arrows/WASD move, space stay, r restart, q quit" if game.driven_racing else "r restart, q quit"
-    status = "\n".join([*game.status(), *extra, hint])
+    status = "\n".join([*game.status(), *extra, hint, symbols(game.env.level)])
     return f"{title}\n" + frame(game.env.level, game.robots, status, colour=colour)
 
 

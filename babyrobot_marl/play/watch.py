@@ -20,7 +20,7 @@ import time
 from collections.abc import Callable, Iterable, Sequence
 from typing import Any, TextIO
 
-from ..render.ansi import ROBOT_COLOURS, robot_glyph
+from ..render.ansi import ROBOT_COLOURS, robot_glyph, symbols
 from .screen import CLEAR_SCREEN, HIDE_CURSOR, SHOW_CURSOR, draw
 
 OPENING = 6  # the first steps at full speed: everyone leaves the start
@@ -82,8 +82,9 @@ def play_ahead(env: Any, robot_policies: Sequence[Callable], seed: int) -> tuple
     return finish, env.elapsed_steps
 
 
-def legend(names: Sequence[str], colour: bool = False) -> list[str]:
-    """Two lines under the frame: which letter is which robot (and policy), and what the footer says."""
+def legend(names: Sequence[str], colour: bool = False, level: Any = None) -> list[str]:
+    """Two lines under the frame: which letter is which robot (and policy), and what the level's symbols
+    (``level``: those it uses; else the exit and puddles) and the footer say."""
     n = len(names)
 
     def glyph(i: int) -> str:
@@ -96,7 +97,8 @@ def legend(names: Sequence[str], colour: bool = False) -> list[str]:
         counts = {p: names.count(p) for p in dict.fromkeys(names)}
         robots = f"{glyph(0)}..{glyph(n - 1)} robot_0..robot_{n - 1} (" + ", ".join(f"{c} {p}" for p, c in counts.items()) + ")"
     first = robot_glyph(0, n)
-    return [f"robots: {robots}", f"E exit, p/P puddle; footer '{first}#2': {first} finished 2nd and left the board"]
+    board = symbols(level) if level is not None else "E exit, p/P puddle"
+    return [f"robots: {robots}", f"{board}; footer '{first}#2': {first} finished 2nd and left the board"]
 
 
 def watch_race(
@@ -119,7 +121,7 @@ def watch_race(
     finish, n_steps = play_ahead(env, robot_policies, seed)
     plan = schedule(finish, n_steps, delay)
     end = len(plan)
-    foot = legend(names, colour)
+    foot = legend(names, colour, env.level)
     it = iter(frames)
     out.write(HIDE_CURSOR + CLEAR_SCREEN)
     try:

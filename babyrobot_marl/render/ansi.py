@@ -30,6 +30,32 @@ def _level_text(level: Level) -> str:  # once per level: a 256x256 level's text 
     return level.to_ascii(starts=len(level.starts) <= MAX_TEXT_STARTS)  # more starts than digits: plain floor
 
 
+def symbols(level: Level, robots: str = "") -> str:
+    """One line naming the symbols ``level``'s text frame uses (only those), after ``robots`` (e.g. "R you")."""
+    text = _level_text(level)
+    lines = text.split("\n")
+    cells = {ch for line in lines[1::2] for ch in line[1::2]}  # cell slots: odd lines, odd columns
+    slots = {ch for y, line in enumerate(lines) for x, ch in enumerate(line) if (x + y) % 2}  # edge slots
+    digits = sorted(ch for ch in cells if ch.isdigit())
+    puddles = "/".join(ch for ch in "pP" if ch in cells)
+    parts = [robots] if robots else []
+    parts += ["+-| wall"]
+    wall_hash, cell_hash = "#" in slots, "#" in cells
+    if wall_hash or cell_hash:
+        parts.append("# " + " or ".join(w for w, on in (("wall", wall_hash), ("blocked cell", cell_hash)) if on))
+    if "*" in slots:
+        parts.append("* glass wall (sometimes passed)")
+    if puddles:
+        parts.append(f"{puddles} {'small/large ' if len(puddles) > 1 else ('small ' if puddles == 'p' else 'large ')}puddle")
+    if digits:
+        parts.append(f"{digits[0]}-{digits[-1]} numbered starts" if len(digits) > 1 else f"{digits[0]} a start")
+    if "S" in cells:
+        parts.append("S start")
+    if "E" in cells:
+        parts.append("E exit")
+    return "key: " + ", ".join(parts)
+
+
 def frame(level: Level, robots: Sequence[Cell | None], status: str = "", colour: bool = False) -> str:
     """The level as text with robot ``i`` drawn at ``robots[i]`` (``None``: off the board).
 

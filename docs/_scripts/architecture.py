@@ -3,8 +3,7 @@ and the picture on the site's architecture page.
 
 The layers are written in ``pyproject.toml`` (``[tool.babyrobot_marl] layers``, bottom row first). The
 rule: a module imports only its own subpackage or a lower row; peers on one row never import each
-other (the top row, the public face, excepted: ``__init__`` re-exports ``race_v0``); nothing in the
-package imports a deprecated shim. Every import counts, deferred ones and those
+other (the top row, the public face, excepted: ``__init__`` re-exports ``race_v0``). Every import counts, deferred ones and those
 under ``TYPE_CHECKING`` too (a circle is a circle to a reader), and a package's ``__init__`` is a module
 like any other. Standard library only (``ast``, ``tomllib``, ``graphlib``).
 
@@ -34,10 +33,10 @@ def _config(pyproject: Path = ROOT / "pyproject.toml") -> dict:
     text = pyproject.read_text(encoding="utf-8")
     try:
         import tomllib
-    except ImportError:  # Python 3.10: the two lists are plain literals
+    except ImportError:  # Python 3.10: the list is a plain literal
         block = text.split("[tool.babyrobot_marl]", 1)[1]
         out = {}
-        for key in ("layers", "deprecated"):
+        for key in ("layers",):
             found = re.search(rf"^{key}\s*=\s*(\[.*?\])\s*(#.*)?$", block, re.S | re.M)
             out[key] = ast.literal_eval(re.sub(r"#[^\n]*", "", found.group(1)))
         return out
@@ -46,7 +45,6 @@ def _config(pyproject: Path = ROOT / "pyproject.toml") -> dict:
 
 CONFIG = _config()
 LAYERS: list[list[str]] = CONFIG["layers"]
-DEPRECATED: list[str] = CONFIG["deprecated"]
 
 
 def _modules(pkg_dir: Path) -> dict[str, Path]:
@@ -109,9 +107,7 @@ def import_graph(pkg_dir: Path = PKG_DIR) -> dict[str, set[str]]:
 
 
 def layer_of(module: str) -> str:
-    """The layer a module belongs to: its subpackage, a face module's own name, or "deprecated"."""
-    if module in DEPRECATED:
-        return "deprecated"
+    """The layer a module belongs to: its subpackage, or a face module's own name."""
     head = module.split(".")[0]
     if module.count(".") == 0 and module not in {m for row in LAYERS for m in row}:
         return module  # an unknown root module: problems() names it
@@ -183,18 +179,16 @@ def check_definers(pkg_dir: Path = PKG_DIR) -> dict[str, list[str]]:
 
 
 def problems(graph: dict[str, set[str]], pkg_dir: Path = PKG_DIR) -> list[str]:
-    """Every break of the rules, one line each: circles, upward or peer edges, imports of shims,
+    """Every break of the rules, one line each: circles, upward or peer edges,
     modules over MAX_LINES lines, check_* defined outside a checks.py, unknown root modules."""
     out = [f"circle: {' <-> '.join(c)}" for c in circles(graph)]
     for mod in sorted(graph):
         src = layer_of(mod)
-        if src != "deprecated" and _row(src) is None:
-            out.append(f"unknown layer: {mod} (add it to [tool.babyrobot_marl] layers or deprecated)")
+        if _row(src) is None:
+            out.append(f"unknown layer: {mod} (add it to [tool.babyrobot_marl] layers)")
         for dep in sorted(graph[mod]):
             dst = layer_of(dep)
-            if dst == "deprecated" and src != "deprecated":
-                out.append(f"imports a shim: {mod} -> {dep}")
-            if src == "deprecated" or dst == "deprecated" or src == dst:
+            if src == dst:
                 continue
             a, b = _row(src), _row(dst)
             if a is None or b is None:
@@ -207,18 +201,16 @@ def problems(graph: dict[str, set[str]], pkg_dir: Path = PKG_DIR) -> list[str]:
         if n > MAX_LINES:
             out.append(f"long: {mod} has {n} lines (most {MAX_LINES})")
     for mod, names in sorted(check_definers(pkg_dir).items()):
-        if mod.split(".")[-1] != "checks" and layer_of(mod) != "deprecated":
+        if mod.split(".")[-1] != "checks":
             out.append(f"check outside checks.py: {mod} defines {', '.join(names)}")
     return out
 
 
 def _boxes(graph: dict[str, set[str]]) -> dict[str, list[str]]:
-    """Box (subpackage, or a face module) -> its modules; shims are left out of the picture."""
+    """Box (subpackage, or a face module) -> its modules."""
     boxes: dict[str, list[str]] = defaultdict(list)
     for mod in graph:
-        layer = layer_of(mod)
-        if layer != "deprecated":
-            boxes[layer].append(mod)
+        boxes[layer_of(mod)].append(mod)
     return boxes
 
 
@@ -291,7 +283,7 @@ def report(pkg_dir: Path = PKG_DIR) -> str:
     lines = line_counts(pkg_dir)
     longest = max(lines, key=lambda m: lines[m])
     found = problems(graph, pkg_dir)
-    checks = [m for m in check_definers(pkg_dir) if layer_of(m) != "deprecated"]
+    checks = list(check_definers(pkg_dir))
     head = (
         f"arch: {len(lines)} modules, {sum(lines.values()):,} lines; circles {len(circles(graph))}; "
         f"longest {longest} {lines[longest]}; check modules {len(checks)}; problems {len(found)}"

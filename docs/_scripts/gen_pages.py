@@ -40,3 +40,7 @@ figures.write_all(mkdocs_gen_files.open)
 for notebook in sorted((HERE.parents[1] / "notebooks").glob("*.ipynb")):
     with mkdocs_gen_files.open(f"tutorials/{notebook.name}", "w") as f:
         nbformat.write(executed(notebook), f)
+
+# The changelog lives at the repository's root (where people look for it); the site shows the same text
+with mkdocs_gen_files.open("changelog.md", "w") as f:
+    f.write((HERE.parents[1] / "CHANGELOG.md").read_text(encoding="utf-8"))
