@@ -210,8 +210,8 @@ def test_version_prints_the_package_version(capsys):
 BAD_INPUT = {
     "unknown level": (["play", "--level", "nope"], "unknown level 'nope'"),
     "unknown policy": (["play", "--policy", "greedy"], "--policy: unknown policy 'greedy'; give random, shortest, keys or"),
-    "negative seed": (["play", "--seed", "-1"], "--seed: must be an integer >= 0"),
-    "seed not an integer": (["play", "--seed", "1.5"], "--seed: must be an integer >= 0"),
+    "negative seed": (["play", "--seed", "-1"], "--seed: must be an integer in 0..4,294,967,295"),
+    "seed not an integer": (["play", "--seed", "1.5"], "--seed: must be an integer in 0..4,294,967,295"),
     "negative delay": (["play", "--delay", "-0.1"], "--delay: must be a number of seconds >= 0"),
     "delay not a number": (["play", "--delay", "fast"], "--delay: must be a number of seconds >= 0"),
     "infinite delay": (["play", "--delay", "inf"], "--delay: must be a number of seconds >= 0"),

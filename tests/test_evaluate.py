@@ -198,5 +198,6 @@ def test_a_saved_policy_row_is_named_by_its_file(capsys, tmp_path):
     train_ppo("maze-8x8", 2, 512, seed=0, config=PPOConfig(n_envs=8, n_steps=16, batch_size=128, eval_every=0)).save(path)
     code, out, err = cli(capsys, str(path), "--level", "maze-8x8", "--robots", "2", "--episodes", "2")
     assert code == 0, err
-    rows = [line.split("  ")[0] for line in out.splitlines()[2:-1]]
+    rows = [line.split("  ")[0] for line in out.splitlines()[2:5]]  # then the training settings line, then the JSON
     assert rows == [f"policy robots ({path})", "shortest-path robots", "random robots"]
+    assert out.splitlines()[5].startswith(f"{path}: trained 512 timesteps")

@@ -93,18 +93,18 @@ def run(args: argparse.Namespace, out: TextIO) -> int:
     level = args.level if family else load_level(args.level)
     if len(args.policies) not in (1, args.robots):
         raise ValueError(f"--policies: give one policy for all robots or one per robot ({args.robots}), got {len(args.policies)}")
-    names = args.policies * args.robots if len(args.policies) == 1 else args.policies
-    # The env checks the robots against the level's starts and free cells before anything per robot exists;
-    # it shows the observations the saved policies read
+    form = policies_form(args.policies)  # the observations the saved policies read
+    # The env checks the robots against the level's starts and free cells before anything per robot exists
     env = RaceEnv(level=level, n_robots=args.robots, collisions=args.collisions, start=args.start,
-                  max_cycles=args.max_cycles, **policies_form(names))
+                  max_cycles=args.max_cycles, **form)
+    names = args.policies * args.robots if len(args.policies) == 1 else args.policies
     seed = fresh_seed() if args.seed is None else args.seed
     if args.races:  # experiments: the metrics table of N races (babyrobot_marl.experiments)
         if args.human is not None:
             raise ValueError("--human: you drive one race with frames; drop --races (N races without frames) or --human")
         from ..experiments.races import run_races
 
-        kw = {"collisions": args.collisions, "start": args.start, "max_cycles": args.max_cycles, **policies_form(names)}
+        kw = {"collisions": args.collisions, "start": args.start, "max_cycles": args.max_cycles, **form}
         out.write(f"{run_races(level, _race_policies(names, env), args.races, seed, **kw).table()}\nseed {seed}\n")
         return 0
     if family:  # the scripted robots plan on the level this seed draws (the race below resets with it again)
