@@ -16,6 +16,7 @@ rules. Built on the same compiled level and rules as the single-robot env.
 | Observation values | MultiDiscrete([W, H] + [W, H, 2] * (n_robots - 1))   |
 | Local view         | `observe="local"`: see Observations                  |
 | Nearest robots     | `observe="nearest"`: see Observations                |
+| Own goals          | `goals="own"`: see Own goals                         |
 | State shape        | (3 * n_robots,)                                      |
 | State values       | Box(0, [W-1, H-1, 1] * n_robots), int64              |
 
@@ -86,6 +87,42 @@ seeded generator. Then collisions (`collisions=`):
 
 A robot that reaches an exit is finished (terminated) and leaves the board.
 
+## Own goals
+
+`goals="own"` gives every robot its own target cell, as in POGEMA's multi-robot pathfinding,
+instead of the race to the exits (`goals="exit"`, the default). `env.goals` maps each agent to
+its target `(x, y)` (None in the race to the exits). A robot finishes when it stands on its own
+target (then it leaves or is parked there, as `finished=` says) and gets the exit reward
+(`Rules.exit_reward`, 0) for that step; nobody gets `win_bonus`. The level's exits are plain
+floor for this race (floor reward, no finishing, terrain 0 in local windows, starts and goals may
+lie on them), and so is another robot's target.
+
+At each reset the targets are drawn from the env's seeded generator (same seed, same targets):
+distinct free cells (not blocked, no puddle), each reachable from its robot's start by one
+robot's moves and not that start. `reset(options={"goals": [(x, y), ...]})` gives them instead,
+one per robot, with or without `"starts"`: distinct cells, not blocked, each reachable from its
+robot's start and not that start, else a `ValueError` naming `options["goals"]` (random starts
+are then drawn off the given targets). `start="random"` draws starts from cells that have
+somewhere to go.
+
+Observations end with the target (after the columns above, before the hint):
+
+| `observe=`              | added at the end of each row                               | values           |
+|-------------------------|------------------------------------------------------------|------------------|
+| `"global"`, `"nearest"` | the target's `[x, y]`                                      | `[W, H]`         |
+| `"local"`               | the target channel: (2r+1)^2 numbers, the window's cells   | `[2] * (2r+1)^2` |
+
+In the target channel exactly one cell is 1: the target's cell when it lies inside the window,
+else the border cell it projects to (POGEMA's rule: each of `dx`, `dy` of the target from the
+robot clamped to `-r..r`); all else 0. A robot on its target sees 1 in the centre.
+
+`hint=True` (with `"local"`) then ends the row with 5 numbers, one per action (STAY, NORTH, EAST,
+SOUTH, WEST): 1 where the action starts a shortest path (in moves, other robots ignored) to the
+robot's own target, else 0; all 0 on the target and where it is out of reach. On levels without
+puddles or glass walls these are the optimal actions of one robot alone. Worked out by one
+breadth-first search per target cell, the first time a robot is given it, then kept; nothing
+is planned per step.
+
 ## Episode end
 
 The race ends when every robot has finished, or after `max_cycles` steps (the robots still
@@ -128,8 +165,10 @@ Outcome codes: 0 moved, 1 stayed, 2 bumped, 3 skidded, 4 glass, 5 start (after r
 floats are a `ValueError`). The generator is made at the first reset, so unseeded copies of an
 env (SuperSuit's `concat_vec_envs_v1` clones it) play different races. `options={"starts":
 [(x, y), ...]}` places the robots: one distinct open cell per robot (not blocked, not an exit);
-a bad value is a `ValueError`. Any other option key is ignored with a `UserWarning` naming the
-known ones (PettingZoo's `api_test` resets with `options={"options": 1}`).
+a bad value is a `ValueError`. With `goals="own"`, `options={"goals": [(x, y), ...]}` gives the
+targets (Own goals above); in the race to the exits it is a `ValueError`. Any other option key
+is ignored with a `UserWarning` naming the known ones (PettingZoo's `api_test` resets with
+`options={"options": 1}`).
 
 ## Arguments
 
@@ -137,7 +176,8 @@ known ones (PettingZoo's `api_test` resets with `options={"options": 1}`).
 race_v0.parallel_env(level="race-2", n_robots=2, collisions="block", max_cycles=None,
                      start="level", finished="remove", rules=None, render_mode=None,
                      cell_size=32, theme="light", animation_frames=4, observe="global",
-                     view_radius=None, k=None, obs_encoding="multidiscrete", hint=False, **rule_overrides)
+                     view_radius=None, k=None, obs_encoding="multidiscrete", hint=False, goals="exit",
+                     **rule_overrides)
 ```
 
 * `level`: a built-in name (`babyrobot_marl.levels.names()`), a level text, a grid map (rows of
@@ -159,6 +199,7 @@ race_v0.parallel_env(level="race-2", n_robots=2, collisions="block", max_cycles=
 * `observe`: `"global"`, `"local"` (with `view_radius`) or `"nearest"` (with `k`) (above);
   `view_radius` or `k` given to another mode is a `ValueError`.
 * `hint`: `True` adds the goal hint to `"local"` rows (above); with another mode a `ValueError`.
+* `goals`: `"exit"` (default: the race to the exits) or `"own"` (each robot its own target: Own goals above).
 * `rules` / keyword overrides: any `Rules` field, e.g. `win_bonus=0`, `glass_pass_prob=1`; any
   other keyword is Python's own `TypeError` (`... got an unexpected keyword argument 'x'`).
 * `obs_encoding`: `"multidiscrete"` (default), `"box"` or `"onehot"` (Observations above), for any `observe` mode.

@@ -24,12 +24,31 @@ RACES = [
 ]
 
 
+OWN_GOALS = [  # own goals: each robot its own target (the exits are floor), in every observation mode
+    ("race-4", 4, "level", {}),
+    ("race-corridor", 4, "level", {"observe": "local", "view_radius": 1, "hint": True}),
+    ("mixed-8x8", 5, "random", {"observe": "nearest", "k": 2}),
+    ("puddles", 1, "fill", {"observe": "local", "hint": True}),
+    ("glass", 1, "fill", {}),
+]
+
+
 @pytest.mark.parametrize("mode", MODES)
 @pytest.mark.parametrize(("level", "n_robots", "start"), RACES)
 def test_batch_matches_separate_race_envs_step_by_step(level, n_robots, start, mode):
+    _batch_matches_envs(level, n_robots, start, mode, {})
+
+
+@pytest.mark.parametrize("mode", MODES)
+@pytest.mark.parametrize(("level", "n_robots", "start", "kw"), OWN_GOALS)
+def test_batch_with_own_goals_matches_separate_race_envs_step_by_step(level, n_robots, start, kw, mode):
+    _batch_matches_envs(level, n_robots, start, mode, {"goals": "own", **kw})
+
+
+def _batch_matches_envs(level, n_robots, start, mode, kw):
     n_envs, seed0 = 5, 100
     envs = [
-        race_v0.parallel_env(level=level, n_robots=n_robots, collisions=mode, finished="freeze", start=start)
+        race_v0.parallel_env(level=level, n_robots=n_robots, collisions=mode, finished="freeze", start=start, **kw)
         for _ in range(n_envs)
     ]
     batch = envs[0].batch(n_envs)
@@ -38,7 +57,7 @@ def test_batch_matches_separate_race_envs_step_by_step(level, n_robots, start, m
     for i, env in enumerate(envs):
         env.reset(seed=seed0 + i)
     rng = np.random.default_rng(7)
-    resets = blocked_seen = 0
+    resets = blocked_seen = finished_seen = 0
     for _ in range(250):
         actions = rng.integers(0, 5, (n_envs, n_robots))
         rewards, finishing, blocked, _, over = batch.step(actions)
@@ -54,12 +73,16 @@ def test_batch_matches_separate_race_envs_step_by_step(level, n_robots, start, m
             if not env.agents:
                 env.reset()
         blocked_seen += int(blocked.sum())
+        finished_seen += int(finishing.sum())
         done = np.flatnonzero(over)
         resets += done.size
         if done.size:
             batch.reset_envs(done)
-    if mode != "pass":
+    if mode != "pass" and n_robots > 1:
         assert blocked_seen > 0  # the run did exercise collisions
+    if kw.get("goals") == "own":
+        goals = [[e.table.cell_id(e.goals[a]) for a in e.possible_agents] for e in envs]
+        assert finished_seen > 0 and np.array_equal(batch.goals, goals)
 
 
 @pytest.mark.parametrize("start", [None, "random"])

@@ -82,6 +82,14 @@ RACES = {
     ),
     "four-family-global-freeze": dict(level="maze:5..8", n_robots=4, start="random", finished="freeze"),
     "four-family-nearest-box": dict(level="maze:5..8", n_robots=4, start="random", observe="nearest", k=2, obs_encoding="box"),
+    # own goals: each robot its own target, drawn at reset (frozen robots keep max_cycles_test's counts whole; the
+    # removing one has eight robots, so that its median robot is still out when a few reach their goals early)
+    "four-own-local-hint-freeze": dict(level="race-4", n_robots=4, goals="own", observe="local", hint=True, finished="freeze"),
+    "eight-own-global-bounce-remove": dict(level=EIGHT, n_robots=8, goals="own", collisions="bounce"),
+    "four-family-own-nearest-onehot-freeze": dict(
+        level="maze:5..8", n_robots=4, start="random", goals="own", observe="nearest", k=2, obs_encoding="onehot",
+        finished="freeze",
+    ),
 }
 RACE_IDS = list(RACES)
 
@@ -209,6 +217,10 @@ RACE_GYM = {
     "two-family-local-hint": dict(
         level="maze:6..9", opponents=["shortest", "random"], start="random", observe="local", hint=True
     ),
+    "three-own-local-hint": dict(
+        level="race-4", opponents=["shortest", "random", "shortest"], goals="own", observe="local", hint=True
+    ),
+    "one-own-global-box": dict(level="mixed-8x8", opponents=["random"], start="random", goals="own", obs_encoding="box"),
 }
 SINGLE = {
     "default": {},

@@ -139,9 +139,25 @@ def vector_infos_row(infos: dict, k: int) -> tuple:
 @pytest.mark.parametrize("mode", MODES)
 @pytest.mark.parametrize(("level", "n_robots", "start"), RACES)
 def test_race_vector_env_plays_the_races_of_separate_frozen_race_envs(level, n_robots, start, mode):
-    n_envs, seed = 3, 11
-    kwargs = dict(level=level, n_robots=n_robots, collisions=mode, start=start)
-    limit = episode_limit(race_v0.parallel_env(**kwargs)) + 4
+    _vector_plays_separate_races(dict(level=level, n_robots=n_robots, collisions=mode, start=start))
+
+
+@pytest.mark.parametrize("mode", MODES[:2])
+@pytest.mark.parametrize(
+    "kwargs",
+    [
+        dict(level="race-4", n_robots=4),
+        dict(level="mixed-8x8", n_robots=5, start="random", observe="local", view_radius=1),
+        dict(level="race-corridor", n_robots=4, observe="nearest", k=2),
+    ],
+)
+def test_race_vector_env_with_own_goals_plays_the_races_of_separate_frozen_race_envs(kwargs, mode):
+    _vector_plays_separate_races(dict(goals="own", collisions=mode, **kwargs))
+
+
+def _vector_plays_separate_races(kwargs):
+    n_envs, seed, n_robots = 3, 11, kwargs["n_robots"]
+    limit = episode_limit(race_v0.parallel_env(**{**kwargs, "goals": "exit"})) + 4  # own goals: the exits' scale
     ours = RaceVectorEnv(n_envs, max_cycles=limit, **kwargs)
     races = [race_v0.parallel_env(max_cycles=limit, finished="freeze", **kwargs) for _ in range(n_envs)]
     assert ours.num_envs == n_envs * n_robots
@@ -175,7 +191,7 @@ def test_race_vector_env_plays_the_races_of_separate_frozen_race_envs(level, n_r
         seen["blocked"] += int(infos["blocked"].sum())
         seen["ranked"] += int(infos["_rank"].sum())
     assert seen["terminated"] and seen["truncated"] and seen["ranked"]
-    if mode != "pass":
+    if kwargs["collisions"] != "pass":
         assert seen["blocked"]  # the collision rules were exercised
 
 

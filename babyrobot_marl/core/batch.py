@@ -21,6 +21,7 @@ import numpy as np
 from .actions import N_ACTIONS
 from .checks import check_batch, check_int
 from .engine import move_array, move_drawn
+from .goals import GoalColumns, draw_goals
 from .observe import Observer, Recycler, global_observations
 from .rng import SLOT_PRIORITY, SLOTS, uniform_array
 from .table import Table
@@ -131,6 +132,9 @@ class BatchRace:
     ``start``: ``"level"`` / ``"fill"`` / ``"random"`` as in ``race_v0``, or ``"single"`` for
     ``BabyRobotEnv``'s random start (one robot, one draw). ``win_bonus`` is the race's bonus
     (0 for single-robot envs). Robots that finish are parked (the ``finished="freeze"`` view).
+    ``goal_columns`` (own goals, on a ``goals.own_goal_table``): each robot has its own target
+    (``goals``, drawn at reset after the starts, as ``race_v0`` draws them), finishes on it with the
+    exit reward (no bonus), and its observation rows end with the goal's columns.
     """
 
     def __init__(
@@ -145,11 +149,13 @@ class BatchRace:
         win_bonus: float = 0.0,
         observer: Observer | None = None,
         pools: Sequence[int] | None = None,
+        goal_columns: GoalColumns | None = None,
     ):
         if start not in START_MODES:
             raise ValueError(f"start: must be one of {START_MODES}, got {start!r}")
         n_envs, n_robots = check_int(n_envs, "n_envs", lo=1), check_int(n_robots, "n_robots", lo=1)
         obs_size = observer.nvec.size if observer is not None else 3 * n_robots - 1 if n_robots > 1 else 2
+        obs_size += len(goal_columns.nvec) if goal_columns is not None else 0
         check_batch(n_envs, n_robots, obs_size)  # before anything per env or robot exists
         self.table = table
         self.n_envs, self.n_robots, self.max_steps = n_envs, n_robots, max_steps
@@ -163,7 +169,11 @@ class BatchRace:
         self.pool_count, self.pool_first = counts, np.cumsum(counts) - counts
         self.pool = np.zeros(n_envs, dtype=np.int64)  # each env's pool in its current episode
         self.start = start
-        self.win_bonus = float(win_bonus)
+        self.win_bonus = 0.0 if goal_columns is not None else float(win_bonus)
+        self.goal_columns = goal_columns
+        # own goals: each robot's target cell; ``given_goals`` (when set) replaces the draw at resets
+        self.goals = np.zeros((n_envs, n_robots), dtype=np.int64) if goal_columns is not None else None
+        self.given_goals: np.ndarray | None = None
         self.mode = table.rules.collisions
         e, n = n_envs, n_robots
         self.cells = np.zeros((e, n), dtype=np.int64)
@@ -220,6 +230,9 @@ class BatchRace:
             if self.pool_count.size > 1:
                 self.pool[i] = g.integers(self.pool_count.size)
             self.cells[i] = self._starts(g, int(self.pool[i]))
+            if self.goals is not None:  # given (a vector env's reset option), or drawn after the starts
+                given = self.given_goals
+                self.goals[i] = given if given is not None else draw_goals(g, self.table, self.cells[i].tolist())
         self._started(np.asarray(envs, dtype=np.int64))
 
     def reset_drawn(self, envs: np.ndarray, rng: np.random.Generator) -> None:
@@ -247,6 +260,9 @@ class BatchRace:
                 [np.broadcast_to(self.fixed, (k, len(self.fixed))), drawn], axis=1)
         else:
             self.cells[envs] = self.fixed
+        if self.goals is not None:
+            for i in envs.tolist():
+                self.goals[i] = draw_goals(rng, self.table, self.cells[i].tolist())
         self._started(envs)
 
     def _started(self, envs: np.ndarray) -> None:
@@ -287,8 +303,10 @@ class BatchRace:
         final = resolve_collisions_array(self.mode, cells, desired, racing, self.keys, self.t)
         blocked = final != desired
         rewards = np.where(racing, t.reward[final], 0.0)
-        finishing = racing & t.is_exit[final]
+        finishing = racing & (t.is_exit[final] if self.goals is None else final == self.goals)
         if finishing.any():
+            if self.goals is not None:  # on its own target: the exit reward, no race to win
+                rewards[finishing] = t.rules.exit_reward
             first = finishing.any(axis=1) & (self.n_finished == 0)
             rewards += np.where(finishing & first[:, None], self.win_bonus, 0.0)
             self.rank = np.where(finishing, (self.n_finished + 1)[:, None], self.rank)
@@ -317,7 +335,9 @@ class BatchRace:
             nxt = np.where(frozen, c, nxt)
             code = np.where(frozen, -1, code)
         rewards = t.reward.take(nxt)
-        finishing = t.is_exit.take(nxt)
+        finishing = t.is_exit.take(nxt) if self.goals is None else nxt == self.goals[:, 0]
+        if self.goals is not None:
+            rewards[finishing] = t.rules.exit_reward
         if waiting:
             rewards[frozen] = 0.0
             finishing &= ~frozen
@@ -338,6 +358,14 @@ class BatchRace:
         """``(n_envs, n_robots, 2 + 3 * (n_robots - 1))`` int64, as ``race_v0`` (``[x, y]`` for one robot);
         with an ``observer``, its rows. A new array each step, or one of the last two steps' arrays
         that the caller no longer holds (``observe.Recycler``, past 32 MB): never one the caller keeps."""
+        columns = self.goal_columns
+        if columns is None:
+            return self._rows()
+        if self.observer is not None:  # rows with room for the goal's columns, filled in place
+            return columns(self.table, self.cells, self.goals, out=self.observer(self.cells, self.racing, columns.size))
+        return np.concatenate([self._rows(), columns(self.table, self.cells, self.goals)], axis=-1)
+
+    def _rows(self) -> np.ndarray:
         if self.observer is not None:
             return self.observer(self.cells, self.racing)
         if self.n_robots == 1:  # [x, y] alone

@@ -178,8 +178,8 @@ def local_view(table: Table, radius: int) -> LocalView:
             inner[y, x, 0] = TERRAIN[kind]
     for x, y in level.blocked:
         inner[y, x, 0] = TERRAIN["blocked"]
-    for x, y in level.exits:
-        inner[y, x, 0] = TERRAIN["exit"]
+    for c in np.flatnonzero(table.is_exit).tolist():  # the table's: with own goals the exits are floor
+        inner[c // w, c % w, 0] = TERRAIN["exit"]
     for kind, edges in (("wall", level.walls), ("glass", level.glass)):
         for (ax, ay), (bx, by) in edges:  # a < b: b is east of a, or south of it
             if by == ay:
@@ -196,9 +196,10 @@ def local_view(table: Table, radius: int) -> LocalView:
     return LocalView(r, w, h, static, (y + r) * pw + (x + r), window, np.stack([x, y], axis=1))
 
 
-def local_observations(view: LocalView, cells: np.ndarray, racing: np.ndarray) -> np.ndarray:
+def local_observations(view: LocalView, cells: np.ndarray, racing: np.ndarray, extra: int = 0) -> np.ndarray:
     """``(..., n, view.size)`` int64 rows from cells and racing flags of shape ``(..., n)``
-    (leading dimensions: separate races, e.g. the envs of a batch)."""
+    (leading dimensions: separate races, e.g. the envs of a batch); ``extra`` more columns at the
+    end of each row, left for the caller to fill (own goals' columns: no copy to append them)."""
     cells, racing = np.asarray(cells), np.asarray(racing, dtype=bool)
     *lead, n = cells.shape
     n_races = int(np.prod(lead, dtype=np.int64))
@@ -206,13 +207,14 @@ def local_observations(view: LocalView, cells: np.ndarray, racing: np.ndarray) -
     n_padded = view.static.shape[0]
     at = view.padded.take(cells2)  # (R, n) each robot's cell in the padded grid
     idx = at[:, :, None] + view.window  # (R, n, cells in a window): always inside the padded grid
-    out = np.empty((n_races, n, view.size), dtype=np.int64)
+    size = view.size + extra
+    out = np.empty((n_races, n, size), dtype=np.int64)
     out[:, :, :2] = view.xy.take(cells2, axis=0)
-    feats = out[:, :, 2:].reshape(n_races, n, view.window.size, len(LOCAL_FEATURES))
+    feats = out[:, :, 2 : view.size].reshape(n_races, n, view.window.size, len(LOCAL_FEATURES))  # a view: rows split
     feats[...] = view.static.take(idx, axis=0, mode="clip")  # "clip": no bounds checks (all inside)
     if n == 1:
         feats[:, :, :, _ROBOT] = 0  # a lone robot sees no other
-        return out.reshape(*lead, n, view.size)
+        return out.reshape(*lead, n, size)
     # the robots, on a scratch grid of a few races at a time (a bounded grid, O(n) work):
     # only racing robots are on the board
     step = max(1, _SCRATCH // n_padded)
@@ -224,7 +226,7 @@ def local_observations(view: LocalView, cells: np.ndarray, racing: np.ndarray) -
         seen = count.take(idx[s : s + step] + race_base[:, :, None], mode="clip")
         seen[:, :, view.window.size // 2] -= racing_s  # not the observer itself
         feats[s : s + step, :, :, _ROBOT] = seen > 0
-    return out.reshape(*lead, n, view.size)
+    return out.reshape(*lead, n, size)
 
 
 _SCRATCH = 1 << 20  # cells of scratch grid per pass (4 MB of counts)
@@ -238,17 +240,19 @@ _BRUTE_UP_TO = 128  # robots per race up to which all pairs are compared
 _CHUNK = 1 << 20  # pairs compared at once (memory bound)
 
 
-def nearest_observations(xy: np.ndarray, racing: np.ndarray, k: int, width: int, height: int) -> np.ndarray:
-    """``(..., n, 2 + 2k)`` int64 rows from ``[x, y]`` of shape ``(..., n, 2)`` and racing flags ``(..., n)``."""
+def nearest_observations(xy: np.ndarray, racing: np.ndarray, k: int, width: int, height: int, extra: int = 0) -> np.ndarray:
+    """``(..., n, 2 + 2k)`` int64 rows from ``[x, y]`` of shape ``(..., n, 2)`` and racing flags ``(..., n)``
+    (``extra``: more columns at the end, as ``local_observations``)."""
     xy, racing = np.asarray(xy, dtype=np.int64), np.asarray(racing, dtype=bool)
     *lead, n, _ = xy.shape
     n_races = int(np.prod(lead, dtype=np.int64))
     xy2, racing2 = xy.reshape(n_races, n, 2), racing.reshape(n_races, n)
-    out = np.empty((n_races, n, 2 + 2 * k), dtype=np.int64)
+    size = 2 + 2 * k + extra
+    out = np.empty((n_races, n, size), dtype=np.int64)
     out[:, :, :2] = xy2
-    rel = out[:, :, 2:].reshape(n_races, n, k, 2)
+    rel = out[:, :, 2 : 2 + 2 * k].reshape(n_races, n, k, 2)
     if k == 0:
-        return out.reshape(*lead, n, 2)
+        return out.reshape(*lead, n, size)
     if n <= _BRUTE_UP_TO:
         step = max(1, _CHUNK // (n * n))
         for s in range(0, n_races, step):
@@ -260,7 +264,7 @@ def nearest_observations(xy: np.ndarray, racing: np.ndarray, k: int, width: int,
     missing = rel[..., 0] == _MISSING
     rel += (width - 1, height - 1)
     rel[missing] = (2 * width - 1, 2 * height - 1)
-    return out.reshape(*lead, n, 2 + 2 * k)
+    return out.reshape(*lead, n, size)
 
 
 _MISSING = np.iinfo(np.int64).min // 4
@@ -369,11 +373,12 @@ class Observer:
     width: int
     height: int
 
-    def __call__(self, cells: np.ndarray, racing: np.ndarray) -> np.ndarray:
-        """``(..., n, len(nvec))`` int64 rows from every robot's cell and racing flag, ``(..., n)``."""
+    def __call__(self, cells: np.ndarray, racing: np.ndarray, extra: int = 0) -> np.ndarray:
+        """``(..., n, len(nvec))`` int64 rows from every robot's cell and racing flag, ``(..., n)``
+        (``extra``: that many more columns at the end, for the caller to fill)."""
         if self.view is not None:
-            return local_observations(self.view, cells, racing)
-        return nearest_observations(self.xy[np.asarray(cells)], racing, self.k, self.width, self.height)
+            return local_observations(self.view, cells, racing, extra)
+        return nearest_observations(self.xy[np.asarray(cells)], racing, self.k, self.width, self.height, extra)
 
 
 DEFAULT_VIEW_RADIUS, DEFAULT_K = 2, 4

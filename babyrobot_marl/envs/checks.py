@@ -16,6 +16,7 @@ import numpy as np
 
 from ..core.actions import N_ACTIONS
 from ..core.checks import ACTION_HELP, check_batch, check_choice, check_int, check_seed
+from ..core.goals import reach
 from ..core.level import as_cell
 from ..core.table import Table
 from .autoreset import SAME_STEP, resolve_autoreset_mode
@@ -157,6 +158,42 @@ def check_cells(table: Table, cells: object, n: int, what: str, distinct: bool =
     if distinct and len(set(ids)) < len(ids):
         raise ValueError(f"{what}: two robots share a cell; expected {allowed}")
     return ids
+
+
+def check_no_goals(options: object, goals_mode: str) -> None:
+    """A race to the exits takes no ``"goals"`` option: an error naming it (not the unknown-option warning)."""
+    if goals_mode != "own" and isinstance(options, Mapping) and "goals" in options:
+        raise ValueError(
+            f"options[\"goals\"]: own goals need goals='own'; this race's robots go to the exits (goals={goals_mode!r})"
+        )
+
+
+def check_goal_cells(table: Table, cells: object, n: int, goals_mode: str, what: str = 'options["goals"]') -> list[int]:
+    """``reset``'s own goals: ``n`` distinct cells ``(x, y)``, one per robot, not blocked (exits are floor with own
+    goals), as cell ids; else a ``ValueError`` naming ``what``. Only with ``goals="own"``."""
+    check_no_goals({"goals": cells}, goals_mode)
+    allowed = f"{n} distinct cells (x, y), one goal per robot, not blocked"
+    if not isinstance(cells, Sequence) or isinstance(cells, (str, bytes)):
+        raise ValueError(f"{what}: expected a list of {allowed}, got {cells!r}")
+    if len(cells) != n:
+        raise ValueError(f"{what}: expected {allowed}; got {len(cells)} cells")
+    ids = [_open_cell(table, cell, what, f"{what}: expected {allowed}; {{cell}} is not a cell (x, y) of integers",
+                      f"{what}: {{xy}} is outside the {{size}} grid; expected {allowed}",
+                      f"{what}: {{xy}} is blocked; expected {allowed}") for cell in cells]
+    if len(set(ids)) < len(ids):
+        raise ValueError(f"{what}: two robots share a goal; expected {allowed}")
+    return ids
+
+
+def check_goals_reach(table: Table, goals: Sequence[int], starts: Sequence[int], what: str = 'options["goals"]') -> None:
+    """Each robot's goal is reachable from its start (one robot's moves) and is not that start; else a ``ValueError``."""
+    part = reach(table).component
+    for i, (g, s) in enumerate(zip(goals, starts)):
+        if g == s or part[g] != part[s]:
+            why = "is its start" if g == s else f"cannot be reached from its start {table.cell_xy(s)}"
+            raise ValueError(
+                f"{what}: robot_{i}'s goal {table.cell_xy(g)} {why}; each goal must be reachable from its robot's start"
+            )
 
 
 def check_sb3_autoreset(mode: object) -> None:

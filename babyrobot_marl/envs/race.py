@@ -13,7 +13,8 @@ from pettingzoo import ParallelEnv
 
 from ..core.actions import N_ACTIONS
 from ..core.batch import BatchRace
-from ..core.checks import check_action, check_count, check_global_view, check_seed, check_view_numbers
+from ..core.checks import check_action, check_choice, check_count, check_global_view, check_seed, check_view_numbers
+from ..core.goals import GOAL_MODES, GoalColumns, draw_goals, own_goal_table
 from ..core.level import Cell, Level
 from ..core.observe import Observer, global_gather, make_observer, observer_for, with_hint
 from ..core.outcomes import FINISHED, START
@@ -23,14 +24,20 @@ from ..core.rules import COLLISION_MODES, Rules, resolve_rules
 from ..core.table import Table, compile_level
 from ..levels.sources import LevelPicker
 from ..planning.hint import optimal_actions
-from ..render.ansi import frame, robot_glyph
 from ..render.checks import check_animation_frames, check_cell_size, check_fps, check_frame_size
 from ..render.rgb import Theme, resolve_theme
-from ..render.scene import Scene
-from .checks import check_cells, check_hint, check_options, check_render_mode
+from .checks import (
+    check_cells,
+    check_goal_cells,
+    check_goals_reach,
+    check_hint,
+    check_no_goals,
+    check_options,
+    check_render_mode,
+)
 from .drawing import EnvDrawing, OverlayMethods
 from .encodings import Encoder
-from .scenes import race_scene
+from .race_readouts import RaceReadouts
 from .single import default_max_steps
 from .starts import draw_starts, new_generator, placement
 
@@ -42,11 +49,11 @@ _LAYOUTS, _LAYOUT_SIZE = 256, 4096  # gathers kept per env, and the largest kept
 _RACING_INFO = {"cell": None, "outcome": 0, "blocked": False, "finished": False, "rank": 0}  # a racing robot's info, copied
 _ARGS = (
     "level", "n_robots", "collisions", "max_cycles", "start", "finished", "rules", "render_mode", "cell_size", "theme",
-    "animation_frames", "render_fps", "observe", "view_radius", "k", "obs_encoding", "hint",
+    "animation_frames", "render_fps", "observe", "view_radius", "k", "obs_encoding", "hint", "goals",
 )
 
 
-class RaceEnv(OverlayMethods, ParallelEnv):
+class RaceEnv(RaceReadouts, OverlayMethods, ParallelEnv):
     """Several Baby Robots race to the exit. See ``babyrobot_marl.race_v0`` for the full table."""
 
     metadata = {
@@ -75,8 +82,10 @@ class RaceEnv(OverlayMethods, ParallelEnv):
         k: int | None = None,
         obs_encoding: str = "multidiscrete",
         hint: bool = False,
+        goals: str = "exit",
         **rule_overrides: Any,
     ):
+        self.goals_mode = check_choice(goals, "goals", GOAL_MODES)
         self.levels = LevelPicker(level)  # level= a family or a callable: drawn per reset
         self.level = self.levels.first
         if collisions is not None:
@@ -85,11 +94,14 @@ class RaceEnv(OverlayMethods, ParallelEnv):
             rule_overrides["collisions"] = collisions
         self.rules = resolve_rules(rules, rule_overrides, "RaceEnv", _ARGS)
         self.collisions = self.rules.collisions
-        self.table = compile_level(self.level, self.rules)
+        self.table = self._compile(self.level)
         self._observer_of = partial(make_observer, observe=observe, view_radius=view_radius, k=k)
         self.observe, self._observer = observe, self._observer_of(self.table)  # None: "global"
         self._first_observer, self.hint = self._observer, check_hint(hint, observe)
-        if self.hint:  # the goal hint: planned once per level (planning.hint, cached)
+        own = self.goals_mode == "own"  # own goals: their columns (and hint) follow the observer's rows
+        view = self._observer.view if self._observer is not None else None  # "local": the target channel's window
+        self._goal_columns = GoalColumns(view and view.radius, self.hint, *self.levels.largest) if own else None
+        if self.hint and not own:  # the goal hint: planned once per level (planning.hint, cached)
             self._observer = with_hint(self._observer, optimal_actions(self.level, self.rules))
         self.n_robots = n = check_count(n_robots, "n_robots")
         self.max_cycles = default_max_steps(self.level) if max_cycles is None else check_count(max_cycles, "max_cycles")
@@ -113,7 +125,8 @@ class RaceEnv(OverlayMethods, ParallelEnv):
         self.possible_agents = [f"robot_{i}" for i in range(n)]
         self._index = {a: i for i, a in enumerate(self.possible_agents)}
         # any observation mode's MultiDiscrete, encoded as obs_encoding asks (encodings.py)
-        self.encoder = Encoder(self._observer.nvec if self._observer else [w, h] + [w, h, 2] * (n - 1), obs_encoding)
+        nvec = list(self._observer.nvec) if self._observer else [w, h] + [w, h, 2] * (n - 1)
+        self.encoder = Encoder(nvec + (self._goal_columns.nvec if own else []), obs_encoding)
         self._obs_space = self.encoder.space
         self._act_space = spaces.Discrete(5)
         self.observation_spaces = dict.fromkeys(self.possible_agents, self._obs_space)
@@ -152,6 +165,7 @@ class RaceEnv(OverlayMethods, ParallelEnv):
         self._t = 0
         self._key = 0
         self._n_finished = 0
+        self._goal_of: list[int] | None = None  # own goals: each robot's target cell
         self._started = False
 
     # ----------------------------------------------------------------------- PettingZoo API
@@ -164,22 +178,26 @@ class RaceEnv(OverlayMethods, ParallelEnv):
         return self._act_space
 
     def reset(self, seed: int | None = None, options: dict | None = None):
-        """A new race. ``options={"starts": [(x, y), ...]}``: one distinct open cell per robot."""
-        starts = check_options(options, ("starts",)).get("starts")
-        if starts is not None:
-            starts = check_cells(self.table, starts, self.n_robots, 'options["starts"]')
+        """A new race. ``options={"starts": [(x, y), ...]}``: one distinct open cell per robot;
+        ``"goals"`` (``goals="own"``): one distinct target cell per robot, reachable from its start."""
+        check_no_goals(options, self.goals_mode)
+        opts = check_options(options, ("starts", "goals") if self.goals_mode == "own" else ("starts",))
+        starts, goals = self._cell_options(opts)
         seed = check_seed(seed)
         if seed is not None:
             self.np_random = new_generator(seed)
         drawn = self.levels.draw(self.np_random, self.level)
         if drawn is not None:
             self._use_level(drawn)
-        if starts is not None and drawn is not None:  # checked again on the level just drawn
-            starts = check_cells(self.table, options["starts"], self.n_robots, 'options["starts"]')
+            starts, goals = self._cell_options(opts)  # checked again on the level just drawn
         self._key = new_key(self.np_random)
+        if starts is None:
+            starts = self._draw_starts(goals)
+        self._goal_of = self._goals_for(starts, goals)
+        self._goal_arr = None if self._goal_of is None else np.array(self._goal_of, dtype=np.int64)
         n = self.n_robots
         self._started = True
-        self._live, self._live_cells = list(range(n)), self._draw_starts() if starts is None else starts
+        self._live, self._live_cells = list(range(n)), starts
         self._done, self._parked = [], []
         self._rank = [0] * n
         self._returns = [0.0] * n
@@ -220,6 +238,8 @@ class RaceEnv(OverlayMethods, ParallelEnv):
         cells, outcome, blocked, finishing = race_step(
             self._lists, self.collisions, self._live_cells, acts, self._key, t, live, self.n_robots
         )
+        if self._goal_of is not None:  # own goals: finished on its own target (the table has no exits)
+            finishing = list(map(operator.eq, cells, map(self._goal_of.__getitem__, live)))
         self._last_step = (live, self._live_cells, acts, outcome, blocked, finishing, t)
         self._live_cells = cells
         self._t = t = t + 1
@@ -252,14 +272,16 @@ class RaceEnv(OverlayMethods, ParallelEnv):
         """The outputs of any step: robots finishing, the race ending, parked robots reported (freeze)."""
         live = self._live
         was_live = dict(zip(live, range(len(live))))  # robot -> its place among the racing robots
-        if True in finishing:  # ranks, and the bonus of the robots finishing first
-            first = self._n_finished == 0
+        if True in finishing:  # ranks, and the bonus of the robots finishing first (no race with own goals)
+            own, first = self._goal_of is not None, self._n_finished == 0
             rank = self._n_finished + 1
             for k, i in enumerate(live):
                 if finishing[k]:
                     self._rank[i] = rank
                     self._n_finished += 1
-                    if first:
+                    if own:  # reaching its target: the exit reward
+                        rewards[k] = self.rules.exit_reward
+                    elif first:
                         rewards[k] += self.rules.win_bonus
         returns = list(map(operator.add, self._live_returns, rewards))
         if True in finishing:  # the finishers leave the board for their parking rows
@@ -347,34 +369,13 @@ class RaceEnv(OverlayMethods, ParallelEnv):
             racing[i] = True
         return racing
 
-    def state(self) -> np.ndarray:
-        """Every robot's ``[x, y, finished]`` in robot order (a global view for critics), encoded as observations are."""
-        self._check_started("state")
-        rows = [0] * self.n_robots
-        for i, row in zip(self._live + self._done, [*self._live_cells, *self._parked]):
-            rows[i] = row
-        return self._encode_state(self._xyf.take(rows, axis=0).ravel())
-
-    def render(self) -> str | None:
-        if self.render_mode is None:
-            import gymnasium
-
-            gymnasium.logger.warn("render() called with render_mode=None; pass render_mode='ansi' or 'human'")
-            return None
-        if self.render_mode == "rgb_array":
-            return self.drawing.frame(self._scene())
-        if self.render_mode == "ansi":
-            return self.render_text()
-        self.drawing.show(self._scene, self.render_text, self._t > 0, self.metadata["render_fps"])
-        return None
-
     def batch(self, n_envs: int) -> BatchRace:
         """``n_envs`` copies of this race as one batch engine (the ``finished="freeze"`` view):
         env ``i`` plays exactly the races of this env seeded the same way."""
         self.levels.check_one_level("the batch engine (and the vector envs)")
         return BatchRace(
             self.table, n_envs, self.n_robots, self.max_cycles, self._fixed_starts, self._free, self.start, self.rules.win_bonus,
-            observer=self._observer,
+            observer=self._observer, goal_columns=self._goal_columns,
         )
 
     @property
@@ -388,43 +389,6 @@ class RaceEnv(OverlayMethods, ParallelEnv):
     @np_random.setter
     def np_random(self, value: np.random.Generator) -> None:
         self._np_random = value
-
-    def _scene(self) -> Scene:
-        return race_scene(self)
-
-    # ----------------------------------------------------------------------- helpers
-    def render_text(self, colour: bool = False) -> str:
-        """The text frame: the level, racing robots as letters A, B, ..., and a status line."""
-        robots: list[Cell | None] = [self._xy[c] if r else None for c, r in zip(self._cells, self._racing)]
-        done = [f"{robot_glyph(i, self.n_robots)}#{r}" for i, r in enumerate(self._rank) if r]  # [] before reset
-        status = f"step {self._t}/{self.max_cycles}" + (f"  finished: {' '.join(done)}" if done else "")
-        return frame(self.level, robots, status, colour=colour)
-
-    @property
-    def robot_cells(self) -> list[Cell]:
-        """Each robot's ``(x, y)`` (a finished robot: the exit it took)."""
-        return [self._xy[c] for c in self._cells]
-
-    @property
-    def elapsed_steps(self) -> int:
-        return self._t
-
-    @property
-    def ranks(self) -> list[int]:
-        """Each robot's finishing rank (1 = first; robots finishing in one step share it), 0 if not finished."""
-        return list(self._rank)
-
-    @property
-    def returns(self) -> list[float]:
-        returns = list(self._returns)
-        for i, r in zip(self._live, self._live_returns):
-            returns[i] = r
-        return returns
-
-    @property
-    def collisions_count(self) -> list[int]:
-        """How many steps each robot has been blocked by another robot this episode."""
-        return list(self._bumps)
 
     def set_cells(self, cells: list[Cell]) -> None:
         """Place the robots by hand (tests, tutorials): one distinct open cell per robot (after a
@@ -461,11 +425,22 @@ class RaceEnv(OverlayMethods, ParallelEnv):
 
     def _observations(self) -> np.ndarray:
         """One row per reported agent, in ``agents`` order (a fresh array per step, rows never shared)."""
+        if self._goal_columns is not None:
+            return self._goal_observations()
         if self._observer is not None:
             return self.encoder(self._observer(np.array(self._cells), np.array(self._racing))[self._agent_ids])
         rows = [*self._live_cells, *self._parked] if self._parked else self._live_cells
         obs = self._xyf.take(rows, axis=0).ravel()[self._gather_reported]
         return obs if self.encoder.identity else self.encoder(obs)
+
+    def _goal_observations(self) -> np.ndarray:
+        """``_observations`` with own goals: each row, then its goal's columns (``core.goals.GoalColumns``)."""
+        ids, cells, columns, goals = self._agent_ids, np.array(self._cells), self._goal_columns, self._goal_arr
+        if self._observer is not None:  # rows with room for the goal's columns, filled in place
+            rows = columns(self.table, cells, goals, out=self._observer(cells, np.array(self._racing), columns.size))
+            return self.encoder(rows if len(ids) == self.n_robots else rows[ids])  # all robots: already in order, fresh
+        rows = self._xyf.take([*self._live_cells, *self._parked], axis=0).ravel()[self._gather_reported]
+        return self.encoder(np.concatenate([rows, columns(self.table, cells[ids], goals[ids])], axis=-1))
 
     def _check_started(self, what: str) -> None:
         if not self._started:
@@ -473,7 +448,7 @@ class RaceEnv(OverlayMethods, ParallelEnv):
 
     def _use_level(self, level: Level) -> None:
         """Race on ``level`` (drawn at reset, the size of the last): everything that depends on it."""
-        self.level, self.table = level, compile_level(level, self.rules)
+        self.level, self.table = level, self._compile(level)
         self._lists = self.table.lists
         self._reward_at = self._lists.reward  # by cell
         self._observer = self._drawn_observer(self.table)
@@ -489,10 +464,35 @@ class RaceEnv(OverlayMethods, ParallelEnv):
         if self._first_observer is None:
             return None
         observer = observer_for(self._first_observer, table, *self.levels.largest)
-        return with_hint(observer, optimal_actions(table.level, self.rules)) if self.hint else observer
+        own = self._goal_columns is not None  # own goals: the hint is among the goal's columns
+        return with_hint(observer, optimal_actions(table.level, self.rules)) if self.hint and not own else observer
 
     def _placement(self, n: int) -> tuple[list[int], list[int]]:
         return placement(self.table, self.start, n)
 
-    def _draw_starts(self) -> list[int]:
-        return draw_starts(self.np_random, self._fixed_starts, self._free, self.n_robots)
+    def _draw_starts(self, goals: list[int] | None = None) -> list[int]:
+        """Random starts (goals given: off those cells, so that no robot starts on its goal)."""
+        free = self._free if goals is None else [c for c in self._free if c not in set(goals)]
+        return draw_starts(self.np_random, self._fixed_starts, free, self.n_robots)
+
+    def _cell_options(self, options: Mapping[str, Any]) -> tuple[list[int] | None, list[int] | None]:
+        """``reset``'s ``"starts"`` and ``"goals"`` as cell ids (None: not given), checked on this level."""
+        starts, goals = options.get("starts"), options.get("goals")
+        if starts is not None:
+            starts = check_cells(self.table, starts, self.n_robots, 'options["starts"]')
+        if goals is not None:
+            goals = check_goal_cells(self.table, goals, self.n_robots, self.goals_mode)
+        return starts, goals
+
+    def _goals_for(self, starts: list[int], goals: list[int] | None) -> list[int] | None:
+        """Each robot's target cell (own goals): given ones checked against the starts, else drawn; None: exits."""
+        if self.goals_mode != "own":
+            return None
+        if goals is None:
+            return draw_goals(self.np_random, self.table, starts)
+        check_goals_reach(self.table, goals, starts)
+        return goals
+
+    def _compile(self, level: Level) -> Table:
+        table = compile_level(level, self.rules)
+        return own_goal_table(table) if self.goals_mode == "own" else table

@@ -3,23 +3,25 @@
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from functools import partial
 from typing import Any
 
 import gymnasium as gym
 import numpy as np
 
 from ..core.checks import check_action, check_seed
+from ..core.goals import goal_hints
 from ..core.level import Level
 from ..core.rules import Rules, known_args
 from ..policies import POLICY_NAMES, make
 from ..render.rgb import Theme
-from .checks import check_cells, check_options
+from .checks import check_cells, check_goal_cells, check_no_goals, check_options
 from .race import RaceEnv
 from .spec import StepLimitSpec
 
 _ARGS = (
     "level", "opponents", "collisions", "max_cycles", "start", "rules", "render_mode", "cell_size", "theme",
-    "animation_frames", "render_fps", "observe", "view_radius", "k", "obs_encoding", "hint",
+    "animation_frames", "render_fps", "observe", "view_radius", "k", "obs_encoding", "hint", "goals",
 )
 
 
@@ -41,6 +43,11 @@ class BabyRobotRaceEnv(gym.Env):
     ``obs_encoding``: ``"multidiscrete"`` (default), ``"box"`` or ``"onehot"``
     (``babyrobot_marl.encodings``). ``reset(options={"starts": [(x, y), ...]})`` places every robot
     (other option keys are ignored with a ``UserWarning``).
+
+    ``goals="own"``: every robot has its own target cell (``race_v0``'s own goals; the exits are
+    floor): robot 0's episode terminates on its target, its observation ends with the target's
+    ``[x, y]``, and ``"shortest"`` opponents walk a shortest path to their own targets.
+    ``reset(options={"goals": [(x, y), ...]})`` gives the targets (one per robot).
 
     Registered as ``babyrobot_marl/BabyRobotRace-v0``: ``gymnasium.make(
     "babyrobot_marl/BabyRobotRace-v0", level="race-4", opponents=["shortest", "random", "random"])``;
@@ -64,6 +71,7 @@ class BabyRobotRaceEnv(gym.Env):
         animation_frames: int = 4,
         render_fps: float | None = None,
         obs_encoding: str = "multidiscrete",
+        goals: str = "exit",
         **rule_overrides: Any,
     ):
         known_args("BabyRobotRaceEnv", rule_overrides, _ARGS)  # Python's wording, naming this class
@@ -83,6 +91,7 @@ class BabyRobotRaceEnv(gym.Env):
             animation_frames=animation_frames,
             render_fps=render_fps,
             obs_encoding=obs_encoding,
+            goals=goals,
             **rule_overrides,
         )
         self.race.set_overlay(names=["learner", *opponents])  # the legend's names
@@ -105,15 +114,18 @@ class BabyRobotRaceEnv(gym.Env):
 
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
         # every argument checked before anything changes
-        known = check_options(options, ("starts",))  # unknown keys: warned about once, here
+        check_no_goals(options, self.race.goals_mode)
+        known = check_options(options, ("starts", "goals") if self.race.goals_mode == "own" else ("starts",))  # warned once, here
         starts = known.get("starts")
         if starts is not None:
             check_cells(self.race.table, starts, self.race.n_robots, 'options["starts"]')
+        if known.get("goals") is not None:
+            check_goal_cells(self.race.table, known["goals"], self.race.n_robots, self.race.goals_mode)
         super().reset(seed=check_seed(seed))
         # the opponents' random moves and the race's own draws all come from self.np_random
         self._obs, infos = self.race.reset(seed=int(self.np_random.integers(2**63)), options=dict(known))
         # after the race's reset, which may draw a new level (making a policy draws no number)
-        self._opponents = [make(name, self.race.table, seed=self.np_random) for name in self.opponent_names]
+        self._opponents = [self._opponent(name, k) for k, name in enumerate(self.opponent_names, start=1)]
         return self._obs["robot_0"].copy(), self._with_ranks(infos["robot_0"])
 
     def step(self, action):
@@ -133,6 +145,12 @@ class BabyRobotRaceEnv(gym.Env):
             self.race.agents = []  # the learner's episode is over; the opponents' race with it
         return obs["robot_0"].copy(), float(rewards["robot_0"]), terminated, truncated, self._with_ranks(infos["robot_0"])
 
+    def _opponent(self, name: str, k: int) -> Any:
+        """Opponent ``k``'s policy; with own goals, ``"shortest"`` walks towards its own target."""
+        if name == "shortest" and self.race.goals_mode == "own":
+            return partial(_towards_goal, self.race, k)
+        return make(name, self.race.table, seed=self.np_random)
+
     def render(self) -> str | None:
         return self.race.render()
 
@@ -141,3 +159,12 @@ class BabyRobotRaceEnv(gym.Env):
 
     def _with_ranks(self, info: dict[str, Any]) -> dict[str, Any]:
         return {**info, "ranks": np.array(self.race.ranks, dtype=np.int64)}
+
+
+def _towards_goal(race: RaceEnv, k: int, obs: Any) -> int:
+    """Robot ``k``'s first action on a shortest path to its own target (STAY on it, or when it is out of reach)."""
+    table = race.table
+    cell = table.cell_id(race.robot_cells[k])
+    goal = table.cell_id(race.goals[f"robot_{k}"])
+    bits = goal_hints(table, np.array(cell), np.array(goal))
+    return int(np.argmax(bits)) if bits.any() else 0

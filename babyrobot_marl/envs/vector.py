@@ -40,6 +40,9 @@ from .checks import (
     check_actions,
     check_cells,
     check_envs,
+    check_goal_cells,
+    check_goals_reach,
+    check_no_goals,
     check_options,
     check_render_mode,
     check_sb3_autoreset,
@@ -62,7 +65,7 @@ _RENDER_MODES = ["rgb_array", "ansi"]
 SINGLE_ARGS = ("num_envs", "level", "rules", "max_steps", "start", "render_mode", "cell_size", "theme", "obs_encoding",
                 "autoreset_mode")  # fmt: skip
 RACE_ARGS = ("n_envs", "level", "n_robots", "collisions", "max_cycles", "start", "rules", "render_mode", "cell_size",
-              "theme", "observe", "view_radius", "k", "obs_encoding", "autoreset_mode")  # fmt: skip
+              "theme", "observe", "view_radius", "k", "obs_encoding", "autoreset_mode", "goals")  # fmt: skip
 
 
 class _BatchVectorEnv(gym.vector.VectorEnv):
@@ -115,6 +118,7 @@ class _BatchVectorEnv(gym.vector.VectorEnv):
         start = self._start_option(opts)
         seed_envs(self._batch, [(i, seeds[i]) for i in envs])
         restart(self._batch, envs, [start] * len(envs))
+        self._batch.given_goals = None  # given goals hold for this reset only, as given starts do
         self._autoreset[envs] = False
         self._started = True
         slots = np.zeros(self.n_envs, dtype=bool)
@@ -373,6 +377,12 @@ class RaceVectorEnv(_BatchVectorEnv):
     one frame per race), ``cell_size``, ``theme``, ``obs_encoding``, rule overrides; and
     ``autoreset_mode``. ``finished`` is always ``"freeze"``. ``reset(options={"starts": [(x, y), ...]})``
     places the robots of every reset race.
+
+    ``goals="own"``: each robot its own target, as in ``race_v0`` (drawn at each race's reset from
+    its generator, after the starts: the single env's targets for the same seed), and rows end with
+    the target's columns. ``reset(options={"goals": [(x, y), ...]})`` gives every reset race those
+    targets for that reset (with ``"starts"``, or ``start="level"``: given targets are checked
+    against known starts); auto-resets draw new ones.
     """
 
     _options_known = ("starts", "reset_mask")
@@ -412,10 +422,27 @@ class RaceVectorEnv(_BatchVectorEnv):
         )
         self._setup(ref, ref.batch(n), render_mode, autoreset_mode)
         self.level, self.rules, self.max_cycles, self.collisions = ref.level, ref.rules, ref.max_cycles, ref.collisions
+        if ref.goals_mode == "own":
+            self._options_known = ("starts", "goals", "reset_mask")
+
+    def reset(self, *, seed: int | Sequence[int | None] | None = None, options: dict[str, Any] | None = None):
+        check_no_goals(options, self._ref.goals_mode)
+        return super().reset(seed=seed, options=options)
 
     def _start_option(self, options: Mapping[str, Any]) -> tuple[int, ...] | None:
         starts = options.get("starts")
-        return None if starts is None else tuple(check_cells(self.table, starts, self.n_robots, 'options["starts"]'))
+        starts = None if starts is None else tuple(check_cells(self.table, starts, self.n_robots, 'options["starts"]'))
+        self._batch.given_goals = None if options.get("goals") is None else self._goal_option(options["goals"], starts)
+        return starts
+
+    def _goal_option(self, goals: object, starts: tuple[int, ...] | None) -> np.ndarray:
+        """``options["goals"]`` as cell ids, checked against the starts: given ones, or the level's own (``start="level"``)."""
+        ids = check_goal_cells(self.table, goals, self.n_robots, self._ref.goals_mode)
+        if starts is None and self._ref.start != "level":
+            raise ValueError('options["goals"]: a vector race takes given goals with known starts: pass "starts" too '
+                             f"(or start='level'); this race draws its starts (start={self._ref.start!r})")
+        check_goals_reach(self.table, ids, starts if starts is not None else self._batch.fixed.tolist())
+        return np.array(ids, dtype=np.int64)
 
     def _info_values(self, obs: np.ndarray, outcome: np.ndarray, blocked: np.ndarray) -> dict[str, np.ndarray]:
         b = self._batch

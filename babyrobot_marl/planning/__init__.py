@@ -6,17 +6,18 @@
 
 ``model`` reads the same compiled tables the simulator steps with; ``policy_evaluation``,
 ``policy_iteration`` and ``value_iteration`` are vectorised numpy over its sparse arrays;
-``optimal_actions`` is the race envs' goal hint.
+``optimal_actions`` is the race envs' goal hint (``goal_actions`` with own goals).
 """
 
 from .dp import Solution, policy_evaluation, policy_iteration, q_values, value_iteration
-from .hint import optimal_actions
+from .hint import goal_actions, optimal_actions
 from .mdp import Model, model
 from .text import policy_text, value_text
 
 __all__ = [
     "Model",
     "Solution",
+    "goal_actions",
     "model",
     "optimal_actions",
     "policy_evaluation",

@@ -6,6 +6,9 @@ NORTH, EAST, SOUTH, WEST) is optimal for the one-robot model of the level (value
 exits, blocked cells and cells that reach no exit. It is what POGEMA-style learned agents get as
 their goal direction. Planned once per level and rules (cached): an env on a fixed level plans
 it once, an env drawing levels plans each new one.
+
+``goal_actions(level, goal)`` is the hint of own goals (``goals="own"``): the actions that start a
+shortest path to one cell, from a breadth-first search per goal cell (``core.goals``), kept.
 """
 
 from __future__ import annotations
@@ -15,8 +18,10 @@ from typing import Any
 
 import numpy as np
 
+from ..core.goals import goal_hints, own_goal_table
 from ..core.level import Level
 from ..core.rules import Rules, resolve_rules
+from ..core.table import compile_level
 from ..levels.resolve import resolve_level
 from .dp import value_iteration
 from .mdp import model
@@ -27,6 +32,16 @@ HINT_CACHE = 64  # levels whose hints are kept (a family of mazes draws a new on
 def optimal_actions(level: str | Level, rules: Rules | dict[str, Any] | None = None) -> np.ndarray:
     """``uint8[H, W, 5]``: 1 where the action is optimal from that cell for one robot (read-only, cached)."""
     return _optimal(resolve_level(level), resolve_rules(rules, {}))
+
+
+def goal_actions(level: str | Level, goal: tuple[int, int], rules: Rules | dict[str, Any] | None = None) -> np.ndarray:
+    """``uint8[H, W, 5]``: 1 where the action starts a shortest path (in moves, one robot alone) to the
+    cell ``goal``, the hint a robot gets with ``goals="own"``; 0 on the goal, blocked cells and cells
+    that cannot reach it. The exits are floor. One breadth-first search per goal cell, kept."""
+    table = own_goal_table(compile_level(resolve_level(level), resolve_rules(rules, {})))
+    cells = np.arange(table.n_cells)
+    hints = goal_hints(table, cells, np.full_like(cells, table.cell_id(goal)))
+    return hints.astype(np.uint8).reshape(table.height, table.width, -1)
 
 
 @lru_cache(maxsize=HINT_CACHE)

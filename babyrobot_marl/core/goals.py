@@ -1,0 +1,270 @@
+"""Own goals (``goals="own"``): every robot has its own target cell, as in POGEMA.
+
+With own goals a level's exits are ordinary floor (``own_goal_table``): a robot finishes when it
+stands on its own target, and another robot's target is floor too. What lives here:
+
+- ``own_goal_table``: the compiled level with its exits as floor (the floor reward, no finishing).
+- ``Reach``: which cells a robot can reach from where (the one-robot moves, other robots ignored),
+  and the free cells goals and random starts are drawn from (not blocked, no puddle).
+- ``draw_goals``: one goal per robot from a generator: free, distinct, reachable from the robot's
+  start and not that start.
+- ``GoalDistances``: moves to a goal cell from every cell (breadth-first, one search per goal
+  cell, kept), for the goal hint.
+- ``GoalColumns``: what observations add for own goals (the goal's ``[x, y]``, or a local
+  window's target channel, then the hint).
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from collections.abc import Sequence
+from dataclasses import dataclass, fields
+from functools import cached_property, lru_cache
+
+import numpy as np
+
+from .actions import N_ACTIONS
+from .table import COMPILED_CACHE, Table
+
+GOAL_MODES = ("exit", "own")
+HINT_BITS = N_ACTIONS  # the goal hint: one bit per action
+
+
+@dataclass(frozen=True, eq=False)
+class OwnGoalTable(Table):
+    """A level compiled for own goals: no exits (they are floor), random starts from ``Reach.free``."""
+
+    @cached_property
+    def free_cells(self) -> tuple[int, ...]:
+        return reach(self).free
+
+
+@lru_cache(maxsize=COMPILED_CACHE)
+def own_goal_table(table: Table) -> OwnGoalTable:
+    """``table`` with its exits as floor cells: the floor reward (or the level's own reward there), never finishing."""
+    if isinstance(table, OwnGoalTable):
+        return table
+    reward = table.reward.copy()
+    custom = {table.cell_id(cell) for cell, _ in table.level.rewards}
+    for c in np.flatnonzero(table.is_exit).tolist():
+        if c not in custom:
+            reward[c] = table.rules.floor_reward
+    is_exit = np.zeros_like(table.is_exit)
+    for arr in (reward, is_exit):
+        arr.setflags(write=False)
+    parts = {f.name: getattr(table, f.name) for f in fields(table)}
+    return OwnGoalTable(**{**parts, "reward": reward, "is_exit": is_exit})
+
+
+@dataclass(frozen=True, eq=False)
+class Reach:
+    """The cells connected by one robot's moves (walls, blocked cells and never-passing glass cut them).
+
+    ``component[c]``: cell ``c``'s part of the level (-1 blocked); ``members[k]``: the free cells
+    (not blocked, no puddle) of part ``k``, ascending; ``free``: the free cells of parts holding
+    two or more, where a robot can start and still have a goal to go to.
+    """
+
+    component: np.ndarray
+    members: tuple[tuple[int, ...], ...]
+    free: tuple[int, ...]
+    neighbours: tuple[tuple[int, ...], ...]  # the cells one move leads to from each cell
+
+
+@lru_cache(maxsize=COMPILED_CACHE)
+def reach(table: Table) -> Reach:
+    """``table``'s ``Reach`` (cached per table)."""
+    n = table.n_cells
+    passes = table.rules.glass_pass_prob > 0
+    target, glass = table.target.tolist(), table.glass.tolist()
+    neighbours = tuple(
+        tuple(d for d, g in zip(target[c][1:], glass[c][1:]) if d != c and (passes or not g)) for c in range(n)
+    )
+    blocked = table.blocked.tolist()
+    component = [-1] * n
+    parts: list[list[int]] = []
+    for c in range(n):
+        if blocked[c] or component[c] >= 0:
+            continue
+        k, todo, part = len(parts), [c], [c]
+        component[c] = k
+        while todo:
+            for d in neighbours[todo.pop()]:
+                if component[d] < 0:
+                    component[d] = k
+                    todo.append(d)
+                    part.append(d)
+        parts.append(part)
+    puddle = (table.move_prob < 1.0).tolist()
+    members = tuple(tuple(sorted(c for c in part if not puddle[c])) for part in parts)
+    free = tuple(sorted(c for m in members if len(m) > 1 for c in m))
+    comp = np.array(component, dtype=np.int64)
+    comp.setflags(write=False)
+    return Reach(comp, members, free, neighbours)
+
+
+def draw_goals(rng: np.random.Generator, table: Table, starts: Sequence[int]) -> list[int]:
+    """One goal cell per robot (robot ``i`` starts at ``starts[i]``): free, distinct, reachable from its start
+    and not its start, drawn from ``rng`` (same generator state, same goals).
+
+    Each part of the level is shuffled once (``rng.permutation``, in the order robots first need it)
+    and robots take its cells in turn, skipping their own start. A ``ValueError`` naming ``goals`` when
+    a part has no cell left for a robot.
+    """
+    r = reach(table)
+    order: dict[int, list[int]] = {}  # part -> its cells, shuffled
+    taken: dict[int, int] = {}  # part -> cells handed out
+    owner: dict[int, list[int]] = {}  # part -> robots given a goal there
+    goals = [0] * len(starts)
+    for i, s in enumerate(starts):
+        k = int(r.component[s])
+        cells = order.get(k)
+        if cells is None:
+            cells = order[k] = [r.members[k][j] for j in rng.permutation(len(r.members[k])).tolist()]
+            taken[k], owner[k] = 0, []
+        p = taken[k]
+        if p < len(cells) and cells[p] == s:  # its own start: take the next, leaving the start for others
+            if p + 1 < len(cells):
+                cells[p], cells[p + 1] = cells[p + 1], cells[p]
+            elif owner[k]:  # the last cell left is its start: trade with a robot served before
+                j = owner[k][0]
+                goals[i], goals[j] = goals[j], s
+                taken[k] += 1
+                owner[k].append(i)
+                continue
+        if p >= len(cells) or cells[p] == s:
+            x, y = table.cell_xy(s)
+            raise ValueError(
+                f"goals: no free cell is left for the robot starting at ({x}, {y}): its part of the level has "
+                f"{len(cells)} free cells for {len(owner[k]) + 1} robots' goals"
+            )
+        goals[i] = cells[p]
+        taken[k] += 1
+        owner[k].append(i)
+    return goals
+
+
+class GoalDistances:
+    """Moves from every cell to a goal cell (-1 where the goal is out of reach), one breadth-first search
+    per goal cell the first time it is asked for, kept for the table's lifetime (``rows``, one per goal)."""
+
+    def __init__(self, table: Table):
+        self.table = table
+        self.row_of = np.full(table.n_cells, -1, dtype=np.int64)  # goal cell -> its row in ``rows``
+        self.rows = np.zeros((0, table.n_cells), dtype=np.int32)
+        self._neighbours = reach(table).neighbours
+
+    def rows_for(self, goals: np.ndarray) -> np.ndarray:
+        """The rows of ``goals`` (any shape), searching the goal cells not seen before."""
+        rows = self.row_of[goals]
+        if np.count_nonzero(rows < 0):
+            new = np.unique(np.asarray(goals)[rows < 0]).tolist()
+            self.rows = np.concatenate([self.rows, np.array([self._search(g) for g in new], dtype=np.int32)])
+            self.row_of[new] = np.arange(len(self.rows) - len(new), len(self.rows))
+            rows = self.row_of[goals]
+        return rows
+
+    def _search(self, goal: int) -> list[int]:
+        # moves are symmetric (walls and glass block both ways), so the search from the goal outwards
+        dist = [-1] * self.table.n_cells
+        dist[goal] = 0
+        todo, nb = deque([goal]), self._neighbours
+        while todo:
+            c = todo.popleft()
+            d = dist[c] + 1
+            for e in nb[c]:
+                if dist[e] < 0:
+                    dist[e] = d
+                    todo.append(e)
+        return dist
+
+
+@lru_cache(maxsize=COMPILED_CACHE)
+def goal_distances(table: Table) -> GoalDistances:
+    """The shared ``GoalDistances`` of ``table`` (every env on it adds to the same rows)."""
+    return GoalDistances(table)
+
+
+def goal_hints(table: Table, cells: np.ndarray, goals: np.ndarray) -> np.ndarray:
+    """``(..., HINT_BITS)`` 0/1: the actions that shorten the way to each robot's goal by one move
+    (shortest paths in moves; none on the goal itself or where the goal is out of reach)."""
+    dist = goal_distances(table)
+    rows = dist.rows_for(goals)
+    here = dist.rows[rows, cells][..., None]
+    ahead = dist.rows[rows[..., None], table.target[cells]]  # STAY's target is the cell itself: never shorter
+    return ((ahead == here - 1) & (here > 0)).astype(np.int64)
+
+
+def target_channel(
+    table: Table, cells: np.ndarray, goals: np.ndarray, radius: int, out: np.ndarray | None = None, column: int = 0
+) -> np.ndarray:
+    """``(..., (2r+1)^2)`` 0/1: the local window's target channel, as POGEMA's: 1 on the goal's cell when
+    it lies in the window, else on the window's border cell its offset projects to (each of ``dx``,
+    ``dy`` clamped to ``-r..r``); rows north to south, west to east, as the window's cells.
+    ``out``: C-contiguous int64 rows ``(..., m)`` to write the channel into, at columns ``column`` on."""
+    xs, ys, clamp_x, clamp_y = _offsets(table, radius)
+    side = 2 * radius + 1
+    # the goal's clamped offset, by look-ups (offsets shifted to start at 0): cheaper than clip on short rows
+    at = clamp_y.take(ys.take(goals) - ys.take(cells)) * side + clamp_x.take(xs.take(goals) - xs.take(cells))
+    if out is None:
+        out = np.empty((*np.shape(cells), side * side), dtype=np.int64)
+    m = out.shape[-1]
+    out[..., column : column + side * side] = 0
+    flat = out.reshape(-1)  # a view: out is C-contiguous
+    flat[np.arange(0, flat.size, m) + column + at.ravel()] = 1
+    return out
+
+
+@lru_cache(maxsize=COMPILED_CACHE)
+def _offsets(table: Table, radius: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Each cell's x and y, and the clamped offset ``min(max(d, -r), r) + r`` of each ``d`` (indexed by ``d``:
+    negative ``d`` read from the end, where ``-W + 1 .. -1`` lie)."""
+    w, h = table.width, table.height
+    ids = np.arange(table.n_cells, dtype=np.int64)
+    d_x, d_y = np.r_[0 : w, -w + 1 : 0], np.r_[0 : h, -h + 1 : 0]  # index k holds offset d (k - len for the tail)
+    return ids % w, ids // w, np.clip(d_x, -radius, radius) + radius, np.clip(d_y, -radius, radius) + radius
+
+
+@dataclass(frozen=True, eq=False)
+class GoalColumns:
+    """The columns own goals add to each robot's observation row: "global" and "nearest" the goal's
+    ``[x, y]``; "local" the target channel (``target_channel``), then with ``hint`` the goal hint."""
+
+    radius: int | None  # "local": the window's radius; None: the goal's [x, y]
+    hint: bool
+    width: int  # of the observation space (a family of levels: the largest)
+    height: int
+
+    @property
+    def nvec(self) -> list[int]:
+        part = [self.width, self.height] if self.radius is None else [2] * (2 * self.radius + 1) ** 2
+        return part + [2] * (HINT_BITS if self.hint else 0)
+
+    @property
+    def size(self) -> int:
+        return len(self.nvec)
+
+    def __call__(self, table: Table, cells: np.ndarray, goals: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
+        """``(..., n, size)`` int64 from each robot's cell and goal cell, ``(..., n)``, on ``table``; ``out``:
+        rows ``(..., n, m)`` whose last ``size`` columns to fill instead (returned)."""
+        cells, goals = np.asarray(cells, dtype=np.int64), np.asarray(goals, dtype=np.int64)
+        if out is None:
+            out = np.empty((*cells.shape, self.size), dtype=np.int64)
+        first = out.shape[-1] - self.size  # the goal's columns, then the hint's
+        hint = first + self.size - (HINT_BITS if self.hint else 0)
+        if self.radius is None:
+            out[..., first:hint] = cell_xy(table)[goals]
+        else:
+            target_channel(table, cells, goals, self.radius, out, first)
+        if self.hint:
+            out[..., hint:] = goal_hints(table, cells, goals)
+        return out
+
+
+@lru_cache(maxsize=COMPILED_CACHE)
+def cell_xy(table: Table) -> np.ndarray:
+    """``(cells, 2)`` int64: each cell's ``[x, y]``."""
+    ids = np.arange(table.n_cells, dtype=np.int64)
+    xy = np.stack([ids % table.width, ids // table.width], axis=1)
+    xy.setflags(write=False)
+    return xy
