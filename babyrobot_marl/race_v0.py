@@ -123,6 +123,13 @@ puddles or glass walls these are the optimal actions of one robot alone. Worked 
 breadth-first search per target cell, the first time a robot is given it, then kept; nothing
 is planned per step.
 
+`lifelong=True` (with `goals="own"`, POGEMA's lifelong task): a robot that reaches its target
+gets the exit reward for that step and at once a new target, drawn from the env's generator
+(a free cell reachable from where it stands, not that cell, none of the other robots' targets
+while there are cells left), and keeps going: nobody finishes, and the race ends at `max_cycles`
+(every robot truncated). `env.goals_reached` counts each robot's targets in the episode
+(throughput: their sum over the steps).
+
 ## Episode end
 
 The race ends when every robot has finished, or after `max_cycles` steps (the robots still
@@ -177,7 +184,7 @@ race_v0.parallel_env(level="race-2", n_robots=2, collisions="block", max_cycles=
                      start="level", finished="remove", rules=None, render_mode=None,
                      cell_size=32, theme="light", animation_frames=4, observe="global",
                      view_radius=None, k=None, obs_encoding="multidiscrete", hint=False, goals="exit",
-                     **rule_overrides)
+                     lifelong=False, **rule_overrides)
 ```
 
 * `level`: a built-in name (`babyrobot_marl.levels.names()`), a level text, a grid map (rows of
@@ -200,6 +207,7 @@ race_v0.parallel_env(level="race-2", n_robots=2, collisions="block", max_cycles=
   `view_radius` or `k` given to another mode is a `ValueError`.
 * `hint`: `True` adds the goal hint to `"local"` rows (above); with another mode a `ValueError`.
 * `goals`: `"exit"` (default: the race to the exits) or `"own"` (each robot its own target: Own goals above).
+* `lifelong`: `True` (with `goals="own"`) gives a robot a new target each time it reaches one (above).
 * `rules` / keyword overrides: any `Rules` field, e.g. `win_bonus=0`, `glass_pass_prob=1`; any
   other keyword is Python's own `TypeError` (`... got an unexpected keyword argument 'x'`).
 * `obs_encoding`: `"multidiscrete"` (default), `"box"` or `"onehot"` (Observations above), for any `observe` mode.

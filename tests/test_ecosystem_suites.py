@@ -86,6 +86,9 @@ RACES = {
     # removing one has eight robots, so that its median robot is still out when a few reach their goals early)
     "four-own-local-hint-freeze": dict(level="race-4", n_robots=4, goals="own", observe="local", hint=True, finished="freeze"),
     "eight-own-global-bounce-remove": dict(level=EIGHT, n_robots=8, goals="own", collisions="bounce"),
+    "four-own-lifelong-local-hint-bounce": dict(
+        level="race-4", n_robots=4, goals="own", lifelong=True, observe="local", hint=True, collisions="bounce"
+    ),
     "four-family-own-nearest-onehot-freeze": dict(
         level="maze:5..8", n_robots=4, start="random", goals="own", observe="nearest", k=2, obs_encoding="onehot",
         finished="freeze",
@@ -220,6 +223,7 @@ RACE_GYM = {
     "three-own-local-hint": dict(
         level="race-4", opponents=["shortest", "random", "shortest"], goals="own", observe="local", hint=True
     ),
+    "two-own-lifelong-local": dict(level="race-4", opponents=["shortest", "random"], goals="own", lifelong=True, observe="local"),
     "one-own-global-box": dict(level="mixed-8x8", opponents=["random"], start="random", goals="own", obs_encoding="box"),
 }
 SINGLE = {

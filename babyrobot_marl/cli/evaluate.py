@@ -6,6 +6,7 @@ from __future__ import annotations
 import argparse
 from typing import Any, TextIO
 
+from ..core.goals import GOAL_MODES
 from ..core.rules import COLLISION_MODES
 from .checks import check_race_flags, int_in, non_negative_int, output_path, policy_spec, positive_int
 from .common import add_level_arg
@@ -30,6 +31,12 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                    help="seeded episodes per crowd (default: 200)")
     p.add_argument("--seed", type=non_negative_int, default=0, metavar="S", help="episode i resets with S + i (default: 0)")
     p.add_argument("--collisions", choices=COLLISION_MODES, default="block", help="collision rule (default: block)")
+    p.add_argument("--goals", choices=GOAL_MODES, default="exit",
+                   help="exit: the robots race to the exits (default); own: each robot has its own target cell, drawn "
+                   "at each episode's start (the exits are floor)")
+    p.add_argument("--lifelong", action="store_true",
+                   help="with --goals own: a robot on its target gets a new one and keeps going; adds throughput "
+                   "(targets reached per step)")
     p.add_argument("--plot", type=output_path, default=None, metavar="FILE.png",
                    help="also draw the metrics with their intervals to this image (matplotlib: the plot extra)")
     p.add_argument("--greedy", action="store_true",
@@ -43,10 +50,12 @@ def run(args: argparse.Namespace, out: TextIO) -> int:
 
     if args.plot:  # before the episodes: a missing matplotlib is known now
         _matplotlib()
+    if args.lifelong and args.goals != "own":
+        raise ValueError("--lifelong: new targets replace reached ones, so it needs --goals own")
     policy, form = _policy(args.policy, args.greedy, args.seed)
     check_race_flags(args.level, args.robots, args.collisions)
     ev = evaluate(policy, level=args.level, n_robots=args.robots, episodes=args.episodes, seed=args.seed,
-                  collisions=args.collisions, policy_env=form)
+                  collisions=args.collisions, policy_env=form, goals=args.goals, lifelong=args.lifelong)
     out.write(ev.table() + "\n")
     if args.plot:
         axes = ev.plot()
@@ -82,6 +91,10 @@ class _Scripted:
     def for_env(self, env: Any) -> Any:
         from .. import policies
 
+        if self.name == "shortest" and env.goals_mode == "own":  # each robot to its own target
+            from ..envs.race_goals import OwnGoalShortest
+
+            return OwnGoalShortest(env.table)
         return policies.make(self.name, env.table, seed=env.np_random.integers(2**63))
 
     def __call__(self, obs: Any) -> int:  # never called unbound

@@ -21,7 +21,7 @@ import numpy as np
 from .actions import N_ACTIONS
 from .checks import check_batch, check_int
 from .engine import move_array, move_drawn
-from .goals import GoalColumns, draw_goals
+from .goals import GoalColumns, draw_goals, next_goal
 from .observe import Observer, Recycler, global_observations
 from .rng import SLOT_PRIORITY, SLOTS, uniform_array
 from .table import Table
@@ -134,7 +134,9 @@ class BatchRace:
     (0 for single-robot envs). Robots that finish are parked (the ``finished="freeze"`` view).
     ``goal_columns`` (own goals, on a ``goals.own_goal_table``): each robot has its own target
     (``goals``, drawn at reset after the starts, as ``race_v0`` draws them), finishes on it with the
-    exit reward (no bonus), and its observation rows end with the goal's columns.
+    exit reward (no bonus), and its observation rows end with the goal's columns. ``lifelong``
+    (with own goals): a robot on its target gets a new one from its env's generator instead and keeps
+    going (``reached`` counts the targets); the race ends at ``max_steps``.
     """
 
     def __init__(
@@ -150,6 +152,7 @@ class BatchRace:
         observer: Observer | None = None,
         pools: Sequence[int] | None = None,
         goal_columns: GoalColumns | None = None,
+        lifelong: bool = False,
     ):
         if start not in START_MODES:
             raise ValueError(f"start: must be one of {START_MODES}, got {start!r}")
@@ -174,6 +177,9 @@ class BatchRace:
         # own goals: each robot's target cell; ``given_goals`` (when set) replaces the draw at resets
         self.goals = np.zeros((n_envs, n_robots), dtype=np.int64) if goal_columns is not None else None
         self.given_goals: np.ndarray | None = None
+        self.lifelong = bool(lifelong) and self.goals is not None
+        self.reached = np.zeros((n_envs, n_robots), dtype=np.int64)  # own goals: targets reached this episode
+        self._drawn_rng: np.random.Generator | None = None  # reset_drawn's generator: lifelong draws for its envs
         self.mode = table.rules.collisions
         e, n = n_envs, n_robots
         self.cells = np.zeros((e, n), dtype=np.int64)
@@ -243,6 +249,7 @@ class BatchRace:
         k = envs.size
         if k == 0:
             return
+        self._drawn_rng = rng
         self.keys[envs] = rng.integers(0, 1 << 64, size=k, dtype=np.uint64)
         pool = self.pool[envs] = rng.integers(self.pool_count.size, size=k) if self.pool_count.size > 1 else 0
         first, count = self.pool_first[pool], self.pool_count[pool]
@@ -267,6 +274,7 @@ class BatchRace:
 
     def _started(self, envs: np.ndarray) -> None:
         self.racing[envs] = True
+        self.reached[envs] = 0
         self.rank[envs] = 0
         self.n_finished[envs] = 0
         self.t[envs] = 0
@@ -304,9 +312,9 @@ class BatchRace:
         blocked = final != desired
         rewards = np.where(racing, t.reward[final], 0.0)
         finishing = racing & (t.is_exit[final] if self.goals is None else final == self.goals)
+        if self.goals is not None and finishing.any():  # on its own target: the exit reward, no race to win
+            finishing = self._on_goals(finishing, final, rewards)
         if finishing.any():
-            if self.goals is not None:  # on its own target: the exit reward, no race to win
-                rewards[finishing] = t.rules.exit_reward
             first = finishing.any(axis=1) & (self.n_finished == 0)
             rewards += np.where(finishing & first[:, None], self.win_bonus, 0.0)
             self.rank = np.where(finishing, (self.n_finished + 1)[:, None], self.rank)
@@ -336,8 +344,8 @@ class BatchRace:
             code = np.where(frozen, -1, code)
         rewards = t.reward.take(nxt)
         finishing = t.is_exit.take(nxt) if self.goals is None else nxt == self.goals[:, 0]
-        if self.goals is not None:
-            rewards[finishing] = t.rules.exit_reward
+        if self.goals is not None and np.count_nonzero(finishing):
+            finishing = self._on_goals(finishing[:, None] & ~self.over[:, None], nxt[:, None], rewards[:, None])[:, 0]
         if waiting:
             rewards[frozen] = 0.0
             finishing &= ~frozen
@@ -353,6 +361,23 @@ class BatchRace:
         over = finishing | (self.t >= self._max_t)
         self.over = over = frozen | over if waiting else over
         return rewards[:, None], finishing[:, None], self._no_block, code[:, None], over
+
+    def _on_goals(self, on_goal: np.ndarray, final: np.ndarray, rewards: np.ndarray) -> np.ndarray:
+        """Robots standing on their own targets (``(E, R)``): the exit reward, counted; the ones that finish
+        (all of them, or none with ``lifelong``: they get new targets, drawn env by env, in robot order)."""
+        rewards[on_goal] = self.table.rules.exit_reward
+        self.reached += on_goal
+        if not self.lifelong:
+            return on_goal
+        for i in np.flatnonzero(on_goal.any(axis=1)).tolist():
+            g = self.generators[i] if self.generators[i] is not None else self._drawn_rng
+            goals = self.goals[i]
+            taken = set(goals.tolist())
+            for k in np.flatnonzero(on_goal[i]).tolist():
+                taken.discard(int(goals[k]))
+                goals[k] = new = next_goal(g, self.table, int(final[i, k]), taken)
+                taken.add(new)
+        return np.zeros_like(on_goal)
 
     def observations(self) -> np.ndarray:
         """``(n_envs, n_robots, 2 + 3 * (n_robots - 1))`` int64, as ``race_v0`` (``[x, y]`` for one robot);

@@ -17,7 +17,7 @@ stands on its own target, and another robot's target is floor too. What lives he
 from __future__ import annotations
 
 from collections import deque
-from collections.abc import Sequence
+from collections.abc import Collection, Sequence
 from dataclasses import dataclass, fields
 from functools import cached_property, lru_cache
 
@@ -142,6 +142,33 @@ def draw_goals(rng: np.random.Generator, table: Table, starts: Sequence[int]) ->
         taken[k] += 1
         owner[k].append(i)
     return goals
+
+
+def next_goal(rng: np.random.Generator, table: Table, cell: int, taken: Collection[int]) -> int:
+    """A new goal for a robot on ``cell`` that reached its goal (``lifelong=True``): a free cell reachable
+    from ``cell``, not ``cell`` and none of ``taken`` (the other robots' goals), drawn from ``rng``.
+
+    Uniform over those cells: a few draws from the whole part of the level, else one from what is
+    left; a part with no other free cell left gives the robot any other free cell of it (shared).
+    """
+    r = reach(table)
+    members = r.members[int(r.component[cell])]
+    for _ in range(_TRIES):
+        c = members[int(rng.integers(len(members)))]
+        if c != cell and c not in taken:
+            return c
+    left = [c for c in members if c != cell and c not in taken] or [c for c in members if c != cell]
+    return left[int(rng.integers(len(left)))]
+
+
+_TRIES = 8  # draws from the whole part before listing the cells left (a crowded part)
+
+
+def goal_step(table: Table, cell: int, goal: int) -> int:
+    """The first action of a shortest path from ``cell`` to ``goal`` (the lowest-numbered of ties); STAY on
+    the goal or when it is out of reach: the shortest-path robot of own goals."""
+    bits = goal_hints(table, np.array(cell), np.array(goal))
+    return int(np.argmax(bits)) if bits.any() else 0
 
 
 class GoalDistances:

@@ -168,6 +168,15 @@ def check_no_goals(options: object, goals_mode: str) -> None:
         )
 
 
+def check_lifelong(lifelong: object, goals_mode: str) -> bool:
+    """``lifelong``: a bool, ``True`` only with own goals (a robot's next target needs one to replace)."""
+    if not isinstance(lifelong, (bool, np.bool_)):
+        raise ValueError(f"lifelong: must be True or False, got {lifelong!r}")
+    if lifelong and goals_mode != "own":
+        raise ValueError(f"lifelong: new targets are for own goals (goals='own'), got goals={goals_mode!r}")
+    return bool(lifelong)
+
+
 def check_goal_cells(table: Table, cells: object, n: int, goals_mode: str, what: str = 'options["goals"]') -> list[int]:
     """``reset``'s own goals: ``n`` distinct cells ``(x, y)``, one per robot, not blocked (exits are floor with own
     goals), as cell ids; else a ``ValueError`` naming ``what``. Only with ``goals="own"``."""

@@ -14,7 +14,7 @@ from pettingzoo import ParallelEnv
 from ..core.actions import N_ACTIONS
 from ..core.batch import BatchRace
 from ..core.checks import check_action, check_choice, check_count, check_global_view, check_seed, check_view_numbers
-from ..core.goals import GOAL_MODES, GoalColumns, draw_goals, own_goal_table
+from ..core.goals import GOAL_MODES, GoalColumns, own_goal_table
 from ..core.level import Cell, Level
 from ..core.observe import Observer, global_gather, make_observer, observer_for, with_hint
 from ..core.outcomes import FINISHED, START
@@ -28,15 +28,15 @@ from ..render.checks import check_animation_frames, check_cell_size, check_fps, 
 from ..render.rgb import Theme, resolve_theme
 from .checks import (
     check_cells,
-    check_goal_cells,
-    check_goals_reach,
     check_hint,
+    check_lifelong,
     check_no_goals,
     check_options,
     check_render_mode,
 )
 from .drawing import EnvDrawing, OverlayMethods
 from .encodings import Encoder
+from .race_goals import RaceGoals
 from .race_readouts import RaceReadouts
 from .single import default_max_steps
 from .starts import draw_starts, new_generator, placement
@@ -49,11 +49,11 @@ _LAYOUTS, _LAYOUT_SIZE = 256, 4096  # gathers kept per env, and the largest kept
 _RACING_INFO = {"cell": None, "outcome": 0, "blocked": False, "finished": False, "rank": 0}  # a racing robot's info, copied
 _ARGS = (
     "level", "n_robots", "collisions", "max_cycles", "start", "finished", "rules", "render_mode", "cell_size", "theme",
-    "animation_frames", "render_fps", "observe", "view_radius", "k", "obs_encoding", "hint", "goals",
+    "animation_frames", "render_fps", "observe", "view_radius", "k", "obs_encoding", "hint", "goals", "lifelong",
 )
 
 
-class RaceEnv(RaceReadouts, OverlayMethods, ParallelEnv):
+class RaceEnv(RaceGoals, RaceReadouts, OverlayMethods, ParallelEnv):
     """Several Baby Robots race to the exit. See ``babyrobot_marl.race_v0`` for the full table."""
 
     metadata = {
@@ -83,9 +83,11 @@ class RaceEnv(RaceReadouts, OverlayMethods, ParallelEnv):
         obs_encoding: str = "multidiscrete",
         hint: bool = False,
         goals: str = "exit",
+        lifelong: bool = False,
         **rule_overrides: Any,
     ):
         self.goals_mode = check_choice(goals, "goals", GOAL_MODES)
+        self.lifelong = check_lifelong(lifelong, self.goals_mode)
         self.levels = LevelPicker(level)  # level= a family or a callable: drawn per reset
         self.level = self.levels.first
         if collisions is not None:
@@ -166,6 +168,7 @@ class RaceEnv(RaceReadouts, OverlayMethods, ParallelEnv):
         self._key = 0
         self._n_finished = 0
         self._goal_of: list[int] | None = None  # own goals: each robot's target cell
+        self._reached: list[int] = []  # own goals: targets each robot reached this episode
         self._started = False
 
     # ----------------------------------------------------------------------- PettingZoo API
@@ -195,6 +198,7 @@ class RaceEnv(RaceReadouts, OverlayMethods, ParallelEnv):
             starts = self._draw_starts(goals)
         self._goal_of = self._goals_for(starts, goals)
         self._goal_arr = None if self._goal_of is None else np.array(self._goal_of, dtype=np.int64)
+        self._reached = [0] * self.n_robots
         n = self.n_robots
         self._started = True
         self._live, self._live_cells = list(range(n)), starts
@@ -238,8 +242,14 @@ class RaceEnv(RaceReadouts, OverlayMethods, ParallelEnv):
         cells, outcome, blocked, finishing = race_step(
             self._lists, self.collisions, self._live_cells, acts, self._key, t, live, self.n_robots
         )
+        reached = None
         if self._goal_of is not None:  # own goals: finished on its own target (the table has no exits)
             finishing = list(map(operator.eq, cells, map(self._goal_of.__getitem__, live)))
+            if True in finishing:
+                self._count_reached(live, finishing)
+                if self.lifelong:  # a new target instead, and the robot keeps going
+                    reached, finishing = finishing, [False] * len(finishing)
+                    self._next_goals(live, cells, reached)
         self._last_step = (live, self._live_cells, acts, outcome, blocked, finishing, t)
         self._live_cells = cells
         self._t = t = t + 1
@@ -247,8 +257,11 @@ class RaceEnv(RaceReadouts, OverlayMethods, ParallelEnv):
             bumps = self._bumps
             for i, b in zip(live, blocked):
                 bumps[i] += b
-        if True in finishing or t >= self.max_cycles or not self._reported_live:
-            out = self._step_general(cells, outcome, blocked, finishing, list(map(self._reward_at.__getitem__, cells)))
+        if True in finishing or t >= self.max_cycles or not self._reported_live or reached:
+            rewards = list(map(self._reward_at.__getitem__, cells))
+            if reached:  # lifelong: the target's step earns the exit reward
+                rewards = [self.rules.exit_reward if r else x for r, x in zip(reached, rewards)]
+            out = self._step_general(cells, outcome, blocked, finishing, rewards)
         else:  # the common step: nobody finishes, the race goes on, the agents are the racing robots
             # the five dicts in one pass; infos fresh dicts and arrays (users keep and change them)
             obs, rewards, infos, returns, xy, reward_at = {}, {}, {}, [], self._xy_arrays, self._reward_at
@@ -375,7 +388,7 @@ class RaceEnv(RaceReadouts, OverlayMethods, ParallelEnv):
         self.levels.check_one_level("the batch engine (and the vector envs)")
         return BatchRace(
             self.table, n_envs, self.n_robots, self.max_cycles, self._fixed_starts, self._free, self.start, self.rules.win_bonus,
-            observer=self._observer, goal_columns=self._goal_columns,
+            observer=self._observer, goal_columns=self._goal_columns, lifelong=self.lifelong,
         )
 
     @property
@@ -433,15 +446,6 @@ class RaceEnv(RaceReadouts, OverlayMethods, ParallelEnv):
         obs = self._xyf.take(rows, axis=0).ravel()[self._gather_reported]
         return obs if self.encoder.identity else self.encoder(obs)
 
-    def _goal_observations(self) -> np.ndarray:
-        """``_observations`` with own goals: each row, then its goal's columns (``core.goals.GoalColumns``)."""
-        ids, cells, columns, goals = self._agent_ids, np.array(self._cells), self._goal_columns, self._goal_arr
-        if self._observer is not None:  # rows with room for the goal's columns, filled in place
-            rows = columns(self.table, cells, goals, out=self._observer(cells, np.array(self._racing), columns.size))
-            return self.encoder(rows if len(ids) == self.n_robots else rows[ids])  # all robots: already in order, fresh
-        rows = self._xyf.take([*self._live_cells, *self._parked], axis=0).ravel()[self._gather_reported]
-        return self.encoder(np.concatenate([rows, columns(self.table, cells[ids], goals[ids])], axis=-1))
-
     def _check_started(self, what: str) -> None:
         if not self._started:
             raise RuntimeError(f"{what}: the race has not started; call reset() first")
@@ -474,24 +478,6 @@ class RaceEnv(RaceReadouts, OverlayMethods, ParallelEnv):
         """Random starts (goals given: off those cells, so that no robot starts on its goal)."""
         free = self._free if goals is None else [c for c in self._free if c not in set(goals)]
         return draw_starts(self.np_random, self._fixed_starts, free, self.n_robots)
-
-    def _cell_options(self, options: Mapping[str, Any]) -> tuple[list[int] | None, list[int] | None]:
-        """``reset``'s ``"starts"`` and ``"goals"`` as cell ids (None: not given), checked on this level."""
-        starts, goals = options.get("starts"), options.get("goals")
-        if starts is not None:
-            starts = check_cells(self.table, starts, self.n_robots, 'options["starts"]')
-        if goals is not None:
-            goals = check_goal_cells(self.table, goals, self.n_robots, self.goals_mode)
-        return starts, goals
-
-    def _goals_for(self, starts: list[int], goals: list[int] | None) -> list[int] | None:
-        """Each robot's target cell (own goals): given ones checked against the starts, else drawn; None: exits."""
-        if self.goals_mode != "own":
-            return None
-        if goals is None:
-            return draw_goals(self.np_random, self.table, starts)
-        check_goals_reach(self.table, goals, starts)
-        return goals
 
     def _compile(self, level: Level) -> Table:
         table = compile_level(level, self.rules)

@@ -10,18 +10,18 @@ import gymnasium as gym
 import numpy as np
 
 from ..core.checks import check_action, check_seed
-from ..core.goals import goal_hints
 from ..core.level import Level
 from ..core.rules import Rules, known_args
 from ..policies import POLICY_NAMES, make
 from ..render.rgb import Theme
 from .checks import check_cells, check_goal_cells, check_no_goals, check_options
 from .race import RaceEnv
+from .race_goals import towards_own_goal
 from .spec import StepLimitSpec
 
 _ARGS = (
     "level", "opponents", "collisions", "max_cycles", "start", "rules", "render_mode", "cell_size", "theme",
-    "animation_frames", "render_fps", "observe", "view_radius", "k", "obs_encoding", "hint", "goals",
+    "animation_frames", "render_fps", "observe", "view_radius", "k", "obs_encoding", "hint", "goals", "lifelong",
 )
 
 
@@ -47,7 +47,8 @@ class BabyRobotRaceEnv(gym.Env):
     ``goals="own"``: every robot has its own target cell (``race_v0``'s own goals; the exits are
     floor): robot 0's episode terminates on its target, its observation ends with the target's
     ``[x, y]``, and ``"shortest"`` opponents walk a shortest path to their own targets.
-    ``reset(options={"goals": [(x, y), ...]})`` gives the targets (one per robot).
+    ``reset(options={"goals": [(x, y), ...]})`` gives the targets (one per robot). ``lifelong=True``:
+    a robot on its target gets a new one and keeps going (robot 0 is truncated at ``max_cycles``).
 
     Registered as ``babyrobot_marl/BabyRobotRace-v0``: ``gymnasium.make(
     "babyrobot_marl/BabyRobotRace-v0", level="race-4", opponents=["shortest", "random", "random"])``;
@@ -72,6 +73,7 @@ class BabyRobotRaceEnv(gym.Env):
         render_fps: float | None = None,
         obs_encoding: str = "multidiscrete",
         goals: str = "exit",
+        lifelong: bool = False,
         **rule_overrides: Any,
     ):
         known_args("BabyRobotRaceEnv", rule_overrides, _ARGS)  # Python's wording, naming this class
@@ -92,6 +94,7 @@ class BabyRobotRaceEnv(gym.Env):
             render_fps=render_fps,
             obs_encoding=obs_encoding,
             goals=goals,
+            lifelong=lifelong,
             **rule_overrides,
         )
         self.race.set_overlay(names=["learner", *opponents])  # the legend's names
@@ -148,7 +151,7 @@ class BabyRobotRaceEnv(gym.Env):
     def _opponent(self, name: str, k: int) -> Any:
         """Opponent ``k``'s policy; with own goals, ``"shortest"`` walks towards its own target."""
         if name == "shortest" and self.race.goals_mode == "own":
-            return partial(_towards_goal, self.race, k)
+            return partial(towards_own_goal, self.race, k)
         return make(name, self.race.table, seed=self.np_random)
 
     def render(self) -> str | None:
@@ -160,11 +163,3 @@ class BabyRobotRaceEnv(gym.Env):
     def _with_ranks(self, info: dict[str, Any]) -> dict[str, Any]:
         return {**info, "ranks": np.array(self.race.ranks, dtype=np.int64)}
 
-
-def _towards_goal(race: RaceEnv, k: int, obs: Any) -> int:
-    """Robot ``k``'s first action on a shortest path to its own target (STAY on it, or when it is out of reach)."""
-    table = race.table
-    cell = table.cell_id(race.robot_cells[k])
-    goal = table.cell_id(race.goals[f"robot_{k}"])
-    bits = goal_hints(table, np.array(cell), np.array(goal))
-    return int(np.argmax(bits)) if bits.any() else 0

@@ -65,7 +65,7 @@ _RENDER_MODES = ["rgb_array", "ansi"]
 SINGLE_ARGS = ("num_envs", "level", "rules", "max_steps", "start", "render_mode", "cell_size", "theme", "obs_encoding",
                 "autoreset_mode")  # fmt: skip
 RACE_ARGS = ("n_envs", "level", "n_robots", "collisions", "max_cycles", "start", "rules", "render_mode", "cell_size",
-              "theme", "observe", "view_radius", "k", "obs_encoding", "autoreset_mode", "goals")  # fmt: skip
+              "theme", "observe", "view_radius", "k", "obs_encoding", "autoreset_mode", "goals", "lifelong")  # fmt: skip
 
 
 class _BatchVectorEnv(gym.vector.VectorEnv):
@@ -382,7 +382,8 @@ class RaceVectorEnv(_BatchVectorEnv):
     its generator, after the starts: the single env's targets for the same seed), and rows end with
     the target's columns. ``reset(options={"goals": [(x, y), ...]})`` gives every reset race those
     targets for that reset (with ``"starts"``, or ``start="level"``: given targets are checked
-    against known starts); auto-resets draw new ones.
+    against known starts); auto-resets draw new ones. ``lifelong=True`` (with own goals): a robot on
+    its target gets a new one and keeps going, as in ``race_v0``; races end at ``max_cycles``.
     """
 
     _options_known = ("starts", "reset_mask")

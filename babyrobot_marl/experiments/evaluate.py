@@ -14,8 +14,13 @@ and the same starts (``start="random"``). All robots of a crowd act with one pol
 - ``sum_of_costs``: the mean over episodes of the robots' summed steps (a robot that did not
   finish costs the episode's length), in ``[0, n_robots * limit]``;
 - ``makespan``: the mean steps until the last robot finished or the episode ended, in ``[0, limit]``;
+- ``throughput`` (``lifelong=True`` only, POGEMA's lifelong metric): the mean over episodes of the
+  targets reached per step (all robots together), in ``[0, n_robots]``;
 
 means with the normal approximation, clipped to the range (one episode: the whole range).
+With ``goals="own"`` (``env_kwargs``) the robots go to their own targets, and the shortest-path
+robots walk a shortest path to theirs; with ``lifelong=True`` nobody finishes (each target
+reached brings a new one), so the rates read 0 and ``throughput`` is the measure.
 ``limit`` is the step limit (``max_cycles``: the largest level's default for a family).
 """
 
@@ -32,27 +37,31 @@ import numpy as np
 from .. import policies as policy_module
 from ..core.checks import check_int
 from ..envs.race import RaceEnv
+from ..envs.race_goals import OwnGoalShortest
 from ..levels.sources import EVAL_MAZE_SEEDS, parse_level_family
 from .races import bound_policy
 from .stats import mean_interval, wilson
 
 METRICS = ("success_rate", "all_reached_rate", "sum_of_costs", "makespan")
+LIFELONG_METRICS = (*METRICS, "throughput")
 BASELINES = ("shortest", "random")
 Policy = Callable[[np.ndarray], int]
 
 
 @dataclass
 class Episode:
-    """One episode of a crowd: its level, length and each robot's finishing step (0: did not finish)."""
+    """One episode of a crowd: its level, length, each robot's finishing step (0: did not finish) and the
+    targets its robots reached (own goals)."""
 
     seed: int
     level: str
     steps: int
     finish_steps: list[int]
+    goals_reached: int = 0
 
 
-def crowd_metrics(episodes: list[Episode], n_robots: int, limit: int) -> dict[str, float]:
-    """The four metrics and their ``_low``/``_high`` bounds, plain floats (JSON-ready)."""
+def crowd_metrics(episodes: list[Episode], n_robots: int, limit: int, lifelong: bool = False) -> dict[str, float]:
+    """The four metrics (``lifelong``: and ``throughput``) and their ``_low``/``_high`` bounds, plain floats (JSON-ready)."""
     n = len(episodes)
     reached = sum(1 for e in episodes for f in e.finish_steps if f)
     all_reached = sum(1 for e in episodes if all(e.finish_steps))
@@ -64,12 +73,13 @@ def crowd_metrics(episodes: list[Episode], n_robots: int, limit: int) -> dict[st
         ("all_reached_rate", (all_reached / n, *wilson(all_reached, n))),
         ("sum_of_costs", _mean(costs, n_robots * limit)),
         ("makespan", _mean(makespans, limit)),
+        *((("throughput", _mean([e.goals_reached / e.steps for e in episodes], n_robots)),) if lifelong else ()),
     ):
         out[name], out[f"{name}_low"], out[f"{name}_high"] = value, low, high
     return out
 
 
-def _mean(values: list[int], top: float) -> tuple[float, float, float]:
+def _mean(values: list[float], top: float) -> tuple[float, float, float]:
     m, low, high = mean_interval(values, lo=0.0, hi=top)
     return (m, 0.0, float(top)) if math.isnan(low) else (m, low, high)  # one episode: nothing known beyond the range
 
@@ -85,11 +95,16 @@ class Evaluation:
     episodes: dict[str, list[Episode]]
     metrics: dict[str, dict[str, float]]
 
+    @property
+    def names(self) -> tuple[str, ...]:
+        """The metrics reported: ``METRICS``, and ``throughput`` for lifelong runs."""
+        return LIFELONG_METRICS if "throughput" in next(iter(self.metrics.values())) else METRICS
+
     def table(self) -> str:
         """One row per crowd: each metric as ``value [low, high]``."""
-        rows = [["robots", *METRICS]]
+        rows = [["robots", *self.names]]
         for name, m in self.metrics.items():
-            rows.append([name] + [_shown(k, m[k], m[f"{k}_low"], m[f"{k}_high"]) for k in METRICS])
+            rows.append([name] + [_shown(k, m[k], m[f"{k}_low"], m[f"{k}_high"]) for k in self.names])
         widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
         n = len(next(iter(self.episodes.values())))
         head = (f"{n} episodes on {self.level}, {self.n_robots} robots, collisions {self.collisions}, "
@@ -107,10 +122,10 @@ class Evaluation:
         except ImportError as err:
             raise ImportError("Evaluation.plot needs matplotlib: pip install 'babyrobot_marl[plot]'") from err
         if axes is None:
-            _, axes = plt.subplots(1, len(METRICS), figsize=(3.0 * len(METRICS), 3.2), layout="constrained")
+            _, axes = plt.subplots(1, len(self.names), figsize=(3.0 * len(self.names), 3.2), layout="constrained")
         names = list(self.metrics)
         x = np.arange(len(names))
-        for ax, k, top in zip(axes, METRICS, (1.05, 1.05, None, None)):
+        for ax, k, top in zip(axes, self.names, (1.05, 1.05, None, None, None)):
             v = np.array([self.metrics[n][k] for n in names])
             err = np.array([[self.metrics[n][k] - self.metrics[n][f"{k}_low"] for n in names],
                             [self.metrics[n][f"{k}_high"] - self.metrics[n][k] for n in names]])
@@ -120,7 +135,7 @@ class Evaluation:
             if top is not None:
                 ax.set_ylim(0, top)
             else:
-                ax.set_ylabel("steps")
+                ax.set_ylabel("targets per step" if k == "throughput" else "steps")
         n = len(next(iter(self.episodes.values())))
         axes[0].figure.suptitle(f"{n} episodes on {self.level}, {self.n_robots} robots, collisions {self.collisions} "
                                 "(bars: 95% intervals)")
@@ -128,7 +143,7 @@ class Evaluation:
 
 
 def _shown(metric: str, v: float, low: float, high: float) -> str:
-    f = ".3f" if metric.endswith("_rate") else ".1f"  # rates to 3 decimals, mean steps to one
+    f = ".3f" if metric.endswith("_rate") or metric == "throughput" else ".1f"  # rates to 3 decimals, mean steps to one
     return f"{v:{f}} [{low:{f}}, {high:{f}}]"
 
 
@@ -165,14 +180,17 @@ def evaluate(
     limit = envs[BASELINES[0]].max_cycles
     runs = {n: [_episode(envs[n], crowds[n], seed + i, i) for i in range(episodes)] for n in crowds}
     label = level if isinstance(level, str) and family is not None else envs[BASELINES[0]].level.name or "custom level"
-    metrics = {n: crowd_metrics(r, n_robots, limit) for n, r in runs.items()}
+    lifelong = envs[BASELINES[0]].lifelong
+    metrics = {n: crowd_metrics(r, n_robots, limit, lifelong) for n, r in runs.items()}
     return Evaluation(label, n_robots, envs[BASELINES[0]].collisions, limit, runs, metrics)
 
 
 def _episode(env: RaceEnv, crowd: Policy | str, seed: int, i: int) -> Episode:
     obs, _ = env.reset(seed=seed)
     # after the reset: a drawn level changes the table the scripted robots plan on
-    if isinstance(crowd, str):
+    if crowd == "shortest" and env.goals_mode == "own":  # each robot on a shortest path to its own target
+        acting: list[Any] = [OwnGoalShortest(env.table)] * env.n_robots
+    elif isinstance(crowd, str):
         acting = [policy_module.make(crowd, env.table, seed=np.random.default_rng([seed, i, k])) for k in range(env.n_robots)]
     else:
         acting = [bound_policy(crowd, env) for _ in range(env.n_robots)]  # one each: a policy with memory remembers one robot
@@ -183,4 +201,4 @@ def _episode(env: RaceEnv, crowd: Policy | str, seed: int, i: int) -> Episode:
         for a, info in infos.items():
             if info["finished"] and not finish[index[a]]:
                 finish[index[a]] = env.elapsed_steps
-    return Episode(seed, env.level.name, env.elapsed_steps, finish)
+    return Episode(seed, env.level.name, env.elapsed_steps, finish, sum(env.goals_reached))

@@ -1,0 +1,87 @@
+"""The race env's own goals (``goals="own"``, ``lifelong=True``), as a part of ``RaceEnv`` (a mixin over the
+env's own fields): the reset options' cells, each robot's target, the goal's columns of its observation,
+and lifelong's new targets. The rules live in ``core.goals``."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+import numpy as np
+
+from ..core.goals import draw_goals, goal_step, next_goal
+from .checks import check_cells, check_goal_cells, check_goals_reach
+
+
+def towards_own_goal(race: Any, k: int, obs: Any = None) -> int:
+    """Robot ``k``'s first action on a shortest path to its own target in ``race`` (STAY on it or when it is out
+    of reach): the shortest-path robot of own goals (``obs`` unused: it reads the race)."""
+    table = race.table
+    return goal_step(table, table.cell_id(race.robot_cells[k]), table.cell_id(race.goals[race.possible_agents[k]]))
+
+
+class OwnGoalShortest:
+    """The shortest-path robot of own goals acting on its observation row: a ``"global"`` or ``"nearest"`` row
+    of an own-goal race (no hint, ``"multidiscrete"``) starts with the robot's ``[x, y]`` and ends with its
+    target's ``[x, y]``. The first action of a shortest path, STAY on the target or when it is out of reach."""
+
+    name = "shortest"
+
+    def __init__(self, table: Any):
+        self.table = table
+
+    def __call__(self, obs: Any) -> int:
+        t = self.table
+        return goal_step(t, t.cell_id((int(obs[0]), int(obs[1]))), t.cell_id((int(obs[-2]), int(obs[-1]))))
+
+
+class RaceGoals:
+    """``RaceEnv``'s own-goal steps: ``_cell_options``, ``_goals_for``, ``_goal_observations``, ``_next_goals``."""
+
+    def _goal_observations(self) -> np.ndarray:
+        """``_observations`` with own goals: each row, then its goal's columns (``core.goals.GoalColumns``)."""
+        ids, cells, columns, goals = self._agent_ids, np.array(self._cells), self._goal_columns, self._goal_arr
+        if self._observer is not None:  # rows with room for the goal's columns, filled in place
+            rows = columns(self.table, cells, goals, out=self._observer(cells, np.array(self._racing), columns.size))
+            return self.encoder(rows if len(ids) == self.n_robots else rows[ids])  # all robots: already in order, fresh
+        rows = self._xyf.take([*self._live_cells, *self._parked], axis=0).ravel()[self._gather_reported]
+        return self.encoder(np.concatenate([rows, columns(self.table, cells[ids], goals[ids])], axis=-1))
+
+    def _count_reached(self, live: list[int], reached: list[bool]) -> None:
+        for i, r in zip(live, reached):
+            self._reached[i] += r
+
+    def _next_goals(self, live: list[int], cells: Sequence[int], reached: list[bool]) -> None:
+        """Lifelong: each robot that reached its target gets a new one from the race's generator, in robot order."""
+        goal_of = self._goal_of
+        taken = set(goal_of)
+        for i, c, r in zip(live, cells, reached):
+            if r:
+                taken.discard(goal_of[i])
+                goal_of[i] = g = next_goal(self.np_random, self.table, c, taken)
+                taken.add(g)
+        self._goal_arr = np.array(goal_of, dtype=np.int64)
+
+    def _cell_options(self, options: Mapping[str, Any]) -> tuple[list[int] | None, list[int] | None]:
+        """``reset``'s ``"starts"`` and ``"goals"`` as cell ids (None: not given), checked on this level."""
+        starts, goals = options.get("starts"), options.get("goals")
+        if starts is not None:
+            starts = check_cells(self.table, starts, self.n_robots, 'options["starts"]')
+        if goals is not None:
+            goals = check_goal_cells(self.table, goals, self.n_robots, self.goals_mode)
+        return starts, goals
+
+    def _goals_for(self, starts: list[int], goals: list[int] | None) -> list[int] | None:
+        """Each robot's target cell (own goals): given ones checked against the starts, else drawn; None: exits."""
+        if self.goals_mode != "own":
+            return None
+        if goals is None:
+            return draw_goals(self.np_random, self.table, starts)
+        check_goals_reach(self.table, goals, starts)
+        return goals
+
+    @property
+    def goals_reached(self) -> list[int]:
+        """How many targets each robot has reached this episode (own goals; with ``lifelong=True`` it counts
+        every target, else 0 or 1); all 0 in the race to the exits."""
+        return list(self._reached) if self._reached else [0] * self.n_robots
