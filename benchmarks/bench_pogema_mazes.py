@@ -2,6 +2,7 @@
 
     python benchmarks/bench_pogema_mazes.py            # 128 mazes x 8, 16, 32, 48, 64 robots
     python benchmarks/bench_pogema_mazes.py --quick    # 4 mazes, 8 robots (no POGEMA needed)
+    python benchmarks/bench_pogema_mazes.py --in-pogema --pogema-python PATH    # the same robots in POGEMA too
     python benchmarks/bench_pogema_mazes.py --regenerate --pogema-python PATH   # check the shipped data
 
 The mazes (21x21 at most) and the starts and goals of POGEMA's benchmark (02-mazes, MAPF) ship in
@@ -15,7 +16,9 @@ lowest-numbered action among the optimal ones, ``planning.goal_actions``), stops
 soft rule stops it. A robot leaves the board when it reaches its goal (POGEMA's
 ``on_target="finish"``); the published runs use ``on_target="nothing"`` (robots stay on their
 targets and still block), so the two rules differ for robots that would pass over a finished
-robot's target. Metrics are POGEMA's, named as ``babyrobot-marl evaluate`` names them:
+robot's target. ``--in-pogema`` steps the same robots in POGEMA 1.4 itself (its own venv) with
+both: with ``"finish"`` every episode must be the one run here, robot by robot (else exit status 1).
+Metrics are POGEMA's, named as ``babyrobot-marl evaluate`` names them:
 ``all_reached_rate`` (CSR), ``success_rate`` (ISR), ``sum_of_costs`` and ``makespan``, with 95%
 intervals (Wilson for rates, over mazes for CSR and robots for ISR; normal for means).
 """
@@ -98,27 +101,35 @@ def race(grid: str, starts: list[tuple[int, int]], goals: list[tuple[int, int]])
     return Episode(seed=0, level=grid, steps=t, finish_steps=finish)
 
 
+def episodes(mazes: list[dict], robots: tuple[int, ...]) -> dict[int, list[Episode]]:
+    """The shortest-path crowd's episode on every maze, per robot count."""
+    return {n: [race(m["grid"], cells(m["scenarios"][str(n)]["starts"]), cells(m["scenarios"][str(n)]["goals"]))
+                for m in mazes] for n in robots}
+
+
 def run(mazes: list[dict], robots: tuple[int, ...]) -> dict[int, dict[str, float]]:
     """POGEMA's metrics with their intervals per robot count, over the given mazes."""
-    out = {}
-    for n in robots:
-        episodes = []
-        for m in mazes:
-            s = m["scenarios"][str(n)]
-            episodes.append(race(m["grid"], cells(s["starts"]), cells(s["goals"])))
-        out[n] = crowd_metrics(episodes, n, STEPS)
-    return out
+    return metrics(episodes(mazes, robots))
 
 
-def table(results: dict[int, dict[str, float]], n_mazes: int) -> str:
-    """Our metrics per robot count (value [low, high]), then the published CSR with its source."""
-    lines = [f"shortest-path robots on {n_mazes} of POGEMA's validation mazes, {STEPS} steps, soft collisions, "
-             "a robot leaves at its goal; 95% intervals in brackets",
-             f"{'robots':>6}  {'CSR (all_reached_rate)':<24}{'ISR (success_rate)':<24}{'sum of costs':<26}makespan"]
-    for n, m in results.items():
-        cols = [_shown(m, k, 2 if k.endswith("rate") else 1) for k in ("all_reached_rate", "success_rate",
-                                                                         "sum_of_costs", "makespan")]
-        lines.append(f"{n:>6}  {cols[0]:<24}{cols[1]:<24}{cols[2]:<26}{cols[3]}")
+def metrics(by_count: dict[int, list[Episode]]) -> dict[int, dict[str, float]]:
+    return {n: crowd_metrics(eps, n, STEPS) for n, eps in by_count.items()}
+
+
+def table(results: dict[int, dict[str, float]], n_mazes: int,
+          others: dict[str, dict[int, dict[str, float]]] | None = None) -> str:
+    """Our metrics per robot count (value [low, high]), any other crowd's below (``others``: name ->
+    results), then the published CSR with its source."""
+    lines = [f"shortest-path robots on {n_mazes} of POGEMA's validation mazes, {STEPS} steps, soft collisions; "
+             "95% intervals in brackets",
+             f"{'':<34}{'robots':>6}  {'CSR (all_reached_rate)':<24}{'ISR (success_rate)':<24}{'sum of costs':<26}"
+             "makespan"]
+    for name, res in {"here (a robot leaves at its goal)": results, **(others or {})}.items():
+        for n, m in res.items():
+            cols = [_shown(m, k, 2 if k.endswith("rate") else 1) for k in ("all_reached_rate", "success_rate",
+                                                                             "sum_of_costs", "makespan")]
+            lines.append(f"{name:<34}{n:>6}  {cols[0]:<24}{cols[1]:<24}{cols[2]:<26}{cols[3]}")
+            name = ""
     ours = {n: results[n]["all_reached_rate"] for n in (32, 64) if n in results}
     lines += ["", f"CSR at 32 / 64 robots ({SOURCE}):"]
     for name, (a, b) in PUBLISHED.items():
@@ -131,6 +142,76 @@ def table(results: dict[int, dict[str, float]], n_mazes: int) -> str:
 
 def _shown(m: dict[str, float], k: str, digits: int) -> str:
     return f"{m[k]:.{digits}f} [{m[k + '_low']:.{digits}f}, {m[k + '_high']:.{digits}f}]"
+
+
+# The same crowd in POGEMA itself, run by its own interpreter: one JSON line of tasks in, one line per
+# episode out (each robot's finishing step, 0: not within the episode, and the episode's steps).
+WORKER = r"""
+import collections, json, sys
+from pogema import GridConfig, pogema_v0
+
+sys.setrecursionlimit(100_000)  # the soft rule reverts chains of robots recursively
+OURS = ((0, 0), (-1, 0), (0, 1), (1, 0), (0, -1))  # STAY, NORTH, EAST, SOUTH, WEST as (row, column) moves
+TO_POGEMA = (0, 1, 4, 2, 3)
+
+
+def distances(rows, goal):
+    seen, todo = {goal: 0}, collections.deque([goal])
+    while todo:
+        r, c = todo.popleft()
+        for dr, dc in OURS[1:]:
+            n = (r + dr, c + dc)
+            if 0 <= n[0] < len(rows) and 0 <= n[1] < len(rows[0]) and rows[n[0]][n[1]] == "." and n not in seen:
+                seen[n] = seen[r, c] + 1
+                todo.append(n)
+    return seen
+
+
+def action(dist, cell):  # the lowest of our action numbers on a shortest path; STAY on the goal
+    for a in range(1, 5):
+        n = (cell[0] + OURS[a][0], cell[1] + OURS[a][1])
+        if dist.get(n, 10**9) == dist[cell] - 1:
+            return TO_POGEMA[a]
+    return 0
+
+
+task = json.loads(sys.stdin.readline())
+for grid, starts, goals in task["episodes"]:
+    rows = grid.split("\n")
+    config = GridConfig(map=grid, agents_xy=[(y, x) for x, y in starts], targets_xy=[(y, x) for x, y in goals],
+                        on_target=task["on_target"], collision_system="soft", max_episode_steps=task["steps"],
+                        observation_type="MAPF")
+    env = pogema_v0(grid_config=config)
+    env.reset()
+    dists = [distances(rows, (y, x)) for x, y in goals]
+    finish, t, done = [0] * len(starts), 0, False
+    while not done:
+        cells = env.grid.get_agents_xy(ignore_borders=True)
+        _, _, terminated, truncated, _ = env.step([action(d, tuple(c)) for d, c in zip(dists, cells)])
+        t += 1
+        cells = env.grid.get_agents_xy(ignore_borders=True)
+        for i, (c, g) in enumerate(zip(cells, goals)):
+            if not finish[i] and (not env.grid.is_active[i] or tuple(c) == (g[1], g[0])):
+                finish[i] = t
+        done = all(terminated) or all(truncated)
+    print(json.dumps([finish, t]), flush=True)
+"""
+
+
+def in_pogema(python: str, mazes: list[dict], robots: tuple[int, ...], on_target: str) -> dict[int, list[Episode]]:
+    """The shortest-path crowd stepped by POGEMA 1.4 itself, per robot count."""
+    tasks = [(m["grid"], cells(m["scenarios"][str(n)]["starts"]), cells(m["scenarios"][str(n)]["goals"]))
+             for n in robots for m in mazes]
+    done = subprocess.run([python, "-c", WORKER], input=json.dumps({"episodes": tasks, "on_target": on_target,
+                                                                    "steps": STEPS}) + "\n",
+                          capture_output=True, text=True, check=False)
+    if done.returncode:
+        raise SystemExit(f"--pogema-python: POGEMA's run failed: {done.stderr.strip().splitlines()[-1:]}")
+    lines = [json.loads(line) for line in done.stdout.splitlines()]
+    out: dict[int, list[Episode]] = {}
+    for (grid, _, _), (finish, steps) in zip(tasks, lines):
+        out.setdefault(len(finish), []).append(Episode(seed=0, level=grid, steps=steps, finish_steps=finish))
+    return out
 
 
 def regenerate(python: str) -> str:
@@ -182,26 +263,36 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--json", action="store_true", help="end with one JSON line of the metrics")
     p.add_argument("--regenerate", action="store_true",
                    help="make the data again with POGEMA's venv (--pogema-python) and compare with the shipped file")
+    p.add_argument("--in-pogema", action="store_true",
+                   help="also step the same robots in POGEMA 1.4 itself (--pogema-python), with its on_target "
+                   "'finish' (as here: checked episode by episode) and 'nothing' (robots stay on their targets)")
     p.add_argument("--pogema-python", default=os.environ.get("POGEMA_PYTHON"), metavar="PATH",
-                   help="the python of a venv with pogema 1.4 and pogema-toolbox 0.1.1 (for --regenerate)")
+                   help="the python of a venv with pogema 1.4 (and pogema-toolbox 0.1.1 for --regenerate)")
     args = p.parse_args(argv)
     if args.policy is not None:
         p.exit(2, refuse_policy(args.policy) + "\n")
+    if (args.regenerate or args.in_pogema) and (not args.pogema_python or not Path(args.pogema_python).is_file()):
+        p.error(f"--pogema-python: the python of a venv with pogema 1.4 (and pogema-toolbox for --regenerate), "
+                f"got {args.pogema_python!r}")
     if args.regenerate:
-        if not args.pogema_python or not Path(args.pogema_python).is_file():
-            p.error(f"--pogema-python: the python of a venv with pogema 1.4 and pogema-toolbox, "
-                    f"got {args.pogema_python!r}")
         same = json.loads(regenerate(args.pogema_python)) == json.loads(DATA.read_text())
         print(f"{DATA.name}: {'the same as' if same else 'DIFFERENT from'} what POGEMA's venv makes now")
         if not same:
             return 1
     mazes, robots = load_mazes()[: QUICK_MAZES if args.quick else args.mazes], QUICK_ROBOTS if args.quick else args.robots
-    results = run(mazes, robots)
-    print(table(results, len(mazes)))
+    ours = episodes(mazes, robots)
+    results, others = metrics(ours), {}
+    if args.in_pogema:
+        finish = in_pogema(args.pogema_python, mazes, robots, "finish")
+        same = all(a == b for n in robots for a, b in zip(ours[n], finish[n]))
+        others["POGEMA 1.4, on_target='finish'"] = metrics(finish)
+        others["POGEMA 1.4, on_target='nothing'"] = metrics(in_pogema(args.pogema_python, mazes, robots, "nothing"))
+        print(f"POGEMA 1.4 with on_target='finish': every episode {'the same as' if same else 'DIFFERENT from'} here")
+    print(table(results, len(mazes), others))
     if args.json:
         print(json.dumps({str(n): {k: m[k] for k in m if k.split("_low")[0].split("_high")[0] in METRICS}
                           for n, m in results.items()}))
-    return 0
+    return 0 if not args.in_pogema or same else 1
 
 
 if __name__ == "__main__":

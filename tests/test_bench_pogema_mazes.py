@@ -98,7 +98,8 @@ def test_quick_mode_needs_no_pogema(b, capsys):
 
 @pytest.mark.parametrize(("argv", "flag"), [(["--robots", "7"], "--robots"), (["--robots", "8,x"], "--robots"),
                                              (["--mazes", "0"], "--mazes"), (["--mazes", "129"], "--mazes"),
-                                             (["--regenerate", "--pogema-python", "/no/such/python"], "--pogema-python")])
+                                             (["--regenerate", "--pogema-python", "/no/such/python"], "--pogema-python"),
+                                             (["--in-pogema", "--pogema-python", "/no/such/python"], "--pogema-python")])
 def test_bad_flags_are_one_line_naming_the_flag(b, capsys, argv, flag):
     with pytest.raises(SystemExit) as stop:
         b.main(argv)
