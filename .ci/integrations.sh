@@ -5,7 +5,8 @@
 #   is installed with --no-deps after its real requirements (torchrl, tensordict, hydra-core, tqdm, av).
 # - .venv-ci-agilerl: AgileRL 2.58 (pins pettingzoo < 1.27 and tensordict 0.13, imports peft at start-up).
 # - RLlib runs in .ci/rllib.sh's venv (ray[rllib] pins gymnasium 1.2.2).
-# - .venv-ci-pogema: POGEMA 1.4 alone (it pins gymnasium 0.28.1), stepped beside the race for collisions="soft".
+# - .venv-ci-pogema: POGEMA 1.4 alone (it pins gymnasium 0.28.1), stepped beside the race for collisions="soft";
+#   pogema-toolbox's maze generator added to check the maze benchmark's shipped data.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 start=$SECONDS
@@ -33,6 +34,11 @@ python3 -m venv "$pdir"
 "$pdir/bin/pip" install -q "pogema==1.4.*"
 POGEMA_PYTHON="$PWD/$pdir/bin/python" "$dir/bin/python" -m pytest -q -p no:cacheprovider tests_integrations/test_pogema_soft.py
 "$dir/bin/python" benchmarks/bench_pogema.py --quick --pogema-python "$pdir/bin/python"  # the race beside POGEMA: smoke run
+# POGEMA's maze benchmark: the shipped mazes, starts and goals made again by pogema-toolbox (its maze generator
+# only: --no-deps skips its plotting and logging stack) and POGEMA, compared; a smoke run, its episodes
+# stepped in POGEMA too (equal with on_target="finish")
+"$pdir/bin/pip" install -q --no-deps "pogema-toolbox==0.1.1" && "$pdir/bin/pip" install -q "pyyaml<=6.0.1"
+"$dir/bin/python" benchmarks/bench_pogema_mazes.py --regenerate --quick --in-pogema --pogema-python "$pdir/bin/python"
 
 adir=.venv-ci-agilerl
 venv "$adir"

@@ -1,0 +1,299 @@
+"""POGEMA's maze benchmark in this package: its 128 validation mazes, its starts and goals, its metrics.
+
+    python benchmarks/bench_pogema_mazes.py            # 128 mazes x 8, 16, 32, 48, 64 robots
+    python benchmarks/bench_pogema_mazes.py --quick    # 4 mazes, 8 robots (no POGEMA needed)
+    python benchmarks/bench_pogema_mazes.py --in-pogema --pogema-python PATH    # the same robots in POGEMA too
+    python benchmarks/bench_pogema_mazes.py --regenerate --pogema-python PATH   # check the shipped data
+
+The mazes (21x21 at most) and the starts and goals of POGEMA's benchmark (02-mazes, MAPF) ship in
+``benchmarks/data/pogema_mazes.json``, made by ``pogema_mazes_data.py`` with pogema-toolbox's maze
+generator and POGEMA 1.4's own start and goal generator (seed 0). Each maze is read with
+``Level.from_grid`` and raced as ``race_v0.parallel_env(goals="own", collisions="soft",
+max_cycles=128)``, the benchmark's starts and goals given by ``reset(options=...)``.
+
+The robots are shortest-path robots: each follows a shortest path to its own goal as if alone (the
+lowest-numbered action among the optimal ones, ``planning.goal_actions``), stops only when the
+soft rule stops it. A robot leaves the board when it reaches its goal (POGEMA's
+``on_target="finish"``); the published runs use ``on_target="nothing"`` (robots stay on their
+targets and still block), so the two rules differ for robots that would pass over a finished
+robot's target. ``--in-pogema`` steps the same robots in POGEMA 1.4 itself (its own venv) with
+both: with ``"finish"`` every episode must be the one run here, robot by robot (else exit status 1).
+Metrics are POGEMA's, named as ``babyrobot-marl evaluate`` names them:
+``all_reached_rate`` (CSR), ``success_rate`` (ISR), ``sum_of_costs`` and ``makespan``, with 95%
+intervals (Wilson for rates, over mazes for CSR and robots for ISR; normal for means).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+from functools import lru_cache
+from pathlib import Path
+
+import numpy as np
+
+from babyrobot_marl import race_v0
+from babyrobot_marl.core.level import Level
+from babyrobot_marl.experiments.evaluate import METRICS, Episode, crowd_metrics
+from babyrobot_marl.planning import goal_actions
+
+HERE = Path(__file__).resolve().parent
+DATA = HERE / "data" / "pogema_mazes.json"
+MAKER = HERE / "pogema_mazes_data.py"
+STEPS = 128
+ROBOTS = (8, 16, 32, 48, 64)
+QUICK_MAZES, QUICK_ROBOTS = 4, (8,)
+SOURCE = "POGEMA's benchmark results (2025), 128 validation mazes, 128 steps, soft collisions"
+PUBLISHED = {  # CSR (all robots reached) at 32 / 64 robots
+    "LaCAM": (1.00, 0.91),
+    "MAPF-GPT-DDG": (1.00, 0.82),
+    "MAPF-GPT-85M": (0.97, 0.70),
+    "SCRIMP": (0.55, 0.15),
+    "DCC": (0.36, 0.02),
+}
+
+
+def load_mazes(path: Path = DATA) -> list[dict]:
+    """The shipped mazes: ``name``, ``grid`` (rows of ``.`` and ``#``) and per robot count its flat
+    ``starts`` and ``goals`` (``[x0, y0, x1, y1, ...]``)."""
+    return json.loads(path.read_text())["mazes"]
+
+
+def cells(flat: list[int]) -> list[tuple[int, int]]:
+    return list(zip(flat[0::2], flat[1::2]))
+
+
+@lru_cache(maxsize=256)
+def level_of(grid: str) -> Level:
+    """The maze as a level. One exit is added on its first free cell: with own goals an exit is
+    plain floor (no reward, no finishing), and a level needs one to be built."""
+    maze = Level.from_grid(grid)
+    free = min((y, x) for y in range(maze.height) for x in range(maze.width) if (x, y) not in maze.blocked)
+    return Level(width=maze.width, height=maze.height, blocked=maze.blocked, exits={free[::-1]})
+
+
+@lru_cache(maxsize=4096)
+def path_actions(grid: str, goal: tuple[int, int]) -> np.ndarray:
+    """``int[H, W]``: a shortest-path robot's action toward ``goal`` (the lowest optimal; STAY on it)."""
+    best = goal_actions(level_of(grid), goal)
+    return np.where(best.any(axis=2), best.argmax(axis=2), 0)
+
+
+def race(grid: str, starts: list[tuple[int, int]], goals: list[tuple[int, int]]) -> Episode:
+    """One episode of shortest-path robots: each robot's finishing step (0: not in ``STEPS`` steps)."""
+    env = race_v0.parallel_env(level=level_of(grid), n_robots=len(starts), goals="own", collisions="soft",
+                               observe="nearest", k=1, start="random", max_cycles=STEPS)
+    env.reset(seed=0, options={"starts": starts, "goals": goals})
+    tables = [path_actions(grid, g) for g in goals]
+    finish = [0] * len(starts)
+    names = {a: i for i, a in enumerate(env.possible_agents)}
+    t = 0
+    while env.agents:
+        t += 1
+        moves = {a: int(tables[names[a]][env.robot_cells[names[a]][::-1]]) for a in env.agents}
+        _, _, terminated, _, _ = env.step(moves)
+        for a, done in terminated.items():
+            if done:
+                finish[names[a]] = t
+    return Episode(seed=0, level=grid, steps=t, finish_steps=finish)
+
+
+def episodes(mazes: list[dict], robots: tuple[int, ...]) -> dict[int, list[Episode]]:
+    """The shortest-path crowd's episode on every maze, per robot count."""
+    return {n: [race(m["grid"], cells(m["scenarios"][str(n)]["starts"]), cells(m["scenarios"][str(n)]["goals"]))
+                for m in mazes] for n in robots}
+
+
+def run(mazes: list[dict], robots: tuple[int, ...]) -> dict[int, dict[str, float]]:
+    """POGEMA's metrics with their intervals per robot count, over the given mazes."""
+    return metrics(episodes(mazes, robots))
+
+
+def metrics(by_count: dict[int, list[Episode]]) -> dict[int, dict[str, float]]:
+    return {n: crowd_metrics(eps, n, STEPS) for n, eps in by_count.items()}
+
+
+def table(results: dict[int, dict[str, float]], n_mazes: int,
+          others: dict[str, dict[int, dict[str, float]]] | None = None) -> str:
+    """Our metrics per robot count (value [low, high]), any other crowd's below (``others``: name ->
+    results), then the published CSR with its source."""
+    lines = [f"shortest-path robots on {n_mazes} of POGEMA's validation mazes, {STEPS} steps, soft collisions; "
+             "95% intervals in brackets",
+             f"{'':<34}{'robots':>6}  {'CSR (all_reached_rate)':<24}{'ISR (success_rate)':<24}{'sum of costs':<26}"
+             "makespan"]
+    for name, res in {"here (a robot leaves at its goal)": results, **(others or {})}.items():
+        for n, m in res.items():
+            cols = [_shown(m, k, 2 if k.endswith("rate") else 1) for k in ("all_reached_rate", "success_rate",
+                                                                             "sum_of_costs", "makespan")]
+            lines.append(f"{name:<34}{n:>6}  {cols[0]:<24}{cols[1]:<24}{cols[2]:<26}{cols[3]}")
+            name = ""
+    ours = {n: results[n]["all_reached_rate"] for n in (32, 64) if n in results}
+    lines += ["", f"CSR at 32 / 64 robots ({SOURCE}):"]
+    for name, (a, b) in PUBLISHED.items():
+        lines.append(f"  {name:<28}{a:.2f} / {b:.2f}")
+    if ours:
+        shown = " / ".join(f"{ours[n]:.2f}" if n in ours else "-" for n in (32, 64))
+        lines.append(f"  {'shortest-path robots (ours)':<28}{shown}")
+    return "\n".join(lines)
+
+
+def _shown(m: dict[str, float], k: str, digits: int) -> str:
+    return f"{m[k]:.{digits}f} [{m[k + '_low']:.{digits}f}, {m[k + '_high']:.{digits}f}]"
+
+
+# The same crowd in POGEMA itself, run by its own interpreter: one JSON line of tasks in, one line per
+# episode out (each robot's finishing step, 0: not within the episode, and the episode's steps).
+WORKER = r"""
+import collections, json, sys
+from pogema import GridConfig, pogema_v0
+
+sys.setrecursionlimit(100_000)  # the soft rule reverts chains of robots recursively
+OURS = ((0, 0), (-1, 0), (0, 1), (1, 0), (0, -1))  # STAY, NORTH, EAST, SOUTH, WEST as (row, column) moves
+TO_POGEMA = (0, 1, 4, 2, 3)
+
+
+def distances(rows, goal):
+    seen, todo = {goal: 0}, collections.deque([goal])
+    while todo:
+        r, c = todo.popleft()
+        for dr, dc in OURS[1:]:
+            n = (r + dr, c + dc)
+            if 0 <= n[0] < len(rows) and 0 <= n[1] < len(rows[0]) and rows[n[0]][n[1]] == "." and n not in seen:
+                seen[n] = seen[r, c] + 1
+                todo.append(n)
+    return seen
+
+
+def action(dist, cell):  # the lowest of our action numbers on a shortest path; STAY on the goal
+    for a in range(1, 5):
+        n = (cell[0] + OURS[a][0], cell[1] + OURS[a][1])
+        if dist.get(n, 10**9) == dist[cell] - 1:
+            return TO_POGEMA[a]
+    return 0
+
+
+task = json.loads(sys.stdin.readline())
+for grid, starts, goals in task["episodes"]:
+    rows = grid.split("\n")
+    config = GridConfig(map=grid, agents_xy=[(y, x) for x, y in starts], targets_xy=[(y, x) for x, y in goals],
+                        on_target=task["on_target"], collision_system="soft", max_episode_steps=task["steps"],
+                        observation_type="MAPF")
+    env = pogema_v0(grid_config=config)
+    env.reset()
+    dists = [distances(rows, (y, x)) for x, y in goals]
+    finish, t, done = [0] * len(starts), 0, False
+    while not done:
+        cells = env.grid.get_agents_xy(ignore_borders=True)
+        _, _, terminated, truncated, _ = env.step([action(d, tuple(c)) for d, c in zip(dists, cells)])
+        t += 1
+        cells = env.grid.get_agents_xy(ignore_borders=True)
+        for i, (c, g) in enumerate(zip(cells, goals)):
+            if not finish[i] and (not env.grid.is_active[i] or tuple(c) == (g[1], g[0])):
+                finish[i] = t
+        done = all(terminated) or all(truncated)
+    print(json.dumps([finish, t]), flush=True)
+"""
+
+
+def in_pogema(python: str, mazes: list[dict], robots: tuple[int, ...], on_target: str) -> dict[int, list[Episode]]:
+    """The shortest-path crowd stepped by POGEMA 1.4 itself, per robot count."""
+    tasks = [(m["grid"], cells(m["scenarios"][str(n)]["starts"]), cells(m["scenarios"][str(n)]["goals"]))
+             for n in robots for m in mazes]
+    done = subprocess.run([python, "-c", WORKER], input=json.dumps({"episodes": tasks, "on_target": on_target,
+                                                                    "steps": STEPS}) + "\n",
+                          capture_output=True, text=True, check=False)
+    if done.returncode:
+        raise SystemExit(f"--pogema-python: POGEMA's run failed: {done.stderr.strip().splitlines()[-1:]}")
+    lines = [json.loads(line) for line in done.stdout.splitlines()]
+    out: dict[int, list[Episode]] = {}
+    for (grid, _, _), (finish, steps) in zip(tasks, lines):
+        out.setdefault(len(finish), []).append(Episode(seed=0, level=grid, steps=steps, finish_steps=finish))
+    return out
+
+
+def regenerate(python: str) -> str:
+    """The data file as POGEMA's venv writes it now (``pogema_mazes_data.py``)."""
+    done = subprocess.run([python, str(MAKER)], capture_output=True, text=True, check=False)
+    if done.returncode:
+        raise SystemExit(f"--pogema-python: {MAKER.name} failed: {done.stderr.strip().splitlines()[-1:]}")
+    return done.stdout
+
+
+def refuse_policy(path: str) -> str:
+    """The one line that says why a saved policy cannot run here (its file checked first)."""
+    from babyrobot_marl.training.policy import load_checkpoint
+
+    try:
+        data = load_checkpoint(path)
+    except ValueError as err:
+        return f"--policy: {str(err).removeprefix('policy: ')}"
+    if data.get("goals", "exit") != "own":
+        return (f"--policy: {path!r} was trained for the race to the exits; the benchmark needs a policy "
+                "trained with own goals, which 'babyrobot-marl train' cannot train yet")
+    return f"--policy: {path!r}: policies trained with own goals are not run by this benchmark yet"
+
+
+def counts(text: str) -> tuple[int, ...]:
+    allowed = (8, 16, 24, 32, 48, 64)
+    try:
+        values = tuple(int(v) for v in text.split(","))
+    except ValueError:
+        values = ()
+    if not values or any(v not in allowed for v in values):
+        raise argparse.ArgumentTypeError(f"robot counts from {', '.join(map(str, allowed))}, comma-separated; "
+                                         f"got {text!r}")
+    return values
+
+
+def n_mazes(text: str) -> int:
+    if not text.isdigit() or not 1 <= int(text) <= 128:
+        raise argparse.ArgumentTypeError(f"an integer from 1 to 128, got {text!r}")
+    return int(text)
+
+
+def main(argv: list[str] | None = None) -> int:
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--robots", type=counts, default=ROBOTS, help="robot counts (default: 8,16,32,48,64)")
+    p.add_argument("--mazes", type=n_mazes, default=128, help="the first N of the 128 mazes (default: 128)")
+    p.add_argument("--quick", action="store_true", help=f"CI smoke run: {QUICK_MAZES} mazes, 8 robots")
+    p.add_argument("--policy", metavar="FILE", help="a policy saved by 'babyrobot-marl train' (own goals)")
+    p.add_argument("--json", action="store_true", help="end with one JSON line of the metrics")
+    p.add_argument("--regenerate", action="store_true",
+                   help="make the data again with POGEMA's venv (--pogema-python) and compare with the shipped file")
+    p.add_argument("--in-pogema", action="store_true",
+                   help="also step the same robots in POGEMA 1.4 itself (--pogema-python), with its on_target "
+                   "'finish' (as here: checked episode by episode) and 'nothing' (robots stay on their targets)")
+    p.add_argument("--pogema-python", default=os.environ.get("POGEMA_PYTHON"), metavar="PATH",
+                   help="the python of a venv with pogema 1.4 (and pogema-toolbox 0.1.1 for --regenerate)")
+    args = p.parse_args(argv)
+    if args.policy is not None:
+        p.exit(2, refuse_policy(args.policy) + "\n")
+    if (args.regenerate or args.in_pogema) and (not args.pogema_python or not Path(args.pogema_python).is_file()):
+        p.error(f"--pogema-python: the python of a venv with pogema 1.4 (and pogema-toolbox for --regenerate), "
+                f"got {args.pogema_python!r}")
+    if args.regenerate:
+        same = json.loads(regenerate(args.pogema_python)) == json.loads(DATA.read_text())
+        print(f"{DATA.name}: {'the same as' if same else 'DIFFERENT from'} what POGEMA's venv makes now")
+        if not same:
+            return 1
+    mazes, robots = load_mazes()[: QUICK_MAZES if args.quick else args.mazes], QUICK_ROBOTS if args.quick else args.robots
+    ours = episodes(mazes, robots)
+    results, others = metrics(ours), {}
+    if args.in_pogema:
+        finish = in_pogema(args.pogema_python, mazes, robots, "finish")
+        same = all(a == b for n in robots for a, b in zip(ours[n], finish[n]))
+        others["POGEMA 1.4, on_target='finish'"] = metrics(finish)
+        others["POGEMA 1.4, on_target='nothing'"] = metrics(in_pogema(args.pogema_python, mazes, robots, "nothing"))
+        print(f"POGEMA 1.4 with on_target='finish': every episode {'the same as' if same else 'DIFFERENT from'} here")
+    print(table(results, len(mazes), others))
+    if args.json:
+        print(json.dumps({str(n): {k: m[k] for k in m if k.split("_low")[0].split("_high")[0] in METRICS}
+                          for n, m in results.items()}))
+    return 0 if not args.in_pogema or same else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,129 @@
+"""POGEMA's maze benchmark (no POGEMA needed): the shipped mazes, starts and goals, the shortest-path
+robots' episodes under the soft rule, the table beside the published figures, the flags' errors."""
+
+from __future__ import annotations
+
+import collections
+import importlib
+import sys
+from pathlib import Path
+
+import pytest
+
+BENCHMARKS = Path(__file__).resolve().parent.parent / "benchmarks"
+
+
+@pytest.fixture
+def b(monkeypatch):
+    monkeypatch.syspath_prepend(str(BENCHMARKS))
+    sys.modules.pop("bench_pogema_mazes", None)
+    return importlib.import_module("bench_pogema_mazes")
+
+
+def distances(rows: list[str], start: tuple[int, int]) -> dict[tuple[int, int], int]:
+    """Moves from ``start`` to every free cell it reaches (a breadth-first search of its own)."""
+    seen, todo = {start: 0}, collections.deque([start])
+    while todo:
+        x, y = todo.popleft()
+        for nx, ny in ((x + 1, y), (x - 1, y), (x, y + 1), (x, y - 1)):
+            if 0 <= ny < len(rows) and 0 <= nx < len(rows[0]) and rows[ny][nx] == "." and (nx, ny) not in seen:
+                seen[nx, ny] = seen[x, y] + 1
+                todo.append((nx, ny))
+    return seen
+
+
+def test_the_shipped_data_holds_the_128_validation_mazes_and_their_scenarios(b):
+    mazes = b.load_mazes()
+    assert [m["name"] for m in mazes] == [f"validation-mazes-seed-{s:03d}" for s in range(128)]
+    # the benchmark's first maze (02-mazes/maps.yaml), its first and last rows
+    first = mazes[0]["grid"].split("\n")
+    assert (first[0], first[-1], len(first)) == (".............#.......", "." * 21, 21)
+    for m in mazes:
+        rows = m["grid"].split("\n")
+        assert 17 <= len(rows) <= 21 and {len(r) for r in rows} <= set(range(17, 22))
+        region = {}  # free cell -> the first cell of its open region
+        for y, row in enumerate(rows):
+            for x, ch in enumerate(row):
+                if ch == "." and (x, y) not in region:
+                    region.update(dict.fromkeys(distances(rows, (x, y)), (x, y)))
+        for n in (8, 16, 24, 32, 48, 64):
+            s = m["scenarios"][str(n)]
+            starts, goals = b.cells(s["starts"]), b.cells(s["goals"])
+            assert len(starts) == len(set(starts)) == n and len(goals) == len(set(goals)) == n
+            for start, goal in zip(starts, goals):
+                assert start in region and region.get(goal) == region[start]  # free, goal reachable
+
+
+def test_a_lone_robot_finishes_after_its_shortest_path(b):
+    grid = ".....\n.###.\n....."
+    episode = b.race(grid, [(0, 2)], [(4, 0)])
+    assert episode.finish_steps == [6] and episode.steps == 6  # around the wall: 6 moves
+
+
+def test_robots_meeting_head_on_in_a_corridor_stop_each_other_under_the_soft_rule(b):
+    episode = b.race("#####\n.....\n#####", [(0, 1), (4, 1)], [(4, 1), (0, 1)])
+    assert episode.finish_steps == [0, 0] and episode.steps == b.STEPS  # swaps revert: nobody passes
+
+
+def test_a_robot_leaves_at_its_goal_and_frees_the_cell(b):
+    # robot 0 reaches (2, 0) first; robot 1 then passes over it to (4, 0)
+    episode = b.race(".....", [(1, 0), (0, 0)], [(2, 0), (4, 0)])
+    assert episode.finish_steps == [1, 4]
+
+
+def test_the_path_table_stays_on_the_goal_and_moves_toward_it(b):
+    table = b.path_actions("...\n.#.\n...", (2, 2))
+    assert table[2, 2] == 0  # STAY on the goal
+    assert table[0, 2] == 3 and table[2, 0] == 2  # SOUTH down the east side, EAST along the south side
+
+
+def test_the_table_shows_our_figures_with_intervals_beside_the_published_ones(b):
+    mazes = b.load_mazes()[:3]
+    results = b.run(mazes, (8, 32))
+    for n, m in results.items():
+        assert m["all_reached_rate_low"] <= m["all_reached_rate"] <= m["all_reached_rate_high"]
+        assert m["all_reached_rate"] <= m["success_rate"] and m["makespan"] <= b.STEPS
+        assert 0 <= m["sum_of_costs"] <= n * b.STEPS
+    text = b.table(results, 3)
+    assert b.SOURCE in text and "LaCAM                       1.00 / 0.91" in text
+    assert f"{results[32]['all_reached_rate']:.2f} [{results[32]['all_reached_rate_low']:.2f}," in text
+    assert "shortest-path robots (ours)" in text.splitlines()[-1]
+
+
+def test_quick_mode_needs_no_pogema(b, capsys):
+    assert b.main(["--quick", "--json"]) == 0
+    out = capsys.readouterr().out
+    assert "on 4 of POGEMA's validation mazes" in out and out.strip().splitlines()[-1].startswith('{"8": {')
+
+
+@pytest.mark.parametrize(("argv", "flag"), [(["--robots", "7"], "--robots"), (["--robots", "8,x"], "--robots"),
+                                             (["--mazes", "0"], "--mazes"), (["--mazes", "129"], "--mazes"),
+                                             (["--regenerate", "--pogema-python", "/no/such/python"], "--pogema-python"),
+                                             (["--in-pogema", "--pogema-python", "/no/such/python"], "--pogema-python")])
+def test_bad_flags_are_one_line_naming_the_flag(b, capsys, argv, flag):
+    with pytest.raises(SystemExit) as stop:
+        b.main(argv)
+    err = capsys.readouterr().err
+    assert stop.value.code == 2 and flag in err.splitlines()[-1] and "Traceback" not in err
+
+
+def test_a_policy_that_is_no_policy_file_is_refused_by_flag(b, capsys, tmp_path):
+    text = tmp_path / "notes.txt"
+    text.write_text("not a policy")
+    for path in (str(tmp_path / "missing.pt"), str(text)):
+        with pytest.raises(SystemExit) as stop:
+            b.main(["--policy", path, "--quick"])
+        err = capsys.readouterr().err
+        assert stop.value.code == 2 and err.count("\n") == 1 and err.startswith("--policy: ") and path in err
+
+
+def test_a_policy_trained_for_the_exits_is_refused_before_any_episode(b, capsys, tmp_path, monkeypatch):
+    from babyrobot_marl.training.ppo import PPOConfig, train_ppo
+
+    path = tmp_path / "p.pt"
+    train_ppo("maze-8x8", 2, 512, seed=0, config=PPOConfig(n_envs=8, n_steps=16, batch_size=128, eval_every=0)).save(path)
+    monkeypatch.setattr(b, "run", lambda *a: pytest.fail("episodes ran"))
+    with pytest.raises(SystemExit) as stop:
+        b.main(["--policy", str(path)])
+    err = capsys.readouterr().err
+    assert stop.value.code == 2 and err.count("\n") == 1 and "race to the exits" in err and "own goals" in err
