@@ -125,3 +125,21 @@ def test_the_cli_refuses_a_grid_map_without_exits_in_one_line_naming_the_flag(co
     code = main([command, "--level", "....\n.#..", "--seed", "1", *extra])
     err = capsys.readouterr().err.strip()
     assert code == 2 and err == f"babyrobot-marl: error: --{NO_EXIT}"  # the CLI names its flag
+
+
+def test_a_grid_map_without_exits_races_with_own_goals():
+    """With ``goals="own"`` a level needs no exit: race_v0, BabyRobotRace-v0 and RaceVectorEnv take the map."""
+    import gymnasium as gym
+
+    from babyrobot_marl.envs.vector import RaceVectorEnv
+
+    grid = "........\n.##..#..\n........\n..#....."
+    env = race_v0.parallel_env(level=grid, n_robots=4, goals="own", collisions="soft", observe="local", start="random")
+    env.reset(seed=3)
+    assert len(env.goals) == 4 and not set(env.goals.values()) & Level.from_grid(grid).blocked
+    single = gym.make("babyrobot_marl/BabyRobotRace-v0", level=grid, opponents=["random"], goals="own", start="random")
+    single.reset(seed=0)
+    vec = RaceVectorEnv(2, level=grid, n_robots=2, goals="own", start="random")
+    vec.reset(seed=0)
+    with pytest.raises(ValueError, match=f"^{NO_EXIT}$"):
+        race_v0.parallel_env(level=grid, n_robots=2, goals="exit")

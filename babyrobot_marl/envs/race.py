@@ -88,7 +88,8 @@ class RaceEnv(RaceGoals, RaceReadouts, OverlayMethods, ParallelEnv):
     ):
         self.goals_mode = check_choice(goals, "goals", GOAL_MODES)
         self.lifelong = check_lifelong(lifelong, self.goals_mode)
-        self.levels = LevelPicker(level)  # level= a family or a callable: drawn per reset
+        # level= a family or a callable: drawn per reset; with own goals a level needs no exit
+        self.levels = LevelPicker(level, need_exit=self.goals_mode == "exit")
         self.level = self.levels.first
         if collisions is not None:
             if collisions not in COLLISION_MODES:

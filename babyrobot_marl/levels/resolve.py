@@ -10,16 +10,18 @@ from .checks import check_has_exit
 from .files import read_level_file
 
 
-def resolve_level(level: str | Level) -> Level:
+def resolve_level(level: str | Level, need_exit: bool = True) -> Level:
     """A ``Level`` from a built-in name, a level text (several lines), a grid map (rows of ``.`` and
-    ``#``), the path of a MovingAI ``.map`` file, or a ``Level``; one with an exit (the race's goal)."""
+    ``#``), the path of a MovingAI ``.map`` file, or a ``Level``; one with an exit (the race's goal)
+    unless ``need_exit`` is false (robots with targets of their own, ``goals="own"``)."""
     if isinstance(level, Level):
         out = level
     elif isinstance(level, str):
         out = _from_string(level)
     else:
         raise TypeError(f"level: expected a level name, a level text or a Level, got {type(level).__name__}")
-    check_has_exit(out)
+    if need_exit:
+        check_has_exit(out)
     return out
 
 

@@ -119,8 +119,9 @@ def family_of(spec: str, seeds: Sequence[int] | range | None = None) -> LevelSou
     return maze_family(int(m[1]), int(m[2]), seeds) if m else family
 
 
-def level_source(level: Any) -> LevelSource | None:
-    """The drawing function of ``level=`` (``None`` for one fixed level: a name, a text or a ``Level``)."""
+def level_source(level: Any, need_exit: bool = True) -> LevelSource | None:
+    """The drawing function of ``level=`` (``None`` for one fixed level: a name, a text or a ``Level``);
+    ``need_exit``: the levels it draws must have an exit."""
     if isinstance(level, str):
         family = parse_level_family(level)
         if family is not None:
@@ -139,7 +140,7 @@ def level_source(level: Any) -> LevelSource | None:
         got = level(rng)
         if not isinstance(got, (str, Level)):
             raise TypeError(f"level: the level callable returned {type(got).__name__}; expected a Level, a name or a text")
-        return resolve_level(got)
+        return resolve_level(got, need_exit)
 
     return draw
 
@@ -152,11 +153,11 @@ class LevelPicker:
     whether there is nothing to draw; ``largest`` is ``(W, H)`` of the largest level it draws.
     """
 
-    def __init__(self, level: Any) -> None:
-        self.source = level_source(level)
+    def __init__(self, level: Any, need_exit: bool = True) -> None:
+        self.source = level_source(level, need_exit)
         first = getattr(self.source, "first", None)  # a family of sizes: built on its largest
         self.first: Level = resolve_level(
-            level if self.fixed else first() if first is not None else self.source(np.random.default_rng(0))
+            level if self.fixed else first() if first is not None else self.source(np.random.default_rng(0)), need_exit
         )
         self.largest: tuple[int, int] = getattr(self.source, "largest", (self.first.width, self.first.height))
 
