@@ -246,7 +246,8 @@ class RaceEnv(RaceGoals, RaceReadouts, OverlayMethods, ParallelEnv):
         )
         reached = None
         if self._goal_of is not None:  # own goals: finished on its own target (the table has no exits)
-            finishing = list(map(operator.eq, cells, map(self._goal_of.__getitem__, live)))
+            goals = self._goal_of if len(live) == self.n_robots else map(self._goal_of.__getitem__, live)
+            finishing = list(map(operator.eq, cells, goals))
             if True in finishing:
                 for i, f in zip(live, finishing):
                     self._reached[i] += f
