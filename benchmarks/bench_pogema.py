@@ -16,6 +16,9 @@ CPU time of their own process (``time.process_time``), after an untimed warm-up,
 goes first alternates), so a busy machine slows both alike; agent-steps count the robots present
 at each step. Printed: microseconds per agent-step, median over rounds and its range, and the
 ratio POGEMA / race (higher: the race is faster), each round's ratio measured within the round.
+Beside them, in the same rounds: the race with ``goals="own"`` (each robot its own target, as POGEMA's
+robots have; ``own / exit``: its time over the race's to the exit) and the batch engine
+(``env.batch(1)``, every robot's step and "local" rows as arrays, no per-agent dicts).
 
 Two pairings of collision rules (``--collisions``): ``soft``, POGEMA's soft rule in both (the
 same rule, step for step), and ``default``, each env's default (POGEMA's ``"priority"``, robots
@@ -119,12 +122,35 @@ def largest_region_cell(rows: list[str]) -> tuple[int, int]:
     return min(best, key=lambda c: (abs(c[0] - w // 2) + abs(c[1] - h // 2), c))
 
 
-def race_on(rows: list[str], robots: int, collisions: str):
-    """The race on POGEMA's map, one exit added."""
+def race_on(rows: list[str], robots: int, collisions: str, goals: str = "exit"):
+    """The race on POGEMA's map, one exit added (``goals="own"``: each robot its own target instead)."""
     grid = Level.from_grid("\n".join(rows))
     level = Level(width=grid.width, height=grid.height, blocked=grid.blocked, exits={largest_region_cell(rows)})
     return race_v0.parallel_env(level=level, n_robots=robots, collisions=collisions, start="random", observe="local",
-                                view_radius=VIEW_RADIUS, max_cycles=10**9)
+                                view_radius=VIEW_RADIUS, max_cycles=10**9, goals=goals)
+
+
+class BatchStepper:
+    """The race's batch engine (one env): steps and "local" rows as arrays, CPU time per agent-step
+    (every robot counts, finished ones parked as the engine keeps them); a new race when one is over."""
+
+    def __init__(self, env, actions: list[list[int]]):
+        self.batch = env.batch(1)
+        self.batch.seed([0])
+        self.batch.reset_envs([0])
+        self.actions, self.done, self.seconds, self.agent_steps = np.array(actions, dtype=np.int64), 0, 0.0, 0
+
+    def run(self, steps: int) -> None:
+        batch, rows = self.batch, self.actions[self.done : self.done + steps]
+        t0 = time.process_time()
+        for row in rows:
+            if batch.over[0]:
+                batch.reset_envs([0])
+            batch.step(row[None, :])
+            batch.observations()
+        self.seconds += time.process_time() - t0
+        self.done += len(rows)
+        self.agent_steps += len(rows) * batch.n_robots
 
 
 def spread(values: list[float], scale: float = 1.0, digits: int = 2) -> str:
@@ -134,26 +160,32 @@ def spread(values: list[float], scale: float = 1.0, digits: int = 2) -> str:
 def measure(
     python: str, pairing: str, robots: int, side: int, rounds: int, agent_steps: int, seed: int
 ) -> dict[str, list[float]]:
-    """Per round: the race's and POGEMA's CPU seconds per agent-step, and their ratio."""
+    """Per round: CPU seconds per agent-step of the race, the race with own goals, the batch engine and
+    POGEMA, and the ratios POGEMA / race and own / exit."""
     theirs, ours_rule = PAIRINGS[pairing]
     pogema = Pogema(python, robots, side, seed, theirs)
     steps = max(20, agent_steps // robots)
+    actions = np.random.default_rng(seed).integers(0, 5, (steps * (rounds + 1), robots)).tolist()
     env = race_on(pogema.rows, robots, ours_rule)
-    ours = Stepper(env, np.random.default_rng(seed).integers(0, 5, (steps * (rounds + 1), robots)).tolist(),
-                   clock=time.process_time)
+    runners = {
+        "race": Stepper(env, actions, clock=time.process_time),
+        "own": Stepper(race_on(pogema.rows, robots, ours_rule, "own"), actions, clock=time.process_time),
+        "batch": BatchStepper(env, actions),
+        "pogema": pogema,
+    }
     try:
-        ours.run(max(5, steps // 10))  # warm-up, untimed
-        pogema.run(max(5, steps // 10))
-        out: dict[str, list[float]] = {"race": [], "pogema": [], "ratio": []}
+        for runner in runners.values():
+            runner.run(max(5, steps // 10))  # warm-up, untimed
+        out: dict[str, list[float]] = {name: [] for name in (*runners, "ratio", "own / exit")}
         for r in range(rounds):
-            ours.seconds = ours.agent_steps = 0
-            pogema.seconds = pogema.agent_steps = 0
-            for run in (ours.run, pogema.run) if r % 2 == 0 else (pogema.run, ours.run):
-                run(steps)
-            a, b = ours.seconds / ours.agent_steps, pogema.seconds / pogema.agent_steps
-            out["race"].append(a)
-            out["pogema"].append(b)
-            out["ratio"].append(b / a)
+            order = list(runners.values())[:: 1 if r % 2 == 0 else -1]  # who goes first alternates
+            for runner in order:
+                runner.seconds = runner.agent_steps = 0
+                runner.run(steps)
+            for name, runner in runners.items():
+                out[name].append(runner.seconds / runner.agent_steps)
+            out["ratio"].append(out["pogema"][-1] / out["race"][-1])
+            out["own / exit"].append(out["own"][-1] / out["race"][-1])
         return out
     finally:
         pogema.close()
@@ -192,13 +224,16 @@ def main(argv: list[str] | None = None) -> int:
     print(f"race_v0.parallel_env(observe='local', view_radius={VIEW_RADIUS}) beside POGEMA 1.4 (obs_radius={VIEW_RADIUS}), "
           f"POGEMA's random maps at density {DENSITY}, random actions")
     print(f"CPU us per agent-step, median [min, max] over {rounds} round(s) of {agent_steps:,} agent-steps each")
-    print(f"{'collisions':>18s} {'robots':>6s} {'map':>6s} {'race':>22s} {'POGEMA':>22s} {'POGEMA / race':>20s}")
+    print("race: goals='exit'; own: goals='own'; batch: the batch engine (env.batch(1)); own / exit: own's time over race's")
+    print(f"{'collisions':>18s} {'robots':>6s} {'map':>6s} {'race':>20s} {'own':>20s} {'batch':>20s} {'POGEMA':>20s} "
+          f"{'POGEMA / race':>18s} {'own / exit':>18s}")
     for pairing in PAIRINGS if args.collisions == "both" else (args.collisions,):
         theirs, ours_rule = PAIRINGS[pairing]
         for robots, side in sizes:
             got = measure(args.pogema_python, pairing, robots, side, rounds, agent_steps, args.seed)
-            print(f"{f'{ours_rule} / {theirs}':>18s} {robots:6d} {f'{side}x{side}':>6s} {spread(got['race'], 1e6):>22s} "
-                  f"{spread(got['pogema'], 1e6):>22s} {spread(got['ratio']):>20s}", flush=True)
+            times = " ".join(f"{spread(got[name], 1e6):>20s}" for name in ("race", "own", "batch", "pogema"))
+            print(f"{f'{ours_rule} / {theirs}':>18s} {robots:6d} {f'{side}x{side}':>6s} {times} "
+                  f"{spread(got['ratio']):>18s} {spread(got['own / exit']):>18s}", flush=True)
     return 0
 
 

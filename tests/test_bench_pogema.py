@@ -40,3 +40,18 @@ def test_the_race_runs_on_pogemas_map_with_its_view_and_rule(monkeypatch):
             env.reset(seed=seed)
             assert not {(0, 0), (1, 0), (0, 1), (1, 1), (0, 3)} & set(env.robot_cells)  # the exit's region only
     assert b.PAIRINGS == {"soft": ("soft", "soft"), "default": ("priority", "block")}
+
+
+def test_the_own_goal_race_and_the_batch_engine_play_the_same_ground(monkeypatch):
+    b = load(monkeypatch)
+    own = b.race_on(ROWS, 6, "soft", "own")
+    assert own.goals_mode == "own" and own.observe == "local" and own.collisions == "soft"
+    env = b.race_on(ROWS, 6, "soft")
+    actions = b.np.random.default_rng(1).integers(0, 5, (12, 6)).tolist()
+    batch = b.BatchStepper(env, actions)
+    env.reset(seed=0)  # the batch engine seeded 0 plays this env's race seeded 0
+    batch.run(12)
+    for row in actions:
+        env.step({a: row[env._index[a]] for a in env.agents})
+    assert batch.agent_steps == 72 and batch.done == 12
+    assert [env.table.cell_xy(c) for c in batch.batch.cells[0].tolist()] == env.robot_cells

@@ -229,27 +229,29 @@ def target_channel(
     it lies in the window, else on the window's border cell its offset projects to (each of ``dx``,
     ``dy`` clamped to ``-r..r``); rows north to south, west to east, as the window's cells.
     ``out``: C-contiguous int64 rows ``(..., m)`` to write the channel into, at columns ``column`` on."""
-    xs, ys, clamp_x, clamp_y = _offsets(table, radius)
-    side = 2 * radius + 1
-    # the goal's clamped offset, by look-ups (offsets shifted to start at 0): cheaper than clip on short rows
-    at = clamp_y.take(ys.take(goals) - ys.take(cells)) * side + clamp_x.take(xs.take(goals) - xs.take(cells))
+    key, where, one_hot = _channel_tables(table, radius)
+    at = where.take(key.take(goals) - key.take(cells))  # the goal's clamped offset, by two look-ups
     if out is None:
-        out = np.empty((*np.shape(cells), side * side), dtype=np.int64)
-    m = out.shape[-1]
-    out[..., column : column + side * side] = 0
-    flat = out.reshape(-1)  # a view: out is C-contiguous
-    flat[np.arange(0, flat.size, m) + column + at.ravel()] = 1
+        return one_hot.take(at, axis=0)
+    out[..., column : column + one_hot.shape[0]] = one_hot.take(at, axis=0)
     return out
 
 
 @lru_cache(maxsize=COMPILED_CACHE)
-def _offsets(table: Table, radius: int) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-    """Each cell's x and y, and the clamped offset ``min(max(d, -r), r) + r`` of each ``d`` (indexed by ``d``:
-    negative ``d`` read from the end, where ``-W + 1 .. -1`` lie)."""
-    w, h = table.width, table.height
+def _channel_tables(table: Table, radius: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Each cell's key ``y * (2W - 1) + x``; the channel's cell of each key difference ``dy * (2W - 1) + dx``
+    (``(2H - 1) * (2W - 1)`` of them, one per offset: negative ones read from the end); and one-hot rows."""
+    w, h, side = table.width, table.height, 2 * radius + 1
     ids = np.arange(table.n_cells, dtype=np.int64)
-    d_x, d_y = np.r_[0 : w, -w + 1 : 0], np.r_[0 : h, -h + 1 : 0]  # index k holds offset d (k - len for the tail)
-    return ids % w, ids // w, np.clip(d_x, -radius, radius) + radius, np.clip(d_y, -radius, radius) + radius
+    key = ids // w * (2 * w - 1) + ids % w
+    dx, dy = np.r_[0:w, -w + 1 : 0], np.r_[0:h, -h + 1 : 0]  # index k holds offset d (k - len for the tail)
+    clamp_x, clamp_y = np.clip(dx, -radius, radius) + radius, np.clip(dy, -radius, radius) + radius
+    where = np.empty((2 * h - 1) * (2 * w - 1), dtype=np.int64)
+    where[(dy[:, None] * (2 * w - 1) + dx[None, :]).ravel()] = (clamp_y[:, None] * side + clamp_x[None, :]).ravel()
+    one_hot = np.eye(side * side, dtype=np.int64)
+    for a in (key, where, one_hot):
+        a.setflags(write=False)
+    return key, where, one_hot
 
 
 @dataclass(frozen=True, eq=False)
@@ -268,8 +270,8 @@ class GoalColumns:
         return part + [2] * (HINT_BITS if self.hint else 0)
 
     @property
-    def size(self) -> int:
-        return len(self.nvec)
+    def size(self) -> int:  # len(nvec), without building it (read every step)
+        return (2 if self.radius is None else (2 * self.radius + 1) ** 2) + (HINT_BITS if self.hint else 0)
 
     def __call__(self, table: Table, cells: np.ndarray, goals: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
         """``(..., n, size)`` int64 from each robot's cell and goal cell, ``(..., n)``, on ``table``; ``out``:
@@ -277,8 +279,9 @@ class GoalColumns:
         cells, goals = np.asarray(cells, dtype=np.int64), np.asarray(goals, dtype=np.int64)
         if out is None:
             out = np.empty((*cells.shape, self.size), dtype=np.int64)
-        first = out.shape[-1] - self.size  # the goal's columns, then the hint's
-        hint = first + self.size - (HINT_BITS if self.hint else 0)
+        size = self.size
+        first = out.shape[-1] - size  # the goal's columns, then the hint's
+        hint = first + size - (HINT_BITS if self.hint else 0)
         if self.radius is None:
             out[..., first:hint] = cell_xy(table)[goals]
         else:

@@ -202,7 +202,7 @@ def local_observations(view: LocalView, cells: np.ndarray, racing: np.ndarray, e
     end of each row, left for the caller to fill (own goals' columns: no copy to append them)."""
     cells, racing = np.asarray(cells), np.asarray(racing, dtype=bool)
     *lead, n = cells.shape
-    n_races = int(np.prod(lead, dtype=np.int64))
+    n_races = math.prod(lead)  # not np.prod: microseconds count every step
     cells2, racing2 = cells.reshape(n_races, n), racing.reshape(n_races, n)
     n_padded = view.static.shape[0]
     at = view.padded.take(cells2)  # (R, n) each robot's cell in the padded grid
@@ -221,8 +221,7 @@ def local_observations(view: LocalView, cells: np.ndarray, racing: np.ndarray, e
     for s in range(0, n_races, step):
         at_s, racing_s = at[s : s + step], racing2[s : s + step]
         race_base = (np.arange(at_s.shape[0], dtype=np.int64) * n_padded)[:, None]
-        count = np.zeros(at_s.shape[0] * n_padded, dtype=np.int32)
-        np.add.at(count, (at_s + race_base)[racing_s], 1)
+        count = np.bincount((at_s + race_base)[racing_s], minlength=at_s.shape[0] * n_padded)  # add.at's counts, faster
         seen = count.take(idx[s : s + step] + race_base[:, :, None], mode="clip")
         seen[:, :, view.window.size // 2] -= racing_s  # not the observer itself
         feats[s : s + step, :, :, _ROBOT] = seen > 0
@@ -245,7 +244,7 @@ def nearest_observations(xy: np.ndarray, racing: np.ndarray, k: int, width: int,
     (``extra``: more columns at the end, as ``local_observations``)."""
     xy, racing = np.asarray(xy, dtype=np.int64), np.asarray(racing, dtype=bool)
     *lead, n, _ = xy.shape
-    n_races = int(np.prod(lead, dtype=np.int64))
+    n_races = math.prod(lead)
     xy2, racing2 = xy.reshape(n_races, n, 2), racing.reshape(n_races, n)
     size = 2 + 2 * k + extra
     out = np.empty((n_races, n, size), dtype=np.int64)

@@ -46,7 +46,6 @@ FINISHED_MODES = ("remove", "freeze")
 # actions on the fast path: Python ints 0..4 (bools, numpy ints and the rest are checked one by one)
 _ACTIONS = frozenset(range(N_ACTIONS))
 _LAYOUTS, _LAYOUT_SIZE = 256, 4096  # gathers kept per env, and the largest kept (int indices)
-_RACING_INFO = {"cell": None, "outcome": 0, "blocked": False, "finished": False, "rank": 0}  # a racing robot's info, copied
 _ARGS = (
     "level", "n_robots", "collisions", "max_cycles", "start", "finished", "rules", "render_mode", "cell_size", "theme",
     "animation_frames", "render_fps", "observe", "view_radius", "k", "obs_encoding", "hint", "goals", "lifelong",
@@ -149,6 +148,7 @@ class RaceEnv(RaceGoals, RaceReadouts, OverlayMethods, ParallelEnv):
         self._lists = self.table.lists
         self._xy = [self.table.cell_xy(c) for c in range(self.table.n_cells)]
         self._xy_arrays = [np.array(xy, dtype=np.int64) for xy in self._xy]  # infos' "cell", copied per step
+        self._cell_xy = np.array(self._xy, dtype=np.int64).reshape(-1, 2)  # (cells, 2): the common step's infos' "cell"
         self._reward_at = self._lists.reward  # by cell
         # [x, y, finished] of a robot: row c racing in cell c, row n_cells + c finished there
         self._xyf = np.array([(*xy, 0) for xy in self._xy] + [(*xy, 1) for xy in self._xy], dtype=np.int64)
@@ -160,6 +160,8 @@ class RaceEnv(RaceGoals, RaceReadouts, OverlayMethods, ParallelEnv):
         self._done: list[int] = []
         self._parked: list[int] = []
         self._set_agents([])
+        self._all_racing = np.ones(n, dtype=bool)  # every robot's racing flag while nobody has finished
+        self._all_racing.setflags(write=False)
         self._rank: list[int] = []
         self._returns: list[float] = []  # of the finished robots; the racing ones' in _live_returns
         self._live_returns: list[float] = []
@@ -245,7 +247,8 @@ class RaceEnv(RaceGoals, RaceReadouts, OverlayMethods, ParallelEnv):
         )
         reached = None
         if self._goal_of is not None:  # own goals: finished on its own target (the table has no exits)
-            finishing = list(map(operator.eq, cells, map(self._goal_of.__getitem__, live)))
+            goals = self._goal_of if len(live) == self.n_robots else map(self._goal_of.__getitem__, live)
+            finishing = list(map(operator.eq, cells, goals))
             if True in finishing:
                 for i, f in zip(live, finishing):
                     self._reached[i] += f
@@ -265,18 +268,15 @@ class RaceEnv(RaceGoals, RaceReadouts, OverlayMethods, ParallelEnv):
                 rewards = [self.rules.exit_reward if r else x for r, x in zip(reached, rewards)]
             out = self._step_general(cells, outcome, blocked, finishing, rewards)
         else:  # the common step: nobody finishes, the race goes on, the agents are the racing robots
-            # the five dicts in one pass; infos fresh dicts and arrays (users keep and change them)
-            obs, rewards, infos, returns, xy, reward_at = {}, {}, {}, [], self._xy_arrays, self._reward_at
-            for a, row, c, o, b, ret in zip(reported, self._observations(), cells, outcome, blocked, self._live_returns):
-                obs[a] = row
-                rewards[a] = r = reward_at[c]
-                returns.append(ret + r)
-                infos[a] = info = _RACING_INFO.copy()
-                info["cell"] = xy[c].copy()
-                info["outcome"], info["blocked"] = o, b
-            self._live_returns = returns
+            # the dicts by zip; infos fresh dicts, their cells rows of one fresh array (users keep and change them)
+            rewards = dict(zip(reported, map(self._reward_at.__getitem__, cells)))
+            self._live_returns = list(map(operator.add, self._live_returns, rewards.values()))
+            infos = {
+                a: {"cell": xy, "outcome": o, "blocked": b, "finished": False, "rank": 0}
+                for a, xy, o, b in zip(reported, self._cell_xy.take(cells, axis=0), outcome, blocked)
+            }
             no = self._none_done
-            out = obs, rewards, no.copy(), no.copy(), infos
+            out = dict(zip(reported, self._observations())), rewards, no.copy(), no.copy(), infos
         if self.render_mode == "human":
             self.render()
         return out
@@ -443,6 +443,8 @@ class RaceEnv(RaceGoals, RaceReadouts, OverlayMethods, ParallelEnv):
         if self._goal_columns is not None:
             return self._goal_observations()
         if self._observer is not None:
+            if self._reported_live:  # the racing robots' rows alone: finished robots are in nobody's view
+                return self.encoder(self._observer(np.array(self._live_cells), self._all_racing[: len(self._live)]))
             return self.encoder(self._observer(np.array(self._cells), np.array(self._racing))[self._agent_ids])
         rows = [*self._live_cells, *self._parked] if self._parked else self._live_cells
         obs = self._xyf.take(rows, axis=0).ravel()[self._gather_reported]
@@ -463,6 +465,7 @@ class RaceEnv(RaceGoals, RaceReadouts, OverlayMethods, ParallelEnv):
         # the cells' [x, y] (a family of sizes: each level has its own cells, inside the largest's space)
         self._xy = [self.table.cell_xy(c) for c in range(self.table.n_cells)]
         self._xy_arrays = [np.array(xy, dtype=np.int64) for xy in self._xy]
+        self._cell_xy = np.array(self._xy, dtype=np.int64).reshape(-1, 2)
         self._xyf = np.array([(*xy, 0) for xy in self._xy] + [(*xy, 1) for xy in self._xy], dtype=np.int64)
 
     def _drawn_observer(self, table: Table) -> Observer | None:

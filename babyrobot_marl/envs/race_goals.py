@@ -53,7 +53,13 @@ class RaceGoals:
 
     def _goal_observations(self) -> np.ndarray:
         """``_observations`` with own goals: each row, then its goal's columns (``core.goals.GoalColumns``)."""
-        ids, cells, columns, goals = self._agent_ids, np.array(self._cells), self._goal_columns, self._goal_arr
+        ids, columns, goals = self._agent_ids, self._goal_columns, self._goal_arr
+        if self._observer is not None and self._reported_live:  # the racing robots' rows alone (as in _observations)
+            cells, live = np.array(self._live_cells), self._live
+            goals = goals if len(live) == self.n_robots else goals[live]
+            rows = self._observer(cells, self._all_racing[: len(live)], columns.size)
+            return self.encoder(columns(self.table, cells, goals, out=rows))
+        cells = np.array(self._cells)
         if self._observer is not None:  # rows with room for the goal's columns, filled in place
             rows = columns(self.table, cells, goals, out=self._observer(cells, np.array(self._racing), columns.size))
             return self.encoder(rows if len(ids) == self.n_robots else rows[ids])  # all robots: already in order, fresh
