@@ -68,11 +68,8 @@ def cells(flat: list[int]) -> list[tuple[int, int]]:
 
 @lru_cache(maxsize=256)
 def level_of(grid: str) -> Level:
-    """The maze as a level. One exit is added on its first free cell: with own goals an exit is
-    plain floor (no reward, no finishing), and a level needs one to be built."""
-    maze = Level.from_grid(grid)
-    free = min((y, x) for y in range(maze.height) for x in range(maze.width) if (x, y) not in maze.blocked)
-    return Level(width=maze.width, height=maze.height, blocked=maze.blocked, exits={free[::-1]})
+    """The maze as a level, as it comes: no exit (each robot has its own target)."""
+    return Level.from_grid(grid)
 
 
 @lru_cache(maxsize=4096)

@@ -44,7 +44,7 @@ def goal_actions(level: str | Level, goal: tuple[int, int], rules: Rules | dict[
     """``uint8[H, W, 5]``: 1 where the action starts a shortest path (in moves, one robot alone) to the
     cell ``goal``, the hint a robot gets with ``goals="own"``; 0 on the goal, blocked cells and cells
     that cannot reach it. The exits are floor. One breadth-first search per goal cell, kept."""
-    table = own_goal_table(compile_level(resolve_level(level), resolve_rules(rules, {})))
+    table = own_goal_table(compile_level(resolve_level(level, need_exit=False), resolve_rules(rules, {})))
     cells = np.arange(table.n_cells)
     hints = goal_hints(table, cells, np.full_like(cells, table.cell_id(goal)))
     return hints.astype(np.uint8).reshape(table.height, table.width, -1)
