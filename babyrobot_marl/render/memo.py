@@ -3,8 +3,9 @@
 The renderers keep what they drew (robots rasterised, cells with robots in them, panel strips,
 lines of text) to draw it again for the price of a copy. An entry's size varies by thousands
 between a 8-pixel and a 256-pixel cell, so a bound by count is no bound: every cache here is a
-least-recently-used one bounded by ``max_bytes``, the arrays of its values counted. Their sum is
-``SHARED_BYTES`` for the caches of the process plus ``RENDERER_BYTES`` per ``RgbRenderer``.
+least-recently-used one bounded by ``max_bytes``, the arrays of its values counted. Their sum:
+32 MB for the process (``paint.PATCH_BYTES``, ``sprites.SPRITE_BYTES``, ``glyphs.TEXT_BYTES``)
+and 66 MB per ``RgbRenderer`` (``rgb.RENDERER_BYTES``).
 """
 
 from __future__ import annotations

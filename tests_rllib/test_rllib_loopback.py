@@ -1,0 +1,40 @@
+"""A local Ray listens on the loopback address only: nothing it opens is reachable from the network."""
+
+from __future__ import annotations
+
+import ipaddress
+
+import pytest
+
+psutil = pytest.importorskip("psutil", reason="psutil comes with ray[rllib]")
+
+
+def ray_processes() -> list:
+    """This process and everything it started (Ray's GCS, raylet, agents and workers)."""
+    me = psutil.Process()
+    return [me, *me.children(recursive=True)]
+
+
+def listening(pids: set[int]) -> list[tuple[int, str, int]]:
+    """``(pid, address, port)`` of each listening TCP socket those processes hold."""
+    out = []
+    for pid in pids:
+        try:
+            conns = psutil.Process(pid).net_connections(kind="tcp")
+        except (psutil.NoSuchProcess, psutil.AccessDenied):
+            continue
+        out += [(pid, c.laddr.ip, c.laddr.port) for c in conns if c.status == psutil.CONN_LISTEN]
+    return out
+
+
+def test_every_port_a_local_ray_opens_is_bound_to_the_loopback_address(ray_local):
+    @ray_local.remote
+    def ping() -> int:
+        return 1
+
+    assert ray_local.get(ping.remote()) == 1  # a worker started: its ports are open too
+    ports = listening({p.pid for p in ray_processes()})
+    assert len(ports) >= 3, ports  # the GCS, the raylet and a worker at least: the test sees Ray's sockets
+    exposed = [p for p in ports if not ipaddress.ip_address(p[1]).is_loopback]
+    assert exposed == [], f"listening beyond 127.0.0.1: {exposed}"
+    assert ray_local.util.get_node_ip_address() == "127.0.0.1"
