@@ -2,6 +2,7 @@
 
     python benchmarks/bench_render.py            # about a minute
     python benchmarks/bench_render.py --quick    # CI: a few seconds, figures only (too short to judge)
+    python benchmarks/bench_render.py --soak 1500  # memory: 1,500 panels of 2,000 characters at 128-pixel cells
 
 Targets (issues 13 and 28), checked in the same run; the script exits 1 when one is missed:
 
@@ -85,7 +86,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--quick", action="store_true")
     parser.add_argument("--frames", type=int, default=400)
     parser.add_argument("--rounds", type=int, default=9)
+    parser.add_argument("--soak", type=int, default=0, help="only the memory soak, of this many panels")
     args = parser.parse_args(argv)
+    if args.soak:
+        soak(args.soak)
+        return 0
     frames, rounds = (60, 3) if args.quick else (args.frames, args.rounds)
     ok = True
 
@@ -193,6 +198,32 @@ def canvas_times(steps: int, rounds: int, judge: bool = True) -> bool:
             print(f"target 2: {t * 1e3:.2f} ms per animation frame, 8 robots on 16x16 (at most {CANVAS_MS:.0f} ms): {verdict}")
     print("(a browser then decodes and paints these; that side is not measured here)")
     return ok
+
+
+def soak(panels: int) -> None:
+    """Memory kept after ``panels`` different overlay panels of 2,000 characters at 128-pixel cells
+    (each frame rendered), measured with tracemalloc after a garbage collection."""
+    import gc
+    import tracemalloc
+
+    env = BabyRobotEnv(level="default", render_mode="rgb_array", cell_size=128)
+    env.reset(seed=0)
+    env.render()
+    rng = np.random.default_rng(0)
+    words = ["abcdefghij", "klmnop", "qrstu", "vwxyz", "0123456789"]
+    gc.collect()
+    tracemalloc.start()
+    before = tracemalloc.get_traced_memory()[0]
+    t0 = time.perf_counter()
+    for k in range(panels):
+        env.unwrapped.set_overlay(panel=[(f"{k} " + " ".join(rng.choice(words, 400)))[:2000]])
+        env.render()
+    seconds = time.perf_counter() - t0
+    gc.collect()
+    kept = tracemalloc.get_traced_memory()[0] - before
+    tracemalloc.stop()
+    print(f"soak: {panels} panels of 2,000 characters at 128-pixel cells, {seconds / panels:.3f} s a panel "
+          f"(traced); {kept / 2**20:.1f} MB kept after")
 
 
 def crowd_times(crowds, steps: int, judge: bool = True) -> bool:

@@ -27,6 +27,26 @@ def listening(pids: set[int]) -> list[tuple[int, str, int]]:
     return out
 
 
+def test_the_local_node_address_stays_loopback_where_ray_would_turn_it_into_the_network_address(monkeypatch):
+    """Ray on Linux resolves 127.0.0.1 to the machine's reachable address when a node starts;
+    ``init_local_ray`` keeps it 127.0.0.1 (the address Ray's servers bind to), and only then."""
+    import ray
+    from ray._private import ray_constants, services
+
+    from babyrobot_marl.integrations.rllib import init_local_ray
+
+    seen = {}
+
+    def fake_init(**kwargs):
+        seen.update(kwargs, resolved=services.resolve_ip_for_localhost(kwargs["_node_ip_address"]))
+
+    monkeypatch.setattr(ray, "init", fake_init)
+    cluster = ray_constants.ENABLE_RAY_CLUSTER
+    init_local_ray(2, log_to_driver=False)
+    assert seen["resolved"] == "127.0.0.1" and seen["include_dashboard"] is False and seen["num_cpus"] == 2
+    assert seen["log_to_driver"] is False and ray_constants.ENABLE_RAY_CLUSTER is cluster  # put back
+
+
 def test_every_port_a_local_ray_opens_is_bound_to_the_loopback_address(ray_local):
     @ray_local.remote
     def ping() -> int:

@@ -129,9 +129,21 @@ def init_local_ray(num_cpus: int | None = None, **kwargs: Any) -> None:
     no reason to be reachable from the network (older Ray versions ask no token). ``kwargs``
     go to ``ray.init`` as they are. To join a cluster, call ``ray.init(address=...)`` instead."""
     import ray
+    from ray._private import ray_constants
 
     kwargs.setdefault("include_dashboard", False)
-    ray.init(num_cpus=num_cpus, _node_ip_address=LOOPBACK, **kwargs)
+    # Ray 2.x on Linux turns a loopback node address into the machine's network address unless its
+    # cluster mode is off (as on macOS and Windows): off while the node starts, so its address is
+    # 127.0.0.1, which its servers then bind to. Older versions take the address as it is.
+    cluster = getattr(ray_constants, "ENABLE_RAY_CLUSTER", None)
+    ray_constants.ENABLE_RAY_CLUSTER = False
+    try:
+        ray.init(num_cpus=num_cpus, _node_ip_address=LOOPBACK, **kwargs)
+    finally:
+        if cluster is None:
+            del ray_constants.ENABLE_RAY_CLUSTER
+        else:
+            ray_constants.ENABLE_RAY_CLUSTER = cluster
 
 
 def make_env(config: Mapping[str, Any] | None = None) -> RaceMultiAgentEnv:
