@@ -27,6 +27,12 @@ def listening(pids: set[int]) -> list[tuple[int, str, int]]:
     return out
 
 
+def loopback(ip: str) -> bool:
+    """127.0.0.1, ::1 or 127.0.0.1 as an IPv6 socket shows it (``::ffff:127.0.0.1``); not ``::`` or 0.0.0.0."""
+    address = ipaddress.ip_address(ip)
+    return (getattr(address, "ipv4_mapped", None) or address).is_loopback
+
+
 def test_the_local_node_address_stays_loopback_where_ray_would_turn_it_into_the_network_address(monkeypatch):
     """Ray on Linux resolves 127.0.0.1 to the machine's reachable address when a node starts;
     ``init_local_ray`` keeps it 127.0.0.1 (the address Ray's servers bind to), and only then."""
@@ -55,6 +61,6 @@ def test_every_port_a_local_ray_opens_is_bound_to_the_loopback_address(ray_local
     assert ray_local.get(ping.remote()) == 1  # a worker started: its ports are open too
     ports = listening({p.pid for p in ray_processes()})
     assert len(ports) >= 3, ports  # the GCS, the raylet and a worker at least: the test sees Ray's sockets
-    exposed = [p for p in ports if not ipaddress.ip_address(p[1]).is_loopback]
+    exposed = [p for p in ports if not loopback(p[1])]
     assert exposed == [], f"listening beyond 127.0.0.1: {exposed}"
     assert ray_local.util.get_node_ip_address() == "127.0.0.1"

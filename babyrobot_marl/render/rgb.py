@@ -147,10 +147,9 @@ class RgbRenderer:
         """The robots of one cell drawn as ``_still`` draws them (robots, then their badges)."""
         robots, badges = [], []
         for pl in placements(Scene(views, corner=corner), self.labelled, self.label_top):
-            robot, badge = placement_sprites(pl, self.cell_size, self.theme, pl.view.pose, pl.cx, pl.cy)
-            robots.append(self._placed_sprite(*robot))
-            if badge is not None:
-                badges.append(self._placed_sprite(*badge))
+            hit = self._placed_of(pl)
+            robots.append(hit[1])
+            badges += hit[2:]
         items = robots + badges
         rs = [it[5] for it in items]
         rect = (min(r[0] for r in rs), min(r[1] for r in rs), max(r[2] for r in rs), max(r[3] for r in rs))
@@ -180,16 +179,21 @@ class RgbRenderer:
     def _still(self, scene: Scene) -> list[tuple]:
         """``_placed_sprite`` of the scene's robots, marks and badges at rest (``robot_sprites``'
         order), each placed robot's cached: robots stand in the same places again and again."""
-        cs, th = self.cell_size, self.theme
         robots, badges = [], []
         for pl in placements(scene, self.labelled, self.label_top):
-            hit = self._placed.get(id(pl))  # the entry keeps ``pl`` alive: its id is its own
-            if hit is None or hit[0] is not pl:
-                hit = self._placed.put(id(pl), (pl, *(self._placed_sprite(*sp) for sp in placement_sprites(
-                    pl, cs, th, pl.view.pose, pl.cx, pl.cy) if sp is not None)))  # fmt: skip
+            hit = self._placed_of(pl)
             robots.append(hit[1])
             badges += hit[2:]
         return robots + self._marks(scene) + badges
+
+    def _placed_of(self, pl) -> tuple:
+        """``(pl, placed robot, placed badge if ranked)``, cached by the placement (the entry keeps
+        ``pl`` alive: its id is its own)."""
+        hit = self._placed.get(id(pl))
+        if hit is None or hit[0] is not pl:
+            hit = self._placed.put(id(pl), (pl, *(self._placed_sprite(*sp) for sp in placement_sprites(
+                pl, self.cell_size, self.theme, pl.view.pose, pl.cx, pl.cy) if sp is not None)))  # fmt: skip
+        return hit
 
     def check_frame(self, overlay: Overlay | None, scene: Scene) -> None:
         """The frame of ``overlay`` and ``scene`` (grid, panel, legend) within the limit, before drawing it
