@@ -45,7 +45,7 @@ __all__ = ["MAX_CELL_SIZE", "MAX_FRAME_PIXELS", "MIN_CELL_SIZE", "THEMES", "RgbR
 
 # What a renderer keeps to draw again by a copy, in bytes (``memo``): cells with robots drawn in,
 # by content and by a lone robot's view; panel strips; legend rows; placed robots and bursts.
-BLOCK_BYTES, LONE_BYTES, PANEL_BYTES, ROW_BYTES, PLACED_BYTES, MARK_BYTES = 24 * MB, 24 * MB, 8 * MB, 6 * MB, 3 * MB, MB
+BLOCK_BYTES, LONE_BYTES, PANEL_BYTES, ROW_BYTES, PLACED_BYTES, MARK_BYTES = 24 * MB, 24 * MB, 10 * MB, 4 * MB, 3 * MB, MB
 RENDERER_BYTES = BLOCK_BYTES + LONE_BYTES + PANEL_BYTES + ROW_BYTES + PLACED_BYTES + MARK_BYTES
 
 
@@ -69,7 +69,7 @@ class RgbRenderer:
         self._lone_static: np.ndarray | None = None  # and blocks by view, without and with an overlay, on this
         self._mark_cache: ByteCache[tuple] = ByteCache(MARK_BYTES, _ref_bytes)  # bursts placed, by their two cells
         self._row_h = metrics(cs).row_h
-        self._rows: ByteCache[list] = ByteCache(ROW_BYTES, _row_bytes)  # legend rows' pieces, by content
+        self._rows: ByteCache[list] = ByteCache(ROW_BYTES, _row_bytes)  # legend rows' layouts, by content
         self._blocks: ByteCache[np.ndarray] = ByteCache(BLOCK_BYTES, _array_bytes)  # cells with robots drawn in,
         self._blocks_static: np.ndarray | None = None  # by content, on this static image
         self._placed: ByteCache[tuple] = ByteCache(PLACED_BYTES, _placed_bytes)  # placed robots' sprites, patches, cells
@@ -288,26 +288,25 @@ class RgbRenderer:
         if self._legend_y is None or len(old) != len(new) or not new or len(new) > LEGEND_ROWS:
             return False
         self._base_strips = [None] * len(self._base_strips)  # the kept strips will not all show
-        img, h, rows = self._base_img, self._row_h, self._rows
+        img = self._base_img
         y = self.grid_height + self._legend_y
         for a, b in zip(old, new):
             if a is not b and a != b:  # only its pieces that changed (its return, mostly)
                 if a.number != b.number:
                     return False
-                now = rows.get(b) or self._row_pieces(b)
-                for (x0, x1, was, _), (_, _, key, piece) in zip(rows.get(a) or self._row_pieces(a), now):
+                for (_, _, was, *_), (x0, x1, key, h, bg, build) in zip(self._row_layout(a), self._row_layout(b)):
                     if was != key:
-                        img[y : y + h, x0:x1] = piece
-            y += h
+                        img[y : y + h, x0:x1] = self._strip((h, *key), h, x1 - x0, bg, build, x0)
+            y += self._row_h
         return True
 
-    def _row_pieces(self, row) -> list[tuple[int, int, tuple, np.ndarray]]:
-        """A legend row's pieces side by side (x0, x1, key, image), cached by the row's content."""
+    def _row_layout(self, row) -> list[tuple]:
+        """A legend row's pieces side by side, ``(x0, x1, key, height, background, build)``, cached by
+        the row's content (thousands: rows repeat from race to race); their pictures are ``_strip``'s."""
         hit = self._rows.get(row)
         if hit is None:
             sec = legend_row_section(self.width, self.cell_size, self.theme, row)
-            hit = self._rows.put(row, [(x0, x1, key, self._strip((sec.height, *key), sec.height, x1 - x0, sec.background,
-                                                                 build, x0)) for x0, x1, key, build in sec.parts])  # fmt: skip
+            hit = self._rows.put(row, [(x0, x1, key, sec.height, sec.background, build) for x0, x1, key, build in sec.parts])
         return hit
 
     def _panel_strips(self, overlay: Overlay | None, scene: Scene) -> list[np.ndarray]:
@@ -383,8 +382,8 @@ def _lone_bytes(hit: tuple) -> int:
     return hit[1].nbytes + ENTRY_BYTES
 
 
-def _row_bytes(pieces: list) -> int:
-    return sum(p[3].nbytes for p in pieces) + ENTRY_BYTES
+def _row_bytes(layout: list) -> int:
+    return ENTRY_BYTES * (1 + len(layout))  # keys and closures: no pictures
 
 
 def _ref_bytes(_: object) -> int:
@@ -403,6 +402,8 @@ def _groups(drawn: list[tuple]) -> list[tuple[tuple[int, int, int, int], list[tu
     rects = [item[5] for item in drawn]
     if len(set(rects)) == len(rects) and all(r[2] - r[0] == 1 and r[3] - r[1] == 1 for r in rects):
         return [(r, [item]) for r, item in zip(rects, drawn)]  # one cell each, each its own (the usual case)
+    if len(rects) <= PAIRWISE:
+        return _groups_pairwise(drawn)
     groups: dict[int, tuple[tuple[int, int, int, int], list[int]]] = {}
     owner: dict[tuple[int, int], int] = {}  # each cell's group (one that may since have been merged into another)
     for k, rect in enumerate(rects):
@@ -420,12 +421,33 @@ def _groups(drawn: list[tuple]) -> list[tuple[tuple[int, int, int, int], list[tu
     return [(rect, [drawn[k] for k in sorted(members)]) for rect, members in groups.values()]
 
 
+PAIRWISE = 48  # sprites up to which rectangles are compared pair by pair (fewer steps than cells then)
+
+
+def _groups_pairwise(drawn: list[tuple]) -> list[tuple[tuple[int, int, int, int], list[tuple]]]:
+    groups: list[tuple[tuple[int, int, int, int], list[int]]] = []
+    for k, item in enumerate(drawn):
+        rect, members = item[5], [k]
+        hit = [g for g in groups if _overlap(rect, g[0])]
+        while hit:  # a merged rectangle can reach a group it did not touch before
+            for g in hit:
+                groups.remove(g)
+                r = g[0]
+                rect = (min(rect[0], r[0]), min(rect[1], r[1]), max(rect[2], r[2]), max(rect[3], r[3]))
+                members += g[1]
+            hit = [g for g in groups if _overlap(rect, g[0])]
+        groups.append((rect, members))
+    return [(rect, [drawn[k] for k in sorted(members)]) for rect, members in groups]
+
+
 def _cells(rect: tuple[int, int, int, int]) -> list[tuple[int, int]]:
     return [(x, y) for y in range(rect[1], rect[3]) for x in range(rect[0], rect[2])]
 
 
 def _any_overlap(rects: Sequence[tuple[int, int, int, int]]) -> bool:
     """Whether two of the cell rectangles share a cell."""
+    if len(rects) <= PAIRWISE:
+        return any(_overlap(a, b) for i, a in enumerate(rects) for b in rects[i + 1 :])
     seen: set[tuple[int, int]] = set()
     for r in rects:
         for cell in _cells(r):
