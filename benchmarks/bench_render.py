@@ -2,6 +2,7 @@
 
     python benchmarks/bench_render.py            # about a minute
     python benchmarks/bench_render.py --quick    # CI: a few seconds, figures only (too short to judge)
+    python benchmarks/bench_render.py --soak 1500  # memory: 1,500 panels of 2,000 characters at 128-pixel cells
 
 Targets (issues 13 and 28), checked in the same run; the script exits 1 when one is missed:
 
@@ -9,7 +10,9 @@ Targets (issues 13 and 28), checked in the same run; the script exits 1 when one
    and a values + arrows overlay, at least 3x as fast as Minigrid's frame of the same grid
    (MiniGrid-Empty-8x8 at ``tile_size=64``: 512x512 pixels): floor 3x (issue 28);
 2. the live canvas's Python side at most 2 ms per animation frame for 8 robots on
-   ``maze-16x16`` (its default 48-pixel cells, drawn at pixel ratio 2).
+   ``maze-16x16`` (its default 48-pixel cells, drawn at pixel ratio 2);
+3. a crowd's ``rgb_array`` frame, 1,200 robots racing on ``maze-64x64`` (12-pixel cells), at
+   most 0.5 s once the robots' poses have been drawn (the median over the steps timed).
 
 Both envs render through ``render()`` after a random step, interleaved round by round, after
 an untimed warm-up (a robot's pose is rasterised once per heading and size, then reused); the
@@ -31,7 +34,8 @@ import numpy as np
 
 from babyrobot_marl import BabyRobotEnv, race_v0
 
-RGB_FLOOR, CANVAS_MS = 3.0, 2.0
+RGB_FLOOR, CANVAS_MS, CROWD_S = 3.0, 2.0, 0.5
+CROWDS = (("maze-64x64", 1200), ("maze-128x128", 4000))  # the first is target 3
 
 
 def frame_time(env, step, frames: int, rng: np.random.Generator) -> float:
@@ -82,7 +86,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--quick", action="store_true")
     parser.add_argument("--frames", type=int, default=400)
     parser.add_argument("--rounds", type=int, default=9)
+    parser.add_argument("--soak", type=int, default=0, help="only the memory soak, of this many panels")
     args = parser.parse_args(argv)
+    if args.soak:
+        soak(args.soak)
+        return 0
     frames, rounds = (60, 3) if args.quick else (args.frames, args.rounds)
     ok = True
 
@@ -137,6 +145,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"target 1: {ratio:.2f}x Minigrid (spread {min(ratios):.2f}..{max(ratios):.2f} over {len(ratios)} rounds; "
               f"floor {RGB_FLOOR:.0f}x): {'met' if met else 'MISSED'}")  # fmt: skip
     ok &= canvas_times(max(20, frames // 4), rounds, judge=not args.quick)
+    ok &= crowd_times(CROWDS[:1] if args.quick else CROWDS, 5 if args.quick else 20, judge=not args.quick)
     if args.quick:
         print("(--quick: a smoke run, too short to judge; the targets are judged without --quick)")
     return 0 if ok else 1
@@ -188,6 +197,65 @@ def canvas_times(steps: int, rounds: int, judge: bool = True) -> bool:
             verdict = "met" if met else "MISSED"
             print(f"target 2: {t * 1e3:.2f} ms per animation frame, 8 robots on 16x16 (at most {CANVAS_MS:.0f} ms): {verdict}")
     print("(a browser then decodes and paints these; that side is not measured here)")
+    return ok
+
+
+def soak(panels: int) -> None:
+    """Memory kept after ``panels`` different overlay panels of 2,000 characters at 128-pixel cells
+    (each frame rendered), measured with tracemalloc after a garbage collection."""
+    import gc
+    import tracemalloc
+
+    env = BabyRobotEnv(level="default", render_mode="rgb_array", cell_size=128)
+    env.reset(seed=0)
+    env.render()
+    rng = np.random.default_rng(0)
+    words = ["abcdefghij", "klmnop", "qrstu", "vwxyz", "0123456789"]
+    gc.collect()
+    tracemalloc.start()
+    before = tracemalloc.get_traced_memory()[0]
+    t0 = time.perf_counter()
+    for k in range(panels):
+        env.unwrapped.set_overlay(panel=[(f"{k} " + " ".join(rng.choice(words, 400)))[:2000]])
+        env.render()
+    seconds = time.perf_counter() - t0
+    gc.collect()
+    kept = tracemalloc.get_traced_memory()[0] - before
+    tracemalloc.stop()
+    print(f"soak: {panels} panels of 2,000 characters at 128-pixel cells, {seconds / panels:.3f} s a panel "
+          f"(traced); {kept / 2**20:.1f} MB kept after")
+
+
+def crowd_times(crowds, steps: int, judge: bool = True) -> bool:
+    """Seconds per ``rgb_array`` frame of a race of many robots (random actions), after 10 untimed
+    steps: each robot's poses are drawn once, then frames are copies of cached cells."""
+    print(f"\n{'crowd, rgb_array frame (render only)':46s} {'s/frame':>9s}   {'spread':>14s} {'first':>8s}")
+    ok = True
+    for level, n in crowds:
+        env = race_v0.parallel_env(level=level, n_robots=n, start="random", render_mode="rgb_array")
+        env.reset(seed=0)
+        rng = np.random.default_rng(0)
+        t0 = time.perf_counter()
+        env.render()
+        first = time.perf_counter() - t0
+        ts, cpu = [], []
+        for k in range(10 + steps):
+            if not env.agents:
+                env.reset()
+            env.step({a: int(rng.integers(5)) for a in env.agents})
+            t0, c0 = time.perf_counter(), time.process_time()
+            env.render()
+            if k >= 10:
+                ts.append(time.perf_counter() - t0)
+                cpu.append(time.process_time() - c0)
+        t = statistics.median(ts)
+        label = f"{level} ({env.unwrapped.cell_size} px), {n} robots"
+        print(f"{label:46s} {t:9.3f}   ({min(ts):.3f}..{max(ts):.3f}) {first:7.2f} s"
+              f"  (CPU {statistics.median(cpu):.3f} s: the rest is a shared machine's wait)")
+        if (level, n) == CROWDS[0] and judge:
+            met = t <= CROWD_S
+            ok &= met
+            print(f"target 3: {t:.3f} s per frame, {n} robots on {level} (at most {CROWD_S} s): {'met' if met else 'MISSED'}")
     return ok
 
 

@@ -124,7 +124,9 @@ def main(argv: list[str] | None = None) -> None:
     iterations = 1 if args.quick else args.iterations
     import ray
 
-    ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False)
+    from babyrobot_marl.integrations.rllib import init_local_ray
+
+    init_local_ray(2, log_to_driver=False)  # listens on 127.0.0.1 only
     try:
         wrapper_table(steps=2_000 if args.quick else 20_000, rounds=1 if args.quick else 5)
         rates = {

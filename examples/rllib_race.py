@@ -5,7 +5,8 @@
     ray start --head                                                       # on a cluster: the head node
     python examples/rllib_race.py --address auto --num-env-runners 16     # joins it
 
-Without ``--address`` the script starts a local Ray and stops it at the end. Needs the
+Without ``--address`` the script starts a local Ray, listening on 127.0.0.1 only (reachable from
+this machine alone), and stops it at the end; an ``--address`` given is joined as it is. Needs the
 ``rllib`` extra, torch's CPU build first
 (``pip install torch==2.13.0 --index-url https://download.pytorch.org/whl/cpu && pip install -e ".[rllib]"``).
 """
@@ -63,13 +64,20 @@ def main(argv: list[str] | None = None) -> None:
     args = parse_args(argv)
     import ray
 
-    from babyrobot_marl.integrations.rllib import SHARED_POLICY, RaceMultiAgentEnv, greedy_policy, race_config, win_rate
+    from babyrobot_marl.integrations.rllib import (
+        SHARED_POLICY,
+        RaceMultiAgentEnv,
+        greedy_policy,
+        init_local_ray,
+        race_config,
+        win_rate,
+    )
 
     env_config = {"level": args.level, "n_robots": args.robots}
     if args.address:
         ray.init(address=args.address)
     else:
-        ray.init(num_cpus=os.cpu_count(), include_dashboard=False, log_to_driver=False)
+        init_local_ray(os.cpu_count(), log_to_driver=False)  # listens on 127.0.0.1 only
     algo = None
     try:
         runners = args.num_env_runners

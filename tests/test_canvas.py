@@ -411,6 +411,40 @@ def test_a_layer_the_browser_may_show_empty_gets_its_level_as_rectangles(sent_im
     assert [how for how, _ in sent_images] == ["fillStyledRects"] and (sent_images[0][1] == hi.static(ov)).all()
 
 
+def test_a_picture_past_the_rectangle_cap_goes_as_png_over_a_coarse_copy_drawn_first(sent_images, monkeypatch):
+    """Rectangles stop paying past ``MAX_RECTS``: a new or reconnected canvas then gets a coarse
+    copy (at most ``COARSE_RECTS`` rectangles, covering every pixel: never a blank canvas) and the
+    exact picture as PNG over it; under the cap, rectangles alone."""
+    from babyrobot_marl.render import transfer
+
+    lv = levels.get("maze-8x8")
+    ov = update_overlay(Overlay(), lv, values=np.arange(64.0).reshape(8, 8), arrows=np.full((8, 8), 3))
+    c = make(animation_frames=0)
+    c.draw([(1, 1)], ov)
+    exact = c.hi.static(ov)
+    full = len(transfer.rectangles(exact)[0])
+    monkeypatch.setattr(transfer, "MAX_RECTS", full - 1)
+    monkeypatch.setattr(transfer, "COARSE_RECTS", 100)
+    sent_images.clear()
+    c.widget[0]._handle_frontend_event(None, {"event": "client_ready"}, [])  # a browser reconnects
+    assert [how for how, _ in sent_images] == ["fillStyledRects", "putImageData"]
+    coarse, png = sent_images[0][1], sent_images[1][1]
+    assert coarse.shape == exact.shape  # every pixel covered once (``pictures`` checks), none blank
+    assert (png[:, :, :3] == exact).all() and (png[:, :, 3] == 255).all()
+    rects = transfer.coarse_rectangles(exact, 100)
+    assert 0 < len(rects[0]) <= 100
+    monkeypatch.setattr(transfer, "MAX_RECTS", full)
+    sent_images.clear()
+    c.redraw()
+    assert [how for how, _ in sent_images][:1] == ["fillStyledRects"] and "putImageData" not in [h for h, _ in sent_images]
+
+
+def test_the_rectangle_cap_is_a_few_megabytes_of_rectangles():
+    from babyrobot_marl.render import transfer
+
+    assert transfer.MAX_RECTS * 19 <= 6 << 20 and transfer.COARSE_RECTS < transfer.MAX_RECTS
+
+
 def test_changing_only_the_panel_does_not_resend_the_level(sent):
     c = make(animation_frames=0)
     lv = levels.get("maze-8x8")

@@ -11,7 +11,7 @@ import pytest
 
 from babyrobot_marl import levels, planning
 from babyrobot_marl.core.actions import Action
-from babyrobot_marl.render import annotate, glyphs
+from babyrobot_marl.render import annotate, glyphs, sprites
 from babyrobot_marl.render.canvas import png_bytes
 from babyrobot_marl.render.overlay import Overlay, update_overlay
 from babyrobot_marl.render.paint import Text, raster
@@ -220,7 +220,7 @@ def test_text_measures_and_sprites_are_cached_in_bounded_caches():
     for i in range(5000):
         glyphs.text_width(f"panel line {i}", 12)
     assert glyphs.text_width.cache_info().currsize <= glyphs.text_width.cache_info().maxsize == 4096
-    assert sprite.cache_info().maxsize is not None
+    assert sprites._robot_sprite.cache.max_bytes > 0
 
 
 @pytest.mark.parametrize("cs", SIZES)

@@ -128,3 +128,23 @@ def test_a_gif_shows_in_nbconvert_html_not_as_its_python_repr(tmp_path):
     nb.cells = [nbformat.v4.new_code_cell("Gif(path)", outputs=[out])]
     html, _ = HTMLExporter().from_notebook_node(nb)
     assert 'src="data:image/gif;base64,' in html and "IPython.core.display.Image object" not in html
+
+
+@pytest.mark.parametrize("name", ['a" onerror="alert(1).gif', "<b onclick=alert(1)>x.gif", "x' src='y&amp;.gif"])
+def test_a_gif_s_file_name_is_text_in_its_html_whatever_its_characters(tmp_path, name):
+    """A file name with quotes or markup stays the ``alt`` text: no attribute or element of its own."""
+    from html.parser import HTMLParser
+
+    from babyrobot_marl.render.video import Gif
+
+    path = save_gif([np.zeros((8, 8, 3), dtype=np.uint8)] * 2, tmp_path / name)
+    seen: list[tuple[str, list]] = []
+
+    class Tags(HTMLParser):
+        def handle_starttag(self, tag, attrs):
+            seen.append((tag, attrs))
+
+    Tags().feed(Gif(path)._repr_mimebundle_()["text/html"])
+    assert [tag for tag, _ in seen] == ["img"]
+    attrs = dict(seen[0][1])
+    assert sorted(attrs) == ["alt", "src"] and attrs["alt"] == name

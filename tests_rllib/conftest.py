@@ -1,7 +1,7 @@
 """RLlib tests: run only in a venv with the ``rllib`` extra (``bash .ci/rllib.sh``), never with ``tests/``.
 
 Puts the repository root first on ``sys.path`` and gives the tests one small local Ray
-(two CPUs, no dashboard), shut down when the session ends so no process is left behind.
+(two CPUs, no dashboard, on the loopback address), shut down when the session ends so no process is left behind.
 """
 
 from __future__ import annotations
@@ -20,6 +20,8 @@ if str(ROOT) not in sys.path:
 def ray_local():
     import ray
 
-    ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False, configure_logging=False)
+    from babyrobot_marl.integrations.rllib import init_local_ray
+
+    init_local_ray(2, log_to_driver=False, configure_logging=False)
     yield ray
     ray.shutdown()

@@ -44,12 +44,14 @@ from ..envs.race import RaceEnv
 
 ENV_NAME = "babyrobot_marl_race"
 SHARED_POLICY = "shared"
+LOOPBACK = "127.0.0.1"
 
 __all__ = [
     "ENV_NAME",
     "SHARED_POLICY",
     "RaceMultiAgentEnv",
     "greedy_policy",
+    "init_local_ray",
     "per_robot_config",
     "race_config",
     "register_race",
@@ -119,6 +121,29 @@ class RaceMultiAgentEnv(MultiAgentEnv):
 
     def close(self) -> None:
         self.race.close()
+
+
+def init_local_ray(num_cpus: int | None = None, **kwargs: Any) -> None:
+    """Start Ray on this machine alone: its processes listen on the loopback address (127.0.0.1),
+    not on the machine's network address, and no dashboard is started; a run on one machine has
+    no reason to be reachable from the network (older Ray versions ask no token). ``kwargs``
+    go to ``ray.init`` as they are. To join a cluster, call ``ray.init(address=...)`` instead."""
+    import ray
+    from ray._private import ray_constants
+
+    kwargs.setdefault("include_dashboard", False)
+    # Ray 2.x on Linux turns a loopback node address into the machine's network address unless its
+    # cluster mode is off (as on macOS and Windows): off while the node starts, so its address is
+    # 127.0.0.1, which its servers then bind to. Older versions take the address as it is.
+    cluster = getattr(ray_constants, "ENABLE_RAY_CLUSTER", None)
+    ray_constants.ENABLE_RAY_CLUSTER = False
+    try:
+        ray.init(num_cpus=num_cpus, _node_ip_address=LOOPBACK, **kwargs)
+    finally:
+        if cluster is None:
+            del ray_constants.ENABLE_RAY_CLUSTER
+        else:
+            ray_constants.ENABLE_RAY_CLUSTER = cluster
 
 
 def make_env(config: Mapping[str, Any] | None = None) -> RaceMultiAgentEnv:

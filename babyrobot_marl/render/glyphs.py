@@ -12,6 +12,7 @@ from functools import cache, lru_cache
 
 import numpy as np
 
+from .memo import MB, byte_cached
 from .shapes import Text
 
 CSS_FAMILY = "'Liberation Sans', Arial, Helvetica, sans-serif"
@@ -109,7 +110,10 @@ def text_coverage(op: Text) -> tuple[np.ndarray, int, int] | None:
     return cov, int(round(x)) + left, int(round(y)) + top
 
 
-@lru_cache(maxsize=2048)
+TEXT_BYTES = 8 * MB  # lines of text rasterised (a long panel line at a large size is a few hundred kB)
+
+
+@byte_cached(TEXT_BYTES)
 def _run(text: str, size: int) -> tuple[np.ndarray, int, int] | None:
     """A line's coverage and its offset from the line's top-left corner (the same wherever it goes)."""
     _, glyphs, bitmaps = _atlas()

@@ -9,22 +9,23 @@ path (and one geometry) serves both renderers.
 
 The shapes themselves are in ``shapes``. Sprites (``Sprite``, ``Stamp``: shapes drawn many times,
 made once) are rasterised here too: ``paint`` stamps a sprite with ``patch``, and ``patch``
-rasterises it with ``paint``, once per quarter-pixel offset (bounded cache).
+rasterises it with ``paint``, once per quarter-pixel offset (a cache of ``PATCH_BYTES``).
 """
 
 from __future__ import annotations
 
-from collections import OrderedDict
+import itertools
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
 import numpy as np
 
 from .glyphs import text_coverage
+from .memo import MB, ByteCache
 from .shapes import Colour, Fill, Op, Points, Text
 
 __all__ = [
-    "MAX_PATCHES", "Colour", "Fill", "Op", "Patch", "Points", "Sprite", "Stamp", "Text",
+    "PATCH_BYTES", "Colour", "Fill", "Op", "Patch", "Points", "Sprite", "Stamp", "Text",
     "blend", "coverage", "flatten", "paint", "patch", "raster", "to_uint8",
 ]
 
@@ -184,10 +185,16 @@ class Patch:
     def __post_init__(self) -> None:
         object.__setattr__(self, "inv", np.rint((1.0 - self.alpha) * 256).astype(np.uint16))
         object.__setattr__(self, "rgb16", np.rint(self.rgb * 256).astype(np.uint16))
+        object.__setattr__(self, "serial", next(_SERIALS))  # never reused: caches key by it, not by id()
+
+    @property
+    def nbytes(self) -> int:
+        return self.rgb.nbytes + self.alpha.nbytes + self.inv.nbytes + self.rgb16.nbytes  # type: ignore[attr-defined]
 
 
-_PATCHES: OrderedDict[tuple[int, int, int], tuple[Sprite, Patch]] = OrderedDict()
-MAX_PATCHES = 1024
+_SERIALS = itertools.count()
+PATCH_BYTES = 16 * MB  # the rasterised sprites (each kept with its sprite)
+_PATCHES: ByteCache[tuple[Sprite, Patch]] = ByteCache(PATCH_BYTES)
 
 
 def patch(sprite: Sprite, cx: float, cy: float) -> Patch:
@@ -196,7 +203,6 @@ def patch(sprite: Sprite, cx: float, cy: float) -> Patch:
     key = (id(sprite), fx, fy)
     hit = _PATCHES.get(key)
     if hit is not None and hit[0] is sprite:
-        _PATCHES.move_to_end(key)
         return hit[1]
     m = 3 + max((t.size for t in sprite.texts), default=0) // 2
     pts = sprite.points if len(sprite.points) else np.zeros((1, 2))
@@ -211,9 +217,7 @@ def patch(sprite: Sprite, cx: float, cy: float) -> Patch:
         y0, y1, x0, x1 = int(ys.min()), int(ys.max()) + 1, int(xs.min()), int(xs.max()) + 1
         rgb, alpha, lo = rgb[y0:y1, x0:x1], alpha[y0:y1, x0:x1], lo + (x0, y0)
     out = Patch(np.ascontiguousarray(rgb), np.ascontiguousarray(alpha)[..., None], int(lo[0]), int(lo[1]))
-    _PATCHES[key] = (sprite, out)  # the sprite kept alive with it: its id stays its own
-    if len(_PATCHES) > MAX_PATCHES:
-        _PATCHES.popitem(last=False)
+    _PATCHES.put(key, (sprite, out))  # the sprite kept alive with it: its id stays its own
     return out
 
 

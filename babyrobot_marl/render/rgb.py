@@ -16,7 +16,6 @@ The same state always gives the same bytes. Themes are data (``palette``).
 from __future__ import annotations
 
 import math
-from collections import OrderedDict
 from collections.abc import Sequence
 
 import numpy as np
@@ -32,6 +31,7 @@ from .checks import (  # noqa: F401  (the limits and checks are read from here t
     check_frame_size,
     check_overlay_frame,
 )
+from .memo import ENTRY_BYTES, MB, ByteCache
 from .overlay import Overlay
 from .paint import Patch, blend, paint, patch, to_uint8
 from .palette import THEMES, Theme, resolve_theme
@@ -43,7 +43,10 @@ from .sprites import burst
 
 __all__ = ["MAX_CELL_SIZE", "MAX_FRAME_PIXELS", "MIN_CELL_SIZE", "THEMES", "RgbRenderer", "Theme", "resolve_theme"]
 
-BLOCK_BYTES = 24 << 20  # the cached cells with robots, per renderer
+# What a renderer keeps to draw again by a copy, in bytes (``memo``): cells with robots drawn in,
+# by content and by a lone robot's view; panel strips; legend rows; placed robots and bursts.
+BLOCK_BYTES, LONE_BYTES, PANEL_BYTES, ROW_BYTES, PLACED_BYTES, MARK_BYTES = 24 * MB, 24 * MB, 10 * MB, 4 * MB, 3 * MB, MB
+RENDERER_BYTES = BLOCK_BYTES + LONE_BYTES + PANEL_BYTES + ROW_BYTES + PLACED_BYTES + MARK_BYTES
 
 
 class RgbRenderer:
@@ -61,15 +64,15 @@ class RgbRenderer:
         self.background = self._draw([*level_ops(level, cs, self.theme), *self.labels])
         self._label_patches = self._patches(self.labels)
         self._static: tuple[Overlay | None, np.ndarray] = (None, self.background)
-        self._panels: OrderedDict[object, np.ndarray] = OrderedDict()
-        self._max_blocks = max(1024, BLOCK_BYTES // (3 * cs * cs))  # about BLOCK_BYTES of one-cell blocks
-        self._lone: tuple[dict, dict] = ({}, {})  # lone robots' cells and blocks by view, without and with an overlay
-        self._lone_static: np.ndarray | None = None
-        self._mark_cache: dict[tuple, tuple] = {}  # bursts placed, by their two cells
+        self._panels: ByteCache[np.ndarray] = ByteCache(PANEL_BYTES, _array_bytes)
+        self._lone = (ByteCache(LONE_BYTES, _lone_bytes), ByteCache(LONE_BYTES, _lone_bytes))  # lone robots' cells
+        self._lone_static: np.ndarray | None = None  # and blocks by view, without and with an overlay, on this
+        self._mark_cache: ByteCache[tuple] = ByteCache(MARK_BYTES, _ref_bytes)  # bursts placed, by their two cells
         self._row_h = metrics(cs).row_h
-        self._rows: dict[object, list] = {}  # legend rows' pieces, by content
-        self._blocks: OrderedDict[tuple, tuple] = OrderedDict()  # cells with robots drawn in, by content
-        self._placed: OrderedDict[object, tuple] = OrderedDict()  # placed robots' sprites, patches and cells
+        self._rows: ByteCache[list] = ByteCache(ROW_BYTES, _row_bytes)  # legend rows' layouts, by content
+        self._blocks: ByteCache[np.ndarray] = ByteCache(BLOCK_BYTES, _array_bytes)  # cells with robots drawn in,
+        self._blocks_static: np.ndarray | None = None  # by content, on this static image
+        self._placed: ByteCache[tuple] = ByteCache(PLACED_BYTES, _placed_bytes)  # placed robots' sprites, patches, cells
         self._checked: tuple | None = None
         self._legend_y: int | None = None  # the first legend row's top, from the panel's
         self._base_img: np.ndarray | None = None  # the last frame without robots, its panel strips, its key
@@ -116,7 +119,8 @@ class RgbRenderer:
         another's cells and no rank badge lies under a burst (the usual frame); None otherwise.
         Cached by the cell's views: their picture depends on nothing else (badges included)."""
         if self._lone_static is not static:
-            self._lone = ({}, {})
+            for c in self._lone:
+                c.clear()
             self._lone_static = static
         cache = self._lone[scene.corner]
         by_cell: dict[tuple, list] = {}
@@ -127,15 +131,13 @@ class RgbRenderer:
             key = views[0] if len(views) == 1 else tuple(views)
             hit = cache.get(key)
             if hit is None:
-                hit = cache[key] = self._cell_block(static, tuple(views), scene.corner)
-                if len(cache) > self._max_blocks:
-                    del cache[next(iter(cache))]
+                hit = cache.put(key, self._cell_block(static, tuple(views), scene.corner))
             out.append(hit)
             if any(v.rank for v in views):
                 ranked.append(hit[0])
         rects = [r for r, _ in out]
         wide = any(r[2] - r[0] != 1 or r[3] - r[1] != 1 for r in rects)  # a bump's stars reach a neighbour
-        if wide and any(_overlap(a, b) for i, a in enumerate(rects) for b in rects[i + 1 :]):
+        if wide and _any_overlap(rects):
             return None
         if ranked and any(_overlap(m[4], r) for m in self._marks(scene) for r in ranked):
             return None  # a badge is drawn over a burst: the general order
@@ -145,10 +147,9 @@ class RgbRenderer:
         """The robots of one cell drawn as ``_still`` draws them (robots, then their badges)."""
         robots, badges = [], []
         for pl in placements(Scene(views, corner=corner), self.labelled, self.label_top):
-            robot, badge = placement_sprites(pl, self.cell_size, self.theme, pl.view.pose, pl.cx, pl.cy)
-            robots.append(self._placed_sprite(*robot))
-            if badge is not None:
-                badges.append(self._placed_sprite(*badge))
+            hit = self._placed_of(pl)
+            robots.append(hit[1])
+            badges += hit[2:]
         items = robots + badges
         rs = [it[5] for it in items]
         rect = (min(r[0] for r in rs), min(r[1] for r in rs), max(r[2] for r in rs), max(r[3] for r in rs))
@@ -161,8 +162,8 @@ class RgbRenderer:
             hit = self._mark_cache.get(mark)
             if hit is None:
                 cs = self.cell_size
-                hit = self._mark_cache[mark] = self._placed_sprite(burst(self.theme, round(cs * BURST[0], 2)),
-                                                                   *burst_centre(*mark, cs))  # fmt: skip
+                hit = self._mark_cache.put(mark, self._placed_sprite(burst(self.theme, round(cs * BURST[0], 2)),
+                                                                     *burst_centre(*mark, cs)))  # fmt: skip
             out.append(hit)
         return out
 
@@ -173,23 +174,26 @@ class RgbRenderer:
         cs = self.cell_size  # the cells it covers: x0, y0, x1, y1 (exclusive); what a block's key holds of it
         w, h = self.level.width, self.level.height  # (clipped to the grid: a bump's stars may reach past it)
         rect = (max(0, box[0] // cs), max(0, box[1] // cs), min(w, (box[2] - 1) // cs + 1), min(h, (box[3] - 1) // cs + 1))
-        return sprite, cx, cy, p, box, rect, (id(p), box[0], box[1])
+        return sprite, cx, cy, p, box, rect, (p.serial, box[0], box[1])
 
     def _still(self, scene: Scene) -> list[tuple]:
         """``_placed_sprite`` of the scene's robots, marks and badges at rest (``robot_sprites``'
         order), each placed robot's cached: robots stand in the same places again and again."""
-        cs, th = self.cell_size, self.theme
         robots, badges = [], []
         for pl in placements(scene, self.labelled, self.label_top):
-            hit = self._placed.get(id(pl))  # the entry keeps ``pl`` alive: its id is its own
-            if hit is None or hit[0] is not pl:
-                hit = self._placed[id(pl)] = (pl, *(self._placed_sprite(*sp) for sp in placement_sprites(
-                    pl, cs, th, pl.view.pose, pl.cx, pl.cy) if sp is not None))  # fmt: skip
-                if len(self._placed) > 4096:
-                    self._placed.popitem(last=False)
+            hit = self._placed_of(pl)
             robots.append(hit[1])
             badges += hit[2:]
         return robots + self._marks(scene) + badges
+
+    def _placed_of(self, pl) -> tuple:
+        """``(pl, placed robot, placed badge if ranked)``, cached by the placement (the entry keeps
+        ``pl`` alive: its id is its own)."""
+        hit = self._placed.get(id(pl))
+        if hit is None or hit[0] is not pl:
+            hit = self._placed.put(id(pl), (pl, *(self._placed_sprite(*sp) for sp in placement_sprites(
+                pl, self.cell_size, self.theme, pl.view.pose, pl.cx, pl.cy) if sp is not None)))  # fmt: skip
+        return hit
 
     def check_frame(self, overlay: Overlay | None, scene: Scene) -> None:
         """The frame of ``overlay`` and ``scene`` (grid, panel, legend) within the limit, before drawing it
@@ -238,12 +242,14 @@ class RgbRenderer:
         """The cells ``rect`` (x0, y0, x1, y1, in cells) of ``static`` with the sprites ``items``
         blended in order and the labels over them, cached by exact content: robots come back to
         the same cells in the same poses (a burst beside the same two robots), and a copy is far
-        cheaper than blends."""
-        key = (id(static), rect, *[it[6] for it in items])
+        cheaper than blends. The cache holds one static image's blocks (patches by serial number)."""
+        if self._blocks_static is not static:
+            self._blocks.clear()
+            self._blocks_static = static
+        key = (rect, *[it[6] for it in items])
         hit = self._blocks.get(key)
-        if hit is not None:  # the entry keeps ``static`` and the patches alive: their ids are theirs
-            self._blocks.move_to_end(key)
-            return hit[2]
+        if hit is not None:
+            return hit
         cs = self.cell_size
         x0, y0, x1, y1 = rect
         ox, oy = x0 * cs, y0 * cs
@@ -252,10 +258,7 @@ class RgbRenderer:
             blend(block, p, cx - ox, cy - oy)
         for ly, lx, label in self._labels_over([it[4] for it in items]):  # labels stay on top of the robots under them
             blend(block, label, lx - ox, ly - oy)
-        self._blocks[key] = (static, tuple(it[3] for it in items), block)  # kept alive: their ids stay theirs
-        if len(self._blocks) > self._max_blocks:
-            self._blocks.popitem(last=False)
-        return block
+        return self._blocks.put(key, block)
 
     def static(self, overlay: Overlay | None) -> np.ndarray:
         """The level with ``overlay``'s tints, arrows and numbers, and the labels (read-only; the
@@ -285,28 +288,25 @@ class RgbRenderer:
         if self._legend_y is None or len(old) != len(new) or not new or len(new) > LEGEND_ROWS:
             return False
         self._base_strips = [None] * len(self._base_strips)  # the kept strips will not all show
-        img, h, rows = self._base_img, self._row_h, self._rows
+        img = self._base_img
         y = self.grid_height + self._legend_y
         for a, b in zip(old, new):
             if a is not b and a != b:  # only its pieces that changed (its return, mostly)
                 if a.number != b.number:
                     return False
-                now = rows.get(b) or self._row_pieces(b)
-                for (x0, x1, was, _), (_, _, key, piece) in zip(rows.get(a) or self._row_pieces(a), now):
+                for (_, _, was, *_), (x0, x1, key, h, bg, build) in zip(self._row_layout(a), self._row_layout(b)):
                     if was != key:
-                        img[y : y + h, x0:x1] = piece
-            y += h
+                        img[y : y + h, x0:x1] = self._strip((h, *key), h, x1 - x0, bg, build, x0)
+            y += self._row_h
         return True
 
-    def _row_pieces(self, row) -> list[tuple[int, int, tuple, np.ndarray]]:
-        """A legend row's pieces side by side (x0, x1, key, image), cached by the row's content."""
+    def _row_layout(self, row) -> list[tuple]:
+        """A legend row's pieces side by side, ``(x0, x1, key, height, background, build)``, cached by
+        the row's content (thousands: rows repeat from race to race); their pictures are ``_strip``'s."""
         hit = self._rows.get(row)
         if hit is None:
             sec = legend_row_section(self.width, self.cell_size, self.theme, row)
-            hit = self._rows[row] = [(x0, x1, key, self._strip((sec.height, *key), sec.height, x1 - x0, sec.background,
-                                                               build, x0)) for x0, x1, key, build in sec.parts]  # fmt: skip
-            if len(self._rows) > 4096:
-                del self._rows[next(iter(self._rows))]
+            hit = self._rows.put(row, [(x0, x1, key, sec.height, sec.background, build) for x0, x1, key, build in sec.parts])
         return hit
 
     def _panel_strips(self, overlay: Overlay | None, scene: Scene) -> list[np.ndarray]:
@@ -333,23 +333,19 @@ class RgbRenderer:
             strip = np.empty((sec.height, self.width, 3), dtype=np.uint8)
             for x0, x1, key, build in sec.parts:
                 strip[:, x0:x1] = self._strip((sec.height, *key), sec.height, x1 - x0, sec.background, build, x0)
-            self._panels[whole] = strip
+            self._panels.put(whole, strip)
         return strip
 
     def _strip(self, key: tuple, height: int, width: int, bg: tuple, build, x0: int = 0) -> np.ndarray:
         """A piece of the panel drawn from ``build()`` (operations from ``x0``), cached by ``key``."""
         img = self._panels.get(key)
         if img is not None:
-            self._panels.move_to_end(key)
             return img
         buf = np.empty((height, width, 3), dtype=np.float32)
         buf[:] = bg
         ops = build()
         paint(buf, [shifted_x(op, -x0) for op in ops] if x0 else ops)
-        img = self._panels[key] = to_uint8(buf)
-        if len(self._panels) > 512:
-            self._panels.popitem(last=False)
-        return img
+        return self._panels.put(key, to_uint8(buf))
 
     # ------------------------------------------------------------------ helpers
     def _draw(self, ops: Sequence[Op]) -> np.ndarray:
@@ -378,12 +374,57 @@ class RgbRenderer:
 
 
 
+def _array_bytes(a: np.ndarray) -> int:
+    return a.nbytes + ENTRY_BYTES
+
+
+def _lone_bytes(hit: tuple) -> int:
+    return hit[1].nbytes + ENTRY_BYTES
+
+
+def _row_bytes(layout: list) -> int:
+    return ENTRY_BYTES * (1 + len(layout))  # keys and closures: no pictures
+
+
+def _ref_bytes(_: object) -> int:
+    return ENTRY_BYTES  # references to what another cache counts (a burst's few patches)
+
+
+def _placed_bytes(hit: tuple) -> int:
+    return sum(it[3].nbytes for it in hit[1:]) + ENTRY_BYTES  # the patches it keeps alive
+
+
 def _groups(drawn: list[tuple]) -> list[tuple[tuple[int, int, int, int], list[tuple]]]:
     """The drawn sprites in groups whose cell rectangles (x0, y0, x1, y1, x1 and y1 exclusive)
-    do not overlap, each group's sprites in drawing order: each group is one cached block."""
+    do not overlap, each group's sprites in drawing order: each group is one cached block.
+    Sprites whose rectangles share a cell are grouped, then groups whose bounding rectangles
+    share one, until none do (cells looked up, not pairs compared: thousands of robots)."""
     rects = [item[5] for item in drawn]
     if len(set(rects)) == len(rects) and all(r[2] - r[0] == 1 and r[3] - r[1] == 1 for r in rects):
         return [(r, [item]) for r, item in zip(rects, drawn)]  # one cell each, each its own (the usual case)
+    if len(rects) <= PAIRWISE:
+        return _groups_pairwise(drawn)
+    groups: dict[int, tuple[tuple[int, int, int, int], list[int]]] = {}
+    owner: dict[tuple[int, int], int] = {}  # each cell's group (one that may since have been merged into another)
+    for k, rect in enumerate(rects):
+        members = [k]
+        while True:  # the grown rectangle can reach a group it did not touch before
+            hit = next((owner[c] for c in _cells(rect) if owner.get(c) in groups), None)
+            if hit is None:
+                break
+            r, more = groups.pop(hit)
+            rect = (min(rect[0], r[0]), min(rect[1], r[1]), max(rect[2], r[2]), max(rect[3], r[3]))
+            members += more
+        groups[k] = (rect, members)
+        for c in _cells(rect):
+            owner[c] = k
+    return [(rect, [drawn[k] for k in sorted(members)]) for rect, members in groups.values()]
+
+
+PAIRWISE = 48  # sprites up to which rectangles are compared pair by pair (fewer steps than cells then)
+
+
+def _groups_pairwise(drawn: list[tuple]) -> list[tuple[tuple[int, int, int, int], list[tuple]]]:
     groups: list[tuple[tuple[int, int, int, int], list[int]]] = []
     for k, item in enumerate(drawn):
         rect, members = item[5], [k]
@@ -397,6 +438,23 @@ def _groups(drawn: list[tuple]) -> list[tuple[tuple[int, int, int, int], list[tu
             hit = [g for g in groups if _overlap(rect, g[0])]
         groups.append((rect, members))
     return [(rect, [drawn[k] for k in sorted(members)]) for rect, members in groups]
+
+
+def _cells(rect: tuple[int, int, int, int]) -> list[tuple[int, int]]:
+    return [(x, y) for y in range(rect[1], rect[3]) for x in range(rect[0], rect[2])]
+
+
+def _any_overlap(rects: Sequence[tuple[int, int, int, int]]) -> bool:
+    """Whether two of the cell rectangles share a cell."""
+    if len(rects) <= PAIRWISE:
+        return any(_overlap(a, b) for i, a in enumerate(rects) for b in rects[i + 1 :])
+    seen: set[tuple[int, int]] = set()
+    for r in rects:
+        for cell in _cells(r):
+            if cell in seen:
+                return True
+            seen.add(cell)
+    return False
 
 
 def _box(p: Patch, cx: float, cy: float) -> tuple[int, int, int, int]:

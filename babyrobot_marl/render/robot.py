@@ -20,6 +20,7 @@ In a race a robot wears its colour and carries its number on its chest.
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 
 import numpy as np
 
@@ -115,10 +116,9 @@ def robot(
     p.box(-0.25, -0.01, 0.25, 0.31, 0.07, body, ink)
     p.box(-0.15, 0.04, 0.15, 0.25, 0.04, light)
     if number is not None:
-        label = str(number)
-        px_size = fit(label, 0.27 * p.s, 0.16 * p.s, largest=40, smallest=6)
+        px_size = number_size(number, size)
         if px_size is not None:
-            p.ops.append(Text(cx + dx * shift * size, p._px(np.array([[0.0, 0.145]]))[0, 1], label, px_size, ink))
+            p.ops.append(Text(cx + dx * shift * size, p._px(np.array([[0.0, 0.145]]))[0, 1], str(number), px_size, ink))
     else:
         p.disc(0.0, 0.145, 0.045, (235, 80, 90))
 
@@ -149,6 +149,12 @@ def robot(
             c = ((255, 200, 40), (86, 180, 233), (213, 94, 0), (0, 158, 115))[k % 4]
             p.fill(turned(round_rect(x - 0.03, y - 0.02, x + 0.03, y + 0.02, 0.005), 30.0 * k, x, y), c)
     return p.ops
+
+
+@lru_cache(maxsize=16384)  # about 2 MB at most: a few numbers to a cache entry
+def number_size(number: int, size: float) -> int | None:
+    """The text size of ``number`` on the chest of a robot ``size`` pixels tall; None: too small to be drawn."""
+    return fit(str(number), 0.27 * size * SCALE, 0.16 * size * SCALE, largest=40, smallest=6)
 
 
 def _eyes(p: _Pen, pose: str, ex: float, ey: float, eye: Colour) -> None:

@@ -4,7 +4,7 @@
 imported here too.) A ``Sprite`` is a picture's operations about its centre at one pixel size, flattened into
 arrays (the canvas sends all of a frame's sprites in one ``fill_styled_polygons`` call); the
 numpy renderer rasterises each sprite once per quarter-pixel offset (``patch``). Both caches
-are bounded.
+are bounded by bytes (``memo``).
 """
 
 from __future__ import annotations
@@ -12,9 +12,10 @@ from __future__ import annotations
 from functools import lru_cache
 
 from .glyphs import fit
+from .memo import MB, byte_cached
 from .paint import Patch, Sprite, Stamp, blend, flatten, patch
 from .palette import Theme, robot_colour
-from .robot import robot
+from .robot import number_size, robot
 from .shapes import Fill, Op, Text, circle, star
 
 __all__ = ["MEDALS", "OTHER_RANK", "Patch", "Sprite", "Stamp", "badge", "blend", "burst", "flatten", "patch", "robot_sprite"]
@@ -23,10 +24,22 @@ MEDALS = {1: (240, 190, 40), 2: (190, 196, 206), 3: (205, 130, 70)}  # gold, sil
 OTHER_RANK = (150, 154, 166)
 
 
-@lru_cache(maxsize=1024)
+SPRITE_BYTES = 8 * MB  # robots' outlines: a few kB each, one per robot number, heading, pose and size
+
+
 def robot_sprite(theme: Theme, number: int, heading: int, pose: str, numbered: bool, size: float) -> Sprite:
-    """Baby Robot number ``number`` (its colour; its number on its chest when ``numbered``)."""
-    return flatten(robot(0.0, 0.0, size, theme, robot_colour(theme, number), heading, pose, number if numbered else None))
+    """Baby Robot number ``number`` (its colour; its number on its chest when ``numbered``). Robots
+    that look the same share a sprite: below the size a number is drawn at, a robot is its colour."""
+    shown = number if numbered and number_size(number, size) is not None else None
+    return _robot_sprite(theme, robot_colour(theme, number), heading, pose, numbered, shown, size)
+
+
+@byte_cached(SPRITE_BYTES)
+def _robot_sprite(theme: Theme, colour: tuple, heading: int, pose: str, numbered: bool, shown: int | None,
+                  size: float) -> Sprite:  # fmt: skip
+    if numbered and shown is None:  # a chest too small for its number: drawn as robot() draws it then
+        return flatten([op for op in robot(0.0, 0.0, size, theme, colour, heading, pose, 0) if not isinstance(op, Text)])
+    return flatten(robot(0.0, 0.0, size, theme, colour, heading, pose, shown))
 
 
 @lru_cache(maxsize=256)

@@ -5,6 +5,16 @@ time: a canvas put on the page before the decode ends shows nothing for a frame 
 Rectangles (``fill_styled_rects``) are drawn as their message is handled, before the page can
 show the canvas. Each rectangle covers whole pixels in one opaque colour, so nothing is blended:
 the browser shows exactly the pixels of the picture.
+
+Rectangles pay while they are few: a level's flat floor is a few a cell, but anti-aliased edges,
+numbers and arrows are a pixel high, and each rectangle is 19 bytes sent (four int32 and a
+colour). The rule: a canvas the browser may show empty gets its picture as rectangles when they
+are at most ``MAX_RECTS`` (300,000, about 5.7 MB: a fitted canvas of a 64x64 maze with values and
+arrows has 280,000); a larger one (a 128x128 maze at 16-pixel cells with values and arrows:
+2.2 million rectangles, 41 MB, against a 3.5 MB PNG) gets a coarse copy of itself as at most
+``COARSE_RECTS`` rectangles (blocks of pixels, each in the colour of its centre: about one a
+cell), drawn at once, and the PNG over it: the canvas shows the coarse picture, never nothing,
+until the PNG is decoded.
 """
 
 from __future__ import annotations
@@ -13,7 +23,10 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["put_picture", "rectangles"]
+__all__ = ["COARSE_RECTS", "MAX_RECTS", "coarse_rectangles", "put_picture", "rectangles"]
+
+MAX_RECTS = 300_000  # a picture sent as rectangles: at most this many
+COARSE_RECTS = 20_000  # the coarse copy under a PNG: at most this many
 
 
 def rectangles(img: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -41,15 +54,34 @@ def rectangles(img: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.
             heights.astype(np.int32), colours)  # fmt: skip
 
 
+def coarse_rectangles(img: np.ndarray, most: int = COARSE_RECTS) -> tuple[np.ndarray, ...]:
+    """``rectangles`` of ``img`` seen in square blocks of pixels, each block the colour of its
+    centre pixel, the smallest blocks that give at most ``most`` rectangles; clipped to ``img``."""
+    h, w, _ = img.shape
+    b = 1
+    while -(-h // b) * -(-w // b) > most:
+        b += 1
+    ys = np.minimum(np.arange(0, h, b) + b // 2, h - 1)
+    xs = np.minimum(np.arange(0, w, b) + b // 2, w - 1)
+    x, y, rw, rh, colours = rectangles(np.ascontiguousarray(img[ys][:, xs]))
+    x0, y0 = x * b, y * b
+    return (x0, y0, (np.minimum((x + rw) * b, w) - x0).astype(np.int32),
+            (np.minimum((y + rh) * b, h) - y0).astype(np.int32), colours)  # fmt: skip
+
+
 def put_picture(layer: Any, img: np.ndarray, fresh: bool) -> None:
     """``img`` (uint8[H, W, 3]) on ``layer`` (an ipycanvas canvas), pixel for pixel, inside the
     caller's ``hold_canvas``. A layer that shows a picture gets the new one as PNG: the browser
     keeps the old one on screen until it has decoded the new. A ``fresh`` layer (it may show
     nothing yet) gets ``rectangles`` instead, drawn as they arrive: a canvas put on the page while
-    a PNG still decodes would show nothing, for a frame or more."""
+    a PNG still decodes would show nothing, for a frame or more; past ``MAX_RECTS`` rectangles,
+    a coarse copy as rectangles and the PNG over it."""
     layer.clear()
     if fresh:
-        x, y, w, h, colours = rectangles(img)
-        layer.fill_styled_rects(x, y, w, h, colours)
-    else:  # RGBA: sent as lossless PNG
-        layer.put_image_data(np.concatenate([img, np.full(img.shape[:2] + (1,), 255, dtype=np.uint8)], axis=2), 0, 0)
+        rects = rectangles(img)
+        if len(rects[0]) <= MAX_RECTS:
+            layer.fill_styled_rects(*rects)
+            return
+        layer.fill_styled_rects(*coarse_rectangles(img))  # on screen until the PNG is decoded
+    # RGBA: sent as lossless PNG
+    layer.put_image_data(np.concatenate([img, np.full(img.shape[:2] + (1,), 255, dtype=np.uint8)], axis=2), 0, 0)

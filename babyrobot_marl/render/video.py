@@ -105,7 +105,8 @@ class Gif:
 
     def _repr_mimebundle_(self, include: Any = None, exclude: Any = None) -> dict[str, str]:
         import base64
+        import html
 
         b64 = base64.b64encode(self.data).decode("ascii")
-        tag = f'<img src="data:image/gif;base64,{b64}" alt="{self.path.name}">'
+        tag = f'<img src="data:image/gif;base64,{b64}" alt="{html.escape(self.path.name)}">'  # a file's name is text, not HTML
         return {"image/gif": b64, "text/html": tag, "text/plain": f"GIF {self.path.name}"}
