@@ -9,20 +9,7 @@ import pytest
 from babyrobot_marl import race_v0
 from babyrobot_marl.core.goals import goal_step, next_goal, reach
 from babyrobot_marl.envs.vector import RaceVectorEnv
-
-OPEN = """
-+-+-+-+-+-+-+
-|0         E|
-+ + + + + + +
-|    #      |
-+ + + + + + +
-|           |
-+ + + + + + +
-|  #     #  |
-+ + + + + + +
-|1          |
-+-+-+-+-+-+-+
-"""
+from tests.test_own_goals import OPEN  # open floor, one exit in a corner
 
 
 def shortest(env):

@@ -168,11 +168,16 @@ def check_no_goals(options: object, goals_mode: str) -> None:
         )
 
 
+def _switch(value: object, name: str) -> bool:
+    """``value`` as a bool; a ``ValueError`` naming ``name`` unless it is True or False."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise ValueError(f"{name}: must be True or False, got {value!r}")
+    return bool(value)
+
+
 def check_lifelong(lifelong: object, goals_mode: str) -> bool:
     """``lifelong``: a bool, ``True`` only with own goals (a robot's next target needs one to replace)."""
-    if not isinstance(lifelong, (bool, np.bool_)):
-        raise ValueError(f"lifelong: must be True or False, got {lifelong!r}")
-    if lifelong and goals_mode != "own":
+    if _switch(lifelong, "lifelong") and goals_mode != "own":
         raise ValueError(f"lifelong: new targets are for own goals (goals='own'), got goals={goals_mode!r}")
     return bool(lifelong)
 
@@ -217,8 +222,6 @@ def check_sb3_autoreset(mode: object) -> None:
 
 def check_hint(hint: object, observe: object) -> bool:
     """``hint``: a bool, ``True`` only with ``observe="local"`` (the goal hint follows the local window)."""
-    if not isinstance(hint, (bool, np.bool_)):
-        raise ValueError(f"hint: must be True or False, got {hint!r}")
-    if hint and observe != "local":
+    if _switch(hint, "hint") and observe != "local":
         raise ValueError(f"hint: the goal hint is for observe='local' (it follows the local window), got observe={observe!r}")
     return bool(hint)
