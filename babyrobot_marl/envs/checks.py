@@ -148,15 +148,21 @@ def check_cells(table: Table, cells: object, n: int, what: str, distinct: bool =
     """``n`` cells ``(x, y)`` as cell ids: each inside the grid, neither blocked nor an exit, and
     (``distinct``) no two the same; else a ``ValueError`` naming ``what`` and what is allowed."""
     allowed = f"{n} distinct open cells (x, y), one per robot, not blocked and not an exit"
+    return _cell_list(table, cells, n, what, allowed, "blocked or an exit", "share a cell" if distinct else None)
+
+
+def _cell_list(table: Table, cells: object, n: int, what: str, allowed: str, closed: str, shared: str | None) -> list[int]:
+    """``n`` open cells as ids (``shared``: the words for two the same, ``None`` if they may be); else a
+    ``ValueError`` naming ``what`` and saying ``allowed``."""
     if not isinstance(cells, Sequence) or isinstance(cells, (str, bytes)):
         raise ValueError(f"{what}: expected a list of {allowed}, got {cells!r}")
     if len(cells) != n:
         raise ValueError(f"{what}: expected {allowed}; got {len(cells)} cells")
     ids = [_open_cell(table, cell, what, f"{what}: expected {allowed}; {{cell}} is not a cell (x, y) of integers",
                       f"{what}: {{xy}} is outside the {{size}} grid; expected {allowed}",
-                      f"{what}: {{xy}} is blocked or an exit; expected {allowed}") for cell in cells]
-    if distinct and len(set(ids)) < len(ids):
-        raise ValueError(f"{what}: two robots share a cell; expected {allowed}")
+                      f"{what}: {{xy}} is {closed}; expected {allowed}") for cell in cells]
+    if shared is not None and len(set(ids)) < len(ids):
+        raise ValueError(f"{what}: two robots {shared}; expected {allowed}")
     return ids
 
 
@@ -187,16 +193,7 @@ def check_goal_cells(table: Table, cells: object, n: int, goals_mode: str, what:
     goals), as cell ids; else a ``ValueError`` naming ``what``. Only with ``goals="own"``."""
     check_no_goals({"goals": cells}, goals_mode)
     allowed = f"{n} distinct cells (x, y), one goal per robot, not blocked"
-    if not isinstance(cells, Sequence) or isinstance(cells, (str, bytes)):
-        raise ValueError(f"{what}: expected a list of {allowed}, got {cells!r}")
-    if len(cells) != n:
-        raise ValueError(f"{what}: expected {allowed}; got {len(cells)} cells")
-    ids = [_open_cell(table, cell, what, f"{what}: expected {allowed}; {{cell}} is not a cell (x, y) of integers",
-                      f"{what}: {{xy}} is outside the {{size}} grid; expected {allowed}",
-                      f"{what}: {{xy}} is blocked; expected {allowed}") for cell in cells]
-    if len(set(ids)) < len(ids):
-        raise ValueError(f"{what}: two robots share a goal; expected {allowed}")
-    return ids
+    return _cell_list(table, cells, n, what, allowed, "blocked", "share a goal")
 
 
 def check_goals_reach(table: Table, goals: Sequence[int], starts: Sequence[int], what: str = 'options["goals"]') -> None:
