@@ -167,3 +167,28 @@ def test_the_command_a_family_without_observe_local_recommends_runs(capsys):
     code, out, err = cli(capsys, *argv)
     assert one_line_naming(code, err, "--observe") and "pass --observe local" in err
     assert cli(capsys, *argv, "--observe", "local")[0] == 0
+
+
+def test_the_policy_is_kept_before_the_final_evaluation_that_fails(tmp_path):
+    """``on_trained`` runs once training ends, before the final evaluation: a policy saved there survives an
+    evaluation that fails (or is interrupted) afterwards."""
+    pytest.importorskip("torch")
+    from babyrobot_marl.training.policy import load_policy
+    from babyrobot_marl.training.ppo import PPOConfig, train_ppo
+
+    path = tmp_path / "kept.pt"
+    calls = []
+
+    def evaluate(result):
+        calls.append("evaluate")
+        raise RuntimeError("the final evaluation failed")
+
+    def on_trained(result):
+        calls.append("trained")
+        result.save(str(path))
+
+    with pytest.raises(RuntimeError, match="final evaluation failed"):
+        train_ppo("maze-8x8", 1, 256, seed=0, config=PPOConfig(n_envs=8, n_steps=16, batch_size=128, eval_every=0),
+                  evaluate=evaluate, on_trained=on_trained)
+    assert calls == ["trained", "evaluate"]
+    assert load_policy(str(path)) is not None

@@ -229,7 +229,7 @@ def _fast(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> dic
     try:
         result = train_ppo(
             level, args.robots, args.steps or UNBOUNDED, args.seed, config, evaluate=evaluate, target=target, init=init,
-            max_seconds=args.seconds, env_kwargs=_env_kwargs(args),
+            max_seconds=args.seconds, env_kwargs=_env_kwargs(args), on_trained=_keep(args),
             on_update=progress.update, on_eval=lambda p: progress.evaluation(p.timesteps, p.seconds, p.train_return, p.score),
         )
     except TrainingDivergedError as err:  # nothing is saved: the flag, the value and what to do, on one line
@@ -297,6 +297,7 @@ def _family(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> d
     try:
         result = train_ppo(spec, args.robots, args.steps or UNBOUNDED, args.seed, config, evaluate=evaluate,
                            max_seconds=args.seconds, env_kwargs=_env_kwargs(args), on_update=progress.update,
+                           on_trained=_keep(args),
                            on_eval=lambda p: progress.evaluation(p.timesteps, p.seconds, p.train_return, p.score))
     except TrainingDivergedError as err:
         raise ValueError(f"--lr {config.learning_rate:g}: {str(err).split(': ', 1)[1]}; nothing was saved") from None
@@ -387,6 +388,12 @@ def _race_figures(rates: dict[str, Any], level: Level, args: argparse.Namespace,
     return {"win_rate": _round(r.win_rate), "tie_rate": _round(r.tie_rate), "opponents": ["random"] * (n - 1),
             "races": r.races,
             "vs_shortest": {"win_rate": _round(s.win_rate), "tie_rate": _round(s.tie_rate), "opponents": ["shortest"] * (n - 1)}}
+
+
+def _keep(args: argparse.Namespace) -> Any:
+    """``--save``: the policy written the moment training ends, before the trainer's final evaluation (which
+    can take minutes on large mazes); ``_save`` writes it again with that evaluation and says where."""
+    return (lambda result: result.save(args.save)) if args.save else None
 
 
 def _save(args: argparse.Namespace, save: Any, what: str, out: TextIO) -> None:

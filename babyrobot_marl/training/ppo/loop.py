@@ -69,6 +69,7 @@ def train_ppo(
     max_seconds: float | None = None,
     on_update: Callable[[int, float, float], None] | None = None,
     on_eval: Callable[[EvalPoint], None] | None = None,
+    on_trained: Callable[[TrainResult], None] | None = None,
     init: Any = None,
     env_kwargs: dict[str, Any] | None = None,
     **overrides: Any,
@@ -80,7 +81,9 @@ def train_ppo(
     time is not training time); ``target``: the score to reach (``result.reached``), training
     stops there if ``stop_at_target``; ``max_seconds``: stop after this much training time.
     ``on_update(timesteps, seconds, mean_return)`` after each update, ``on_eval(point)`` after
-    each evaluation. ``init``: a network (``make_net`` layout) to start from, e.g. a loaded policy's.
+    each evaluation; ``on_trained(result)`` once training has ended, before the final evaluation (to save
+    the policy before anything that can still fail or take long). ``init``: a network (``make_net``
+    layout) to start from, e.g. a loaded policy's.
     ``env_kwargs`` go to the env (``max_steps``/``max_cycles``, rules, ``collisions``).
     """
     torch = torch_module()
@@ -242,6 +245,9 @@ def train_ppo(
                 next_eval += cfg.eval_every
                 if run_evaluation():
                     break
+        if on_trained is not None:
+            net.eval()
+            on_trained(result)
         if not result.history or result.history[-1].timesteps != result.timesteps:
             run_evaluation()
         else:
