@@ -227,6 +227,8 @@ def refuse_policy(path: str) -> str:
         data = load_checkpoint(path)
     except ValueError as err:
         return f"--policy: {str(err).removeprefix('policy: ')}"
+    except ImportError as err:  # a policy file is read with torch (the train extra)
+        return f"--policy: {err}"
     if data.get("goals", "exit") != "own":
         return (f"--policy: {path!r} was trained for the race to the exits; the benchmark needs a policy "
                 "trained with own goals, which 'babyrobot-marl train' cannot train yet")

@@ -108,6 +108,7 @@ def test_bad_flags_are_one_line_naming_the_flag(b, capsys, argv, flag):
 
 
 def test_a_policy_that_is_no_policy_file_is_refused_by_flag(b, capsys, tmp_path):
+    pytest.importorskip("torch", reason="needs the train extra")
     text = tmp_path / "notes.txt"
     text.write_text("not a policy")
     for path in (str(tmp_path / "missing.pt"), str(text)):
@@ -118,6 +119,7 @@ def test_a_policy_that_is_no_policy_file_is_refused_by_flag(b, capsys, tmp_path)
 
 
 def test_a_policy_trained_for_the_exits_is_refused_before_any_episode(b, capsys, tmp_path, monkeypatch):
+    pytest.importorskip("torch", reason="needs the train extra")
     from babyrobot_marl.training.ppo import PPOConfig, train_ppo
 
     path = tmp_path / "p.pt"

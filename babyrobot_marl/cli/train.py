@@ -45,6 +45,7 @@ from ..training.crowd import CROWD_DEFAULTS, crowd_defaults, said
 from ..training.deps import INSTALL_HINT
 from .checks import (
     SEED_HELP,
+    check_race_flags,
     check_train_args,
     int_in,
     layer_sizes,
@@ -137,6 +138,8 @@ def run(args: argparse.Namespace, out: TextIO) -> int:
     family = parse_level_family(args.level)  # "maze:A..B": a new maze per episode
     level = family(np.random.default_rng(0)) if family is not None else load_level(args.level)
     check_train_args(args, _rollout(args)[0], family is not None)  # the user's mistakes first, with or without torch
+    if args.robots > 1:  # robots that fit on the level, named by flag, before asking for torch
+        check_race_flags(args.level, args.robots, args.collisions or "block")
     # a missing package: MissingTrainExtraError, one line from the CLI's main (exit 2); called through the
     # package (training.require_train), where tests put a stand-in
     training.require_train(*(("torch", "tqdm") if args.backend == "fast" else ()))
