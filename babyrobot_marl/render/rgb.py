@@ -44,12 +44,15 @@ from .scene import (
     RobotView,
     Scene,
     as_scene,
+    at_rest,
     burst_centre,
+    drawing_order,
     glide,
     lone_placement,
     placement_sprites,
     placements,
     robot_sprites,
+    with_numbers,
 )
 from .shapes import Op, Text
 from .sprites import burst
@@ -128,7 +131,7 @@ class RgbRenderer:
         """Each cell's robots from a block by the cell's views alone; the cells whose drawings
         reach into another's (a bump's stars, a burst), and only those, drawn the general way."""
         cs = self.cell_size
-        units, marks = self._cell_units(static, scene), self._marks(scene)
+        (units, views), marks = self._cell_units(static, scene), self._marks(scene)
         if self._apart(units, marks):  # the usual frame: the blocks, the bursts over them, the labels over those
             for (x0, y0, x1, y1), block, _ in units:
                 grid[y0 * cs : y1 * cs, x0 * cs : x1 * cs] = block
@@ -143,8 +146,9 @@ class RgbRenderer:
             if len(members) == 1 and members[0] < n:  # a cell clear of all others: its own block
                 grid[y0 * cs : y1 * cs, x0 * cs : x1 * cs] = units[members[0]][1]
                 continue
-            grid[y0 * cs : y1 * cs, x0 * cs : x1 * cs] = self._block(static, rect, _in_drawing_order(
-                [e for k in members if k < n for e in units[k][2]], [marks[k - n] for k in members if k >= n]))  # fmt: skip
+            entries = [e for k in members if k < n for e in with_numbers(units[k][2], views[k])]
+            grid[y0 * cs : y1 * cs, x0 * cs : x1 * cs] = self._block(
+                static, rect, drawing_order(entries, [marks[k - n] for k in members if k >= n]))
 
     def _general(self, static: np.ndarray, scene: Scene) -> np.ndarray:
         """The robots at rest over ``static`` drawn all the general way (what ``frame`` draws)."""
@@ -162,9 +166,10 @@ class RgbRenderer:
         ranked = [u[0] for u in units if any(e[2] is not None for e in u[2])]
         return not (ranked and any(_overlap(m[4], r) for m in marks for r in ranked))  # else the general order
 
-    def _cell_units(self, static: np.ndarray, scene: Scene) -> list[tuple]:
+    def _cell_units(self, static: np.ndarray, scene: Scene) -> tuple[list[tuple], list[list]]:
         """Each cell's robots as ``(cells, block, [(number, placed robot, placed badge or None)])``,
-        cached by the cell's views at rest (where a robot came from does not change its picture)."""
+        cached by the cell's look (where a robot came from does not change its picture; a lone
+        robot's entry may be another robot's that looks the same), and each cell's views."""
         if self._lone_static is not static:
             for c in self._lone:
                 c.clear()
@@ -175,12 +180,12 @@ class RgbRenderer:
             by_cell.setdefault(v.cell, []).append(v)
         out = []
         for views in by_cell.values():
-            key = self._lone_key(views[0], scene.corner) if len(views) == 1 else tuple(map(_at_rest, views))
+            key = self._lone_key(views[0], scene.corner) if len(views) == 1 else tuple(map(at_rest, views))
             hit = cache.get(key)
             if hit is None:
                 hit = cache.put(key, self._cell_block(static, tuple(views), scene.corner))
             out.append(hit)
-        return out
+        return out, list(by_cell.values())
 
     def _lone_key(self, v: RobotView, corner: bool) -> tuple:
         """What the block of a robot alone in its cell shows: the cell, the robot's colour, heading,
@@ -424,26 +429,12 @@ class RgbRenderer:
         return out
 
 
-
 def _array_bytes(a: np.ndarray) -> int:
     return a.nbytes + ENTRY_BYTES
 
 
 def _lone_bytes(hit: tuple) -> int:
     return hit[1].nbytes + ENTRY_BYTES
-
-
-def _at_rest(v: RobotView) -> RobotView:
-    """The view without the cell it came from: its picture at rest is the same."""
-    if v.came_from is None:
-        return v
-    return RobotView(v.number, v.cell, v.heading, v.pose, None, v.rank, v.numbered)
-
-
-def _in_drawing_order(entries: list[tuple], marks: list[tuple]) -> list[tuple]:
-    """``_still``'s order: the robots (highest number first), the bursts, then the badges."""
-    entries = sorted(entries, key=lambda e: -e[0])
-    return [e[1] for e in entries] + marks + [e[2] for e in entries if e[2] is not None]
 
 
 def _row_bytes(layout: list) -> int:
