@@ -15,6 +15,7 @@ rasterises it with ``paint``, once per quarter-pixel offset (a cache of ``PATCH_
 from __future__ import annotations
 
 import itertools
+import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
@@ -223,7 +224,7 @@ def patch(sprite: Sprite, cx: float, cy: float) -> Patch:
 
 def blend(img: np.ndarray, p: Patch, cx: float, cy: float) -> None:
     """Composite patch ``p`` centred on ``(cx, cy)`` onto ``img`` (uint8 or float32, in place)."""
-    x0, y0 = int(np.floor(cx + 1e-9)) + p.dx, int(np.floor(cy + 1e-9)) + p.dy
+    x0, y0 = math.floor(cx + 1e-9) + p.dx, math.floor(cy + 1e-9) + p.dy  # math: a numpy scalar is slower
     h, w = p.rgb.shape[:2]
     gx0, gy0 = max(0, x0), max(0, y0)
     gx1, gy1 = min(img.shape[1], x0 + w), min(img.shape[0], y0 + h)

@@ -22,6 +22,7 @@ import numpy as np
 
 from ..core.level import Cell, Level
 from . import annotate
+from .cellgroups import any_overlap, overlap, rect_groups
 from .checks import (  # noqa: F401  (the limits and checks are read from here too)
     MAX_CELL_SIZE,
     MAX_FRAME_PIXELS,
@@ -37,7 +38,22 @@ from .paint import Patch, blend, paint, patch, to_uint8
 from .palette import THEMES, Theme, resolve_theme
 from .panel import LEGEND_ROWS, legend_row_section, metrics, panel_sections
 from .picture import feature_ops, floor_ops, label_band, label_ops, level_ops
-from .scene import BURST, Scene, as_scene, burst_centre, glide, placement_sprites, placements, robot_sprites
+from .robot import number_size
+from .scene import (
+    BURST,
+    RobotView,
+    Scene,
+    as_scene,
+    at_rest,
+    burst_centre,
+    drawing_order,
+    glide,
+    lone_placement,
+    placement_sprites,
+    placements,
+    robot_sprites,
+    with_numbers,
+)
 from .shapes import Op, Text
 from .sprites import burst
 
@@ -61,6 +77,8 @@ class RgbRenderer:
         self.labelled = frozenset((int(op.x // cs), int(op.y // cs)) for op in self.labels if isinstance(op, Text))
         self.exits = frozenset(level.exits)
         self.label_top = label_band(cs)[1] / cs  # robots sharing a labelled cell stand below this
+        self._lone_size = {(c, lab): round(cs * lone_placement(RobotView(0, (0, 0)), c, self.label_top * lab).scale, 2)
+                           for c in (False, True) for lab in (False, True)}  # a lone robot's size, by corner and label
         self.background = self._draw([*level_ops(level, cs, self.theme), *self.labels])
         self._label_patches = self._patches(self.labels)
         self._static: tuple[Overlay | None, np.ndarray] = (None, self.background)
@@ -94,30 +112,64 @@ class RgbRenderer:
         static = self.static(overlay)
         img = self._base(static, overlay, scene).copy()
         grid = img[: static.shape[0]]
+        if t >= 1.0:
+            self._robots_at_rest(grid, static, scene)
+            return img
+        at, poses = glide(scene, t, self.labelled, self.label_top)
+        drawn = [self._placed_sprite(sprite, cx, cy) for sprite, cx, cy in robot_sprites(
+            scene, self.cell_size, self.theme, poses, at, self.labelled)]  # fmt: skip
+        self._paste_groups(grid, static, drawn)
+        return img
+
+    def _paste_groups(self, grid: np.ndarray, static: np.ndarray, drawn: list[tuple]) -> None:
+        """The general way: the sprites in groups of cells, each group a cached block."""
         cs = self.cell_size
-        lone = self._lone_blocks(static, scene) if t >= 1.0 else None
-        if lone is not None:  # each robot alone in its cells: its block by its view alone
-            for (x0, y0, x1, y1), block in lone:
+        for (x0, y0, x1, y1), items in _groups(drawn):
+            grid[y0 * cs : y1 * cs, x0 * cs : x1 * cs] = self._block(static, (x0, y0, x1, y1), items)
+
+    def _robots_at_rest(self, grid: np.ndarray, static: np.ndarray, scene: Scene) -> None:
+        """Each cell's robots from a block by the cell's views alone; the cells whose drawings
+        reach into another's (a bump's stars, a burst), and only those, drawn the general way."""
+        cs = self.cell_size
+        (units, views), marks = self._cell_units(static, scene), self._marks(scene)
+        if self._apart(units, marks):  # the usual frame: the blocks, the bursts over them, the labels over those
+            for (x0, y0, x1, y1), block, _ in units:
                 grid[y0 * cs : y1 * cs, x0 * cs : x1 * cs] = block
-            for _, cx, cy, p, box, _, _ in self._marks(scene):  # the bursts over them, the labels over those
+            for _, cx, cy, p, box, _, _ in marks:
                 blend(grid, p, cx, cy)
                 for ly, lx, label in self._labels_over([box]):
                     blend(grid, label, lx, ly)
-            return img
-        if t < 1.0:
-            at, poses = glide(scene, t, self.labelled, self.label_top)
-            drawn = [self._placed_sprite(sprite, cx, cy) for sprite, cx, cy in robot_sprites(
-                scene, self.cell_size, self.theme, poses, at, self.labelled)]  # fmt: skip
-        else:
-            drawn = self._still(scene)
-        for (x0, y0, x1, y1), items in _groups(drawn):  # each group's cells from a cached block
-            grid[y0 * cs : y1 * cs, x0 * cs : x1 * cs] = self._block(static, (x0, y0, x1, y1), items)
-        return img
+            return
+        n = len(units)
+        for rect, members in rect_groups([u[0] for u in units] + [m[5] for m in marks]):
+            x0, y0, x1, y1 = rect
+            if len(members) == 1 and members[0] < n:  # a cell clear of all others: its own block
+                grid[y0 * cs : y1 * cs, x0 * cs : x1 * cs] = units[members[0]][1]
+                continue
+            entries = [e for k in members if k < n for e in with_numbers(units[k][2], views[k])]
+            grid[y0 * cs : y1 * cs, x0 * cs : x1 * cs] = self._block(
+                static, rect, drawing_order(entries, [marks[k - n] for k in members if k >= n]))
 
-    def _lone_blocks(self, static: np.ndarray, scene: Scene) -> list[tuple] | None:
-        """Each cell's robots as one block (cells and image), when no cell's robots reach into
-        another's cells and no rank badge lies under a burst (the usual frame); None otherwise.
-        Cached by the cell's views: their picture depends on nothing else (badges included)."""
+    def _general(self, static: np.ndarray, scene: Scene) -> np.ndarray:
+        """The robots at rest over ``static`` drawn all the general way (what ``frame`` draws)."""
+        grid = static.copy()
+        self._paste_groups(grid, static, self._still(scene))
+        return grid
+
+    def _apart(self, units: list[tuple], marks: list[tuple]) -> bool:
+        """No cell's robots reach into another's cells and no rank badge lies under a burst: the
+        blocks can be copied and the bursts drawn over them."""
+        rects = [u[0] for u in units]
+        wide = any(r[2] - r[0] != 1 or r[3] - r[1] != 1 for r in rects)  # a bump's stars reach a neighbour
+        if wide and _any_overlap(rects):
+            return False
+        ranked = [u[0] for u in units if any(e[2] is not None for e in u[2])]
+        return not (ranked and any(_overlap(m[4], r) for m in marks for r in ranked))  # else the general order
+
+    def _cell_units(self, static: np.ndarray, scene: Scene) -> tuple[list[tuple], list[list]]:
+        """Each cell's robots as ``(cells, block, [(number, placed robot, placed badge or None)])``,
+        cached by the cell's look (where a robot came from does not change its picture; a lone
+        robot's entry may be another robot's that looks the same), and each cell's views."""
         if self._lone_static is not static:
             for c in self._lone:
                 c.clear()
@@ -126,34 +178,38 @@ class RgbRenderer:
         by_cell: dict[tuple, list] = {}
         for v in scene.robots:
             by_cell.setdefault(v.cell, []).append(v)
-        out, ranked = [], []
+        out = []
         for views in by_cell.values():
-            key = views[0] if len(views) == 1 else tuple(views)
+            key = self._lone_key(views[0], scene.corner) if len(views) == 1 else tuple(map(at_rest, views))
             hit = cache.get(key)
             if hit is None:
                 hit = cache.put(key, self._cell_block(static, tuple(views), scene.corner))
             out.append(hit)
-            if any(v.rank for v in views):
-                ranked.append(hit[0])
-        rects = [r for r, _ in out]
-        wide = any(r[2] - r[0] != 1 or r[3] - r[1] != 1 for r in rects)  # a bump's stars reach a neighbour
-        if wide and _any_overlap(rects):
-            return None
-        if ranked and any(_overlap(m[4], r) for m in self._marks(scene) for r in ranked):
-            return None  # a badge is drawn over a burst: the general order
-        return out
+        return out, list(by_cell.values())
+
+    def _lone_key(self, v: RobotView, corner: bool) -> tuple:
+        """What the block of a robot alone in its cell shows: the cell, the robot's colour, heading,
+        pose and rank, and its number if one is drawn on its chest (below the size a number is
+        drawn at, robots of one colour share their blocks)."""
+        numbered = v.numbered and not v.rank  # as ``placement_sprites`` and ``robot_sprite`` decide
+        shown = None
+        if numbered and number_size(v.number, self._lone_size[corner, v.cell in self.labelled]) is not None:
+            shown = v.number
+        return v.cell, v.number % len(self.theme.robots), v.heading, v.pose, v.rank, numbered, shown
 
     def _cell_block(self, static: np.ndarray, views: tuple, corner: bool) -> tuple:
         """The robots of one cell drawn as ``_still`` draws them (robots, then their badges)."""
-        robots, badges = [], []
-        for pl in placements(Scene(views, corner=corner), self.labelled, self.label_top):
+        entries = []
+        v = views[0]
+        pls = ([lone_placement(v, corner, self.label_top if v.cell in self.labelled else 0.0)] if len(views) == 1
+               else placements(Scene(views, corner=corner), self.labelled, self.label_top))  # fmt: skip
+        for pl in pls:
             hit = self._placed_of(pl)
-            robots.append(hit[1])
-            badges += hit[2:]
-        items = robots + badges
+            entries.append((pl.view.number, hit[1], hit[2] if len(hit) > 2 else None))
+        items = [e[1] for e in entries] + [e[2] for e in entries if e[2] is not None]
         rs = [it[5] for it in items]
         rect = (min(r[0] for r in rs), min(r[1] for r in rs), max(r[2] for r in rs), max(r[3] for r in rs))
-        return rect, self._block(static, rect, items)
+        return rect, self._block(static, rect, items), entries
 
     def _marks(self, scene: Scene) -> list[tuple]:
         """The bursts of the scene's collisions, placed (cached by the two cells)."""
@@ -373,7 +429,6 @@ class RgbRenderer:
         return out
 
 
-
 def _array_bytes(a: np.ndarray) -> int:
     return a.nbytes + ENTRY_BYTES
 
@@ -395,66 +450,12 @@ def _placed_bytes(hit: tuple) -> int:
 
 
 def _groups(drawn: list[tuple]) -> list[tuple[tuple[int, int, int, int], list[tuple]]]:
-    """The drawn sprites in groups whose cell rectangles (x0, y0, x1, y1, x1 and y1 exclusive)
-    do not overlap, each group's sprites in drawing order: each group is one cached block.
-    Sprites whose rectangles share a cell are grouped, then groups whose bounding rectangles
-    share one, until none do (cells looked up, not pairs compared: thousands of robots)."""
-    rects = [item[5] for item in drawn]
-    if len(set(rects)) == len(rects) and all(r[2] - r[0] == 1 and r[3] - r[1] == 1 for r in rects):
-        return [(r, [item]) for r, item in zip(rects, drawn)]  # one cell each, each its own (the usual case)
-    if len(rects) <= PAIRWISE:
-        return _groups_pairwise(drawn)
-    groups: dict[int, tuple[tuple[int, int, int, int], list[int]]] = {}
-    owner: dict[tuple[int, int], int] = {}  # each cell's group (one that may since have been merged into another)
-    for k, rect in enumerate(rects):
-        members = [k]
-        while True:  # the grown rectangle can reach a group it did not touch before
-            hit = next((owner[c] for c in _cells(rect) if owner.get(c) in groups), None)
-            if hit is None:
-                break
-            r, more = groups.pop(hit)
-            rect = (min(rect[0], r[0]), min(rect[1], r[1]), max(rect[2], r[2]), max(rect[3], r[3]))
-            members += more
-        groups[k] = (rect, members)
-        for c in _cells(rect):
-            owner[c] = k
-    return [(rect, [drawn[k] for k in sorted(members)]) for rect, members in groups.values()]
+    """The drawn sprites in groups whose cell rectangles do not overlap (``rect_groups``), each
+    group's sprites in drawing order: each group is one cached block."""
+    return [(rect, [drawn[k] for k in members]) for rect, members in rect_groups([item[5] for item in drawn])]
 
 
-PAIRWISE = 48  # sprites up to which rectangles are compared pair by pair (fewer steps than cells then)
-
-
-def _groups_pairwise(drawn: list[tuple]) -> list[tuple[tuple[int, int, int, int], list[tuple]]]:
-    groups: list[tuple[tuple[int, int, int, int], list[int]]] = []
-    for k, item in enumerate(drawn):
-        rect, members = item[5], [k]
-        hit = [g for g in groups if _overlap(rect, g[0])]
-        while hit:  # a merged rectangle can reach a group it did not touch before
-            for g in hit:
-                groups.remove(g)
-                r = g[0]
-                rect = (min(rect[0], r[0]), min(rect[1], r[1]), max(rect[2], r[2]), max(rect[3], r[3]))
-                members += g[1]
-            hit = [g for g in groups if _overlap(rect, g[0])]
-        groups.append((rect, members))
-    return [(rect, [drawn[k] for k in sorted(members)]) for rect, members in groups]
-
-
-def _cells(rect: tuple[int, int, int, int]) -> list[tuple[int, int]]:
-    return [(x, y) for y in range(rect[1], rect[3]) for x in range(rect[0], rect[2])]
-
-
-def _any_overlap(rects: Sequence[tuple[int, int, int, int]]) -> bool:
-    """Whether two of the cell rectangles share a cell."""
-    if len(rects) <= PAIRWISE:
-        return any(_overlap(a, b) for i, a in enumerate(rects) for b in rects[i + 1 :])
-    seen: set[tuple[int, int]] = set()
-    for r in rects:
-        for cell in _cells(r):
-            if cell in seen:
-                return True
-            seen.add(cell)
-    return False
+_any_overlap, _overlap = any_overlap, overlap
 
 
 def _box(p: Patch, cx: float, cy: float) -> tuple[int, int, int, int]:

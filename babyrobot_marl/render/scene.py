@@ -159,6 +159,29 @@ def placement_sprites(p: Placement, cs: float, theme: Theme, pose: str, cx: floa
     return robot, (badge(theme, v.rank, round(r, 2)), cx * cs, (cy + 0.17 * p.scale) * cs)
 
 
+def at_rest(v: RobotView) -> RobotView:
+    """The view without the cell it came from: its picture at rest is the same."""
+    if v.came_from is None:
+        return v
+    return RobotView(v.number, v.cell, v.heading, v.pose, None, v.rank, v.numbered)
+
+
+def with_numbers(entries: list[tuple], views: list[RobotView]) -> list[tuple]:
+    """A cell's drawn robots ``(number, robot, badge or None)`` with their own numbers: a lone
+    robot's may come from another robot that looks the same."""
+    if len(views) > 1:
+        return entries
+    _, robot, badge = entries[0]
+    return [(views[0].number, robot, badge)]
+
+
+def drawing_order(entries: list[tuple], marks: list) -> list:
+    """``robot_sprites``' order: the robots (highest number first, drawn under the lower), the
+    bursts, then the badges."""
+    entries = sorted(entries, key=lambda e: -e[0])
+    return [e[1] for e in entries] + marks + [e[2] for e in entries if e[2] is not None]
+
+
 BURST = (0.15, 0.32)  # a collision's burst: its radius, and how far beside the robots' faces, in cells
 
 

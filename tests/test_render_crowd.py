@@ -1,0 +1,76 @@
+"""Crowded rgb_array frames: each cell's robots from a block by their look, and only the cells
+whose drawings reach into another's (or under a burst) drawn the general way, with the same pixels."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from babyrobot_marl import race_v0
+from babyrobot_marl.render.cellgroups import overlap
+from babyrobot_marl.render.rgb import RgbRenderer
+
+
+def crowd_scenes(level: str, n: int, cs: int, steps: int, seed: int):
+    """Scenes of a random race: robots sharing cells, bumping, finishing, bursts."""
+    env = race_v0.parallel_env(level=level, n_robots=n, start="random", render_mode="rgb_array", cell_size=cs)
+    env.reset(seed=seed)
+    u = env.unwrapped
+    rng = np.random.default_rng(seed)
+    for _ in range(steps):
+        if not env.agents:
+            env.reset()
+        env.step({a: int(rng.integers(5)) for a in env.agents})
+        yield u, u._scene()
+
+
+def clashing(units: list[tuple], marks: list[tuple]) -> list[int]:
+    """The cells' units whose cells overlap another unit's or a burst's (pair by pair)."""
+    rects = [u[0] for u in units] + [m[5] for m in marks]
+    return [k for k in range(len(units)) if any(overlap(rects[k], r) for j, r in enumerate(rects) if j != k)]
+
+
+@pytest.mark.parametrize(("level", "n", "cs"), [("maze-16x16", 90, 8), ("maze-16x16", 60, 12), ("mixed-8x8", 12, 32)])
+def test_the_fast_path_gives_the_general_paths_pixels_on_random_crowds(level, n, cs):
+    kept, mixed = None, 0
+    for u, scene in crowd_scenes(level, n, cs, 25, seed=n):
+        kept = kept or RgbRenderer(u.level, cs, u.theme)
+        static = kept.static(None)
+        fast = kept.frame(scene)[: static.shape[0]]
+        general = RgbRenderer(u.level, cs, u.theme)._general(static, scene)
+        assert (fast == general).all()
+        mixed += not kept._apart(kept._cell_units(static, scene)[0], kept._marks(scene))
+    assert mixed > 0  # frames whose cells clash were drawn
+
+
+def test_only_a_frames_clashing_cells_are_drawn_the_general_way():
+    seen = 0
+    for u, scene in crowd_scenes("maze-16x16", 90, 8, 25, seed=5):
+        r = RgbRenderer(u.level, 8, u.theme)
+        static = r.static(None)
+        units, marks = r._cell_units(static, scene)[0], r._marks(scene)
+        if r._apart(units, marks):
+            continue
+        r.frame(scene)  # every block cached: now each block drawn the general way is one call
+        calls: list[tuple] = []
+        block = r._block
+
+        def counted(st, rect, items, calls=calls, block=block):
+            calls.append((rect, items))
+            return block(st, rect, items)
+
+        r._block = counted
+        r.frame(scene)
+        clash = clashing(units, marks)
+        assert clash and len(calls) < len(units) // 2
+        for k in clash:  # each clashing cell is inside a block drawn the general way
+            assert any(units[k][0] == tuple(np.clip(units[k][0], rect[:2] * 2, rect[2:] * 2)) for rect, _ in calls)
+        for rect, items in calls:  # and each such block holds a clash: two drawings or a burst
+            assert len(items) > 1 or items[0] in marks
+            inside = [k for k in clash if overlap(units[k][0], rect)]
+            assert inside or any(overlap(m[5], rect) for m in marks)
+        lone_items = {id(e[1]) for k, u in enumerate(units) if k not in clash and not any(
+            overlap(u[0], rect) for rect, _ in calls) for e in u[2]}  # fmt: skip
+        assert not lone_items & {id(it) for _, items in calls for it in items}
+        seen += 1
+    assert seen > 0
