@@ -224,7 +224,7 @@ def test_training_runs_on_the_threads_it_is_given_and_restores_torchs_setting():
     ({"learning_rate": 0}, "learning_rate: must be a finite number > 0"),
     ({"learning_rate": 10**400}, "learning_rate: must be a finite number"),
     ({"n_envs": np.int64(0)}, "n_envs: must be an integer >= 1"),
-    ({"net_arch": (64, 0)}, "net_arch: must be an integer >= 1"),
+    ({"net_arch": (64, 0)}, "net_arch: must be an integer in 1..4096, got 0"),
     ({"start": "corner"}, "start: must be one of 'random', 'level'"),
     ({"threads": True}, "threads: must be an integer >= 1"),
     ({"near_radius": -1}, r"near_radius: must be an integer in 0\.\.4"),

@@ -42,7 +42,7 @@ def test_race_refuses_saved_policies_that_read_different_windows(crowd, tmp_path
     train_ppo("maze:5..6", 2, 64, seed=0, config=cfg).save(other)
     code = run(["race", "--level", "maze:6..8", "--robots", "2", "--start", "random", "--policies", f"{crowd},{other}"])
     err = capsys.readouterr().err
-    assert code == 2 and err.count("\n") == 1 and "--policies" in err and "view_radius" in err
+    assert code == 2 and err.count("\n") == 1 and "--policies" in err and "--view-radius 1" in err
 
 
 def test_play_runs_a_family_policy_on_one_robots_window(crowd, capsys):

@@ -167,8 +167,14 @@ def policies_form(names: list[str]) -> dict[str, Any]:
     local = {path: form for path, form in forms.items() if form}
     if len({tuple(form.items()) for form in local.values()}) > 1:
         (a, fa), (b, fb) = list(local.items())[:2]
-        raise ValueError(f"--policies: one race shows one observation form; {a} reads {fa}, {b} reads {fb}")
+        raise ValueError(f"--policies: one race shows one observation form; {a} reads {_as_flags(fa)}, {b} reads {_as_flags(fb)}")
     return next(iter(local.values()), {})
+
+
+def _as_flags(form: dict[str, Any]) -> str:
+    """A saved policy's observation form in the race's flags: ``--observe local --view-radius 2 --hint``."""
+    flags = {f"--{k.replace('_', '-')}": v for k, v in form.items() if v is not False}
+    return " ".join(flag if v is True else f"{flag} {v}" for flag, v in flags.items())
 
 
 def layer_sizes(text: str) -> tuple[int, ...]:
