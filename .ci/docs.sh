@@ -8,8 +8,8 @@ cd "$(dirname "$0")/.."
 venv=.venv-docs-ci
 rm -rf "$venv" site
 python3 -m venv "$venv"
-"$venv/bin/python" -m pip install -q --upgrade pip
-"$venv/bin/pip" install -q -e ".[docs]" pytest playwright
+.ci/locked "$venv/bin/python" -m pip install -q --upgrade pip
+.ci/locked "$venv/bin/pip" install -q -e ".[docs]" pytest playwright
 "$venv/bin/pip" check
 
 # MkDocs 1.x and its plugins print a notice about MkDocs 2 on every build; it is not about this site

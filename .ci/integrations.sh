@@ -14,14 +14,14 @@ start=$SECONDS
 venv() {  # venv DIR: a fresh venv with torch's CPU build
     rm -rf "$1"
     python3 -m venv "$1"
-    "$1/bin/python" -m pip install -q --upgrade pip
-    "$1/bin/pip" install -q torch==2.13.0
+    .ci/locked "$1/bin/python" -m pip install -q --upgrade pip
+    .ci/locked "$1/bin/pip" install -q torch==2.13.0
 }
 
 dir=.venv-ci-integrations
 venv "$dir"
-"$dir/bin/pip" install -q "torchrl==0.11.1" "tensordict>=0.11,<0.12" hydra-core tqdm "av<14" "tianshou==2.0.1" pytest -e ".[train]"
-"$dir/bin/pip" install -q --no-deps "benchmarl==1.5.2"
+.ci/locked "$dir/bin/pip" install -q "torchrl==0.11.1" "tensordict>=0.11,<0.12" hydra-core tqdm "av<14" "tianshou==2.0.1" pytest -e ".[train]"
+.ci/locked "$dir/bin/pip" install -q --no-deps "benchmarl==1.5.2"
 "$dir/bin/python" -c "import torch, torchrl, benchmarl, tianshou; assert '+cpu' in torch.__version__, torch.__version__"
 echo "integrations venv ready after $((SECONDS - start)) s"
 "$dir/bin/python" -m pytest -q -p no:cacheprovider tests_integrations/test_libraries.py
@@ -31,25 +31,19 @@ echo "integrations venv ready after $((SECONDS - start)) s"
 pdir=.venv-ci-pogema
 rm -rf "$pdir"
 python3 -m venv "$pdir"
-"$pdir/bin/pip" install -q "pogema==1.4.*"
+.ci/locked "$pdir/bin/pip" install -q "pogema==1.4.*"
 POGEMA_PYTHON="$PWD/$pdir/bin/python" "$dir/bin/python" -m pytest -q -p no:cacheprovider tests_integrations/test_pogema_soft.py
 "$dir/bin/python" benchmarks/bench_pogema.py --quick --pogema-python "$pdir/bin/python"  # the race beside POGEMA: smoke run
 # POGEMA's maze benchmark: the shipped mazes, starts and goals made again by pogema-toolbox (its maze generator
 # only: --no-deps skips its plotting and logging stack) and POGEMA, compared; a smoke run, its episodes
 # stepped in POGEMA too (equal with on_target="finish")
-"$pdir/bin/pip" install -q --no-deps "pogema-toolbox==0.1.1" && "$pdir/bin/pip" install -q "pyyaml<=6.0.1"
+.ci/locked "$pdir/bin/pip" install -q --no-deps "pogema-toolbox==0.1.1" && .ci/locked "$pdir/bin/pip" install -q "pyyaml<=6.0.1"
 "$dir/bin/python" benchmarks/bench_pogema_mazes.py --regenerate --quick --in-pogema --pogema-python "$pdir/bin/python"
 
 adir=.venv-ci-agilerl
 venv "$adir"
-"$adir/bin/pip" install -q "agilerl==2.58.0" peft pytest -e .
+.ci/locked "$adir/bin/pip" install -q "agilerl==2.58.0" peft pytest -e .
 "$adir/bin/python" -c "import torch, agilerl; assert '+cpu' in torch.__version__, torch.__version__"
 "$adir/bin/python" -m pytest -q -p no:cacheprovider tests_integrations/test_agilerl.py
 # RLlib's own PettingZoo wrapper on the one-hot race: in the venv .ci/rllib.sh builds (.ci/run runs it first)
-rdir=.venv-ci-rllib
-if [ ! -x "$rdir/bin/python" ]; then
-    venv "$rdir"
-    "$rdir/bin/pip" install -q -e ".[rllib]" pytest
-fi
-"$rdir/bin/python" -m pytest -q -p no:cacheprovider tests_integrations/test_rllib.py
 echo "integrations: $((SECONDS - start)) s in all"

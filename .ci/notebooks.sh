@@ -9,8 +9,8 @@ start=$SECONDS
 venv=${NOTEBOOK_VENV:-.venv-ci-notebook}
 rm -rf "$venv"
 python3 -m venv "$venv"
-"$venv/bin/python" -m pip install -q --upgrade pip
-"$venv/bin/pip" install -q -e ".[notebook]" nbclient
+.ci/locked "$venv/bin/python" -m pip install -q --upgrade pip
+.ci/locked "$venv/bin/pip" install -q -e ".[notebook]" nbclient
 "$venv/bin/pip" check
 echo "notebooks: venv ready after $((SECONDS - start)) s"
 # run from a temporary folder: whatever a notebook writes stays out of the checkout

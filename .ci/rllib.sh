@@ -8,11 +8,12 @@ cd "$(dirname "$0")/.."
 dir=.venv-ci-rllib
 rm -rf "$dir"
 python3 -m venv "$dir"
-"$dir/bin/python" -m pip install -q --upgrade pip
-"$dir/bin/pip" install -q torch==2.13.0
-"$dir/bin/pip" install -q -e ".[rllib,test]"
+.ci/locked "$dir/bin/python" -m pip install -q --upgrade pip
+.ci/locked "$dir/bin/pip" install -q torch==2.13.0
+.ci/locked "$dir/bin/pip" install -q -e ".[rllib,test]"
 "$dir/bin/python" -c "import gymnasium, ray; print('ray', ray.__version__, 'gymnasium', gymnasium.__version__)"
 # tests_rllib starts one local Ray (2 CPUs) and shuts it down; a few minutes at most
 "$dir/bin/python" -m pytest -q -p no:cacheprovider tests_rllib
 # the example end to end, as small as it goes: one iteration, one remote env runner
 "$dir/bin/python" examples/rllib_race.py --iterations 1 --num-env-runners 1 --quick
+"$dir/bin/python" -m pytest -q -p no:cacheprovider tests_integrations/test_rllib.py  # RLlib beside the other libraries

@@ -3,5 +3,6 @@
 # (tiny budgets: the figures are in README.md). Uses the CI venv that .ci/run made.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-.venv-ci/bin/python benchmarks/bench_train.py --quick
-.venv-ci/bin/python benchmarks/bench_families.py --quick  # issue 27: the fast trainer on a level family, judged on unseen mazes (smoke run)
+py=${CI_VENV:-.venv-ci-train}/bin/python
+"$py" benchmarks/bench_train.py --quick
+"$py" benchmarks/bench_families.py --quick  # issue 27: the fast trainer on a level family, judged on unseen mazes (smoke run)

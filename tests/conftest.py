@@ -4,7 +4,9 @@ headless, and mark the heavy tests that the quick loop ``pytest -q -m "not heavy
 
 from __future__ import annotations
 
+import ast
 import contextlib
+import functools
 import os
 import sys
 from pathlib import Path
@@ -66,8 +68,68 @@ def pytest_configure(config: pytest.Config) -> None:
         configuration.set_hypothesis_home_dir(config._tmp_path_factory.mktemp("hypothesis"))
 
 
+# How a test file skips when the train extra is missing: a module-level importorskip skips every test
+# of the file; one inside a function (a test, a fixture or a helper it calls) skips the tests that use
+# it. Those tests are marked ``train``: ``pytest -q -m train`` runs them where the extra is installed.
+TRAIN_SIGNS = ('importorskip("torch"', 'importorskip("stable_baselines3', 'importorskip("supersuit"')
+# what the skip reason of a test that wants the train extra speaks of
+TRAIN_WORDS = ("train extra", "torch", "stable_baselines3", "stable-baselines3", "supersuit")
+
+
+@functools.cache
+def _train_names(path: Path) -> frozenset[str] | None:
+    """The names of the file's functions that need the train extra (directly or through another of
+    its functions), or None when the whole file does."""
+    text = path.read_text(encoding="utf-8")
+    if not any(sign in text for sign in TRAIN_SIGNS):
+        return frozenset()
+    tree = ast.parse(text)
+    functions: dict[str, ast.AST] = {}
+    for node in tree.body:
+        if isinstance(node, (ast.FunctionDef, ast.ClassDef)):
+            functions[node.name] = node
+        elif any(sign in ast.get_source_segment(text, node) for sign in TRAIN_SIGNS):
+            return None  # a module-level skip
+    needs = {name for name, node in functions.items() if any(s in ast.get_source_segment(text, node) for s in TRAIN_SIGNS)}
+    calls = {name: {n.id for n in ast.walk(node) if isinstance(n, ast.Name)} for name, node in functions.items()}
+    grown = True
+    while grown:  # a function that calls (or takes as a fixture) one that needs the extra needs it too
+        more = {name for name, names in calls.items() if names & needs or _arguments(functions[name]) & needs}
+        grown = not more <= needs
+        needs |= more
+    return frozenset(needs)
+
+
+def _arguments(node: ast.AST) -> set[str]:
+    return {a.arg for a in node.args.args} if isinstance(node, ast.FunctionDef) else set()
+
+
+def _needs_train(item: pytest.Item) -> bool:
+    names = _train_names(item.path)
+    if names is None:
+        return True
+    owner = item.cls.__name__ if getattr(item, "cls", None) is not None else getattr(item, "originalname", item.name)
+    return owner in names or bool(set(getattr(item, "fixturenames", ())) & names)
+
+
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
-    """``heavy``: the browser, notebook, training and soak tests (``slow`` ones included)."""
+    """``heavy``: the browser, notebook, training and soak tests (``slow`` ones included); ``train``:
+    the tests of files that skip without the train extra."""
     for item in items:
         if item.path.name in HEAVY_FILES or item.get_closest_marker("slow") or any(n in item.name for n in HEAVY_NAMES):
             item.add_marker(pytest.mark.heavy)
+        if _needs_train(item):
+            item.add_marker(pytest.mark.train)
+
+
+@pytest.hookimpl(wrapper=True)
+def pytest_runtest_makereport(item: pytest.Item, call: pytest.CallInfo) -> pytest.TestReport:
+    """A test that skips for want of the train extra but is not marked ``train`` fails: the run with
+    the train extra (``-m train``) would never run it."""
+    report = yield
+    if report.skipped and item.get_closest_marker("train") is None:
+        reason = str(report.longrepr[-1]) if isinstance(report.longrepr, tuple) else str(report.longrepr)
+        if any(word in reason.lower() for word in TRAIN_WORDS):
+            report.outcome = "failed"
+            report.longrepr = f"skipped ({reason}) but not marked train: mark it, or 'pytest -m train' never runs it"
+    return report

@@ -180,8 +180,9 @@ def test_block_parser_reads_fences_and_requires(tmp_path):
 
 
 def params(found: list[Block]) -> list:
-    """The blocks as test parameters; a block that trains is ``heavy`` (the quick loop leaves it out)."""
-    return [pytest.param(b, id=b.id, marks=[pytest.mark.heavy] if "train" in required_extras(b) else []) for b in found]
+    """The blocks as test parameters; a block that trains is ``heavy`` (the quick loop leaves it out) and ``train``."""
+    trains = [pytest.mark.heavy, pytest.mark.train]
+    return [pytest.param(b, id=b.id, marks=trains if "train" in required_extras(b) else []) for b in found]
 
 
 @pytest.mark.parametrize("block", params(PYTHON))

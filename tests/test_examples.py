@@ -42,7 +42,11 @@ def test_every_example_runs_in_ci():
         assert f"examples/{name} " in (ROOT / script).read_text(encoding="utf-8"), f"{script} does not run examples/{name}"
 
 
-@pytest.mark.parametrize("name", sorted(SMALLEST))
+def _trains(name: str) -> bool:
+    return SMALLEST[name][1] is not None and SMALLEST[name][1][0] == "train"
+
+
+@pytest.mark.parametrize("name", [pytest.param(n, marks=[pytest.mark.train] * _trains(n)) for n in sorted(SMALLEST)])
 def test_example_runs_with_its_smallest_settings(name, tmp_path):
     args, needs, claim = SMALLEST[name]
     if needs and importlib.util.find_spec(needs[1]) is None:

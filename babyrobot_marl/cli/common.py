@@ -20,8 +20,10 @@ class Parser(argparse.ArgumentParser):
     """An ``ArgumentParser`` whose errors are one line: no usage block, no traceback."""
 
     def error(self, message: str) -> NoReturn:
-        # argparse quotes the arguments it rejects: keep a newline or a huge argument from breaking the one line
-        self.exit(EXIT_USAGE, f"{self.prog}: error: {one_line(message)} (see '{self.prog} --help')\n")
+        # argparse quotes the arguments it rejects: keep a newline or a huge argument from breaking the one line.
+        # One shape for every error line, argparse's and the commands' own: "babyrobot-marl: error: --flag: ..."
+        text = re.sub(r"^argument (\S+?)(?:/\S+)?: ", r"\1: ", one_line(message))
+        self.exit(EXIT_USAGE, f"{PROG}: error: {text} (see '{self.prog} --help')\n")
 
 
 def one_line(err: BaseException | str, limit: int = 1000) -> str:
