@@ -8,6 +8,7 @@ import ast
 import contextlib
 import functools
 import os
+import re
 import sys
 from pathlib import Path
 
@@ -73,7 +74,7 @@ def pytest_configure(config: pytest.Config) -> None:
 # it. Those tests are marked ``train``: ``pytest -q -m train`` runs them where the extra is installed.
 TRAIN_SIGNS = ('importorskip("torch"', 'importorskip("stable_baselines3', 'importorskip("supersuit"')
 # what the skip reason of a test that wants the train extra speaks of
-TRAIN_WORDS = ("train extra", "torch", "stable_baselines3", "stable-baselines3", "supersuit")
+TRAIN_WORDS = re.compile(r"train extra|\btorch\b|stable.baselines3|supersuit", re.I)  # not torchrl: another library
 
 
 @functools.cache
@@ -129,7 +130,7 @@ def pytest_runtest_makereport(item: pytest.Item, call: pytest.CallInfo) -> pytes
     report = yield
     if report.skipped and item.get_closest_marker("train") is None:
         reason = str(report.longrepr[-1]) if isinstance(report.longrepr, tuple) else str(report.longrepr)
-        if any(word in reason.lower() for word in TRAIN_WORDS):
+        if TRAIN_WORDS.search(reason):
             report.outcome = "failed"
             report.longrepr = f"skipped ({reason}) but not marked train: mark it, or 'pytest -m train' never runs it"
     return report

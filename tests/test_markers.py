@@ -1,0 +1,37 @@
+"""The ``train`` mark that CI's training lane selects (``pytest -m train``): which tests of a file
+need the train extra, read from how the file skips without it."""
+
+from __future__ import annotations
+
+from tests.conftest import TRAIN_WORDS, _train_names
+
+
+def test_a_module_level_skip_marks_every_test_of_the_file(tmp_path):
+    path = tmp_path / "test_a.py"
+    path.write_text('import pytest\ntorch = pytest.importorskip("torch")\n\ndef test_x():\n    pass\n')
+    assert _train_names(path) is None
+
+
+def test_a_skip_inside_a_helper_marks_the_tests_and_fixtures_that_use_it(tmp_path):
+    path = tmp_path / "test_b.py"
+    path.write_text(
+        "import pytest\n\n"
+        'def sb3():\n    return pytest.importorskip("stable_baselines3")\n\n'
+        "@pytest.fixture\ndef model():\n    return sb3().PPO\n\n"
+        "def test_uses_fixture(model):\n    pass\n\n"
+        "def test_calls_helper():\n    sb3()\n\n"
+        "def test_plain():\n    pass\n"
+    )
+    assert _train_names(path) == {"sb3", "model", "test_uses_fixture", "test_calls_helper"}
+
+
+def test_a_file_without_a_skip_has_no_train_tests(tmp_path):
+    path = tmp_path / "test_c.py"
+    path.write_text('import pytest\n\ndef test_x():\n    pytest.importorskip("torchrl")\n')
+    assert _train_names(path) == frozenset()
+
+
+def test_skip_reasons_of_the_train_extra_are_told_from_other_libraries():
+    assert TRAIN_WORDS.search("could not import 'torch': No module named 'torch'")
+    assert TRAIN_WORDS.search("needs the train extra (Stable-Baselines3)")
+    assert not TRAIN_WORDS.search("needs torchrl (not installed)")
