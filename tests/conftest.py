@@ -40,6 +40,64 @@ HEAVY_FILES = (
     "test_reliability_properties.py", "test_reliability_levels_fuzz.py", "test_reliability_render.py", "test_cli_fuzz.py",
     "test_docs_blocks.py", "test_clean_runs.py", "test_readme_pictures.py", "test_overlay.py",
 )
+# Tests of the quick files that take seconds each (random crowds beside a reference, frames against
+# a fresh renderer, evaluations of saved policies): the full suite runs them, the quick loop does not
+HEAVY_TESTS = frozenset({
+    "test_batch.py::test_array_collisions_equal_the_scalar_rules_on_random_crowds",
+    "test_batch.py::test_batch_with_own_goals_matches_separate_race_envs_step_by_step",
+    "test_bench_pogema_mazes.py::test_a_policy_trained_for_the_exits_is_refused_before_any_episode",
+    "test_benchmark_floors.py::test_the_batch_benchmark_exits_1_below_make_vecs_25x_floor_and_reports_the_infos_cost",
+    "test_canvas.py::test_human_mode_in_jupyter_shows_a_canvas_and_a_still_of_its_frame_at_twice_its_css_size",
+    "test_canvas.py::test_race_human_mode_draws_every_robot_with_the_legend_and_snapshots_the_final_ranks",
+    "test_canvas.py::test_render_fps_is_the_env_own_and_reaches_the_canvas",
+    "test_canvas.py::test_the_canvas_legend_stops_growing_past_eight_robots_and_an_oversized_panel_is_refused_before_drawing",
+    "test_collisions_crowds.py::test_crowds_of_tens_of_robots_follow_the_reference_in_both_engines",
+    "test_collisions_soft.py::test_crowds_of_hundreds_equal_pogemas_algorithm",
+    "test_collisions_soft.py::test_every_engine_equals_pogemas_algorithm_on_random_boards",
+    "test_crowd_defaults.py::test_evaluate_shows_the_settings_a_policy_was_trained_with",
+    "test_crowd_defaults.py::test_given_settings_and_pass_collisions_train_without_the_crowd_defaults",
+    "test_ecosystem_suites.py::test_api_test",
+    "test_ecosystem_suites.py::test_performance_benchmark",
+    "test_ecosystem_suites.py::test_seed_test",
+    "test_evaluate.py::test_a_policy_file_of_format_1_or_2_is_evaluated_as_play_runs_it",
+    "test_evaluate.py::test_a_saved_policy_is_evaluated_and_refused_by_name_on_levels_it_cannot_read",
+    "test_evaluate.py::test_a_saved_policy_samples_by_default_seeded_by_seed_and_takes_its_argmax_with_greedy",
+    "test_evaluate.py::test_shortest_robots_all_reach_random_ones_are_bounded_and_every_crowd_plays_the_same_episodes",
+    "test_evaluate.py::test_the_command_prints_a_table_and_the_json_last_line",
+    "test_legend.py::test_a_large_race_legend_is_compact_a_few_lines_of_entries",
+    "test_legend.py::test_the_frame_limit_counts_the_legend_and_is_refused_by_cell_size_before_drawing",
+    "test_legend.py::test_the_legend_of_a_1200_robot_race_fits_the_frame",
+    "test_level_families.py::test_evaluation_mazes_are_never_training_mazes_by_content_on_small_families",
+    "test_lifelong.py::test_the_batch_engine_plays_lifelong_races_as_the_env_does",
+    "test_limits.py::test_a_single_race_with_a_global_view_past_the_step_limit_is_refused_before_its_index_is_built",
+    "test_limits.py::test_global_observations_past_the_step_limit_are_refused_before_the_race_is_built",
+    "test_limits.py::test_local_rows_of_many_robots_past_the_step_limit_are_refused_naming_view_radius",
+    "test_limits.py::test_the_dense_model_past_its_limit_names_the_limit_and_the_sparse_alternative",
+    "test_limits.py::test_the_largest_maze_is_within_the_level_size_limit",
+    "test_observe.py::test_local_rows_read_the_level_and_the_robots_cell_by_cell",
+    "test_observe.py::test_nearest_rows_list_the_k_nearest_racing_robots_ties_to_the_lower_number",
+    "test_picture.py::test_every_text_stays_inside_its_cell_at_every_cell_size",
+    "test_planning.py::test_simulator_step_frequencies_match_the_model",
+    "test_planning.py::test_the_frequency_check_catches_a_model_off_by_a_tenth",
+    "test_play_notebook.py::test_in_a_race_tab_switches_the_robot_you_drive_and_the_others_follow_their_policy",
+    "test_play_terminal.py::test_sigterm_and_hangup_restore_the_terminal",
+    "test_play_terminal.py::test_without_a_terminal_it_says_so_and_exits_2",
+    "test_race_rules.py::test_resolve_collisions_agrees_with_a_brute_force_reading_of_the_rules",
+    "test_race_rules.py::test_resolve_collisions_does_not_depend_on_the_order_of_the_robots",
+    "test_reliability_determinism.py::test_same_seed_gives_the_same_trajectories_in_fresh_processes_whatever_the_hash_seed",
+    "test_render_crowd.py::test_only_a_frames_clashing_cells_are_drawn_the_general_way",
+    "test_render_crowd.py::test_the_fast_path_gives_the_general_paths_pixels_on_random_crowds",
+    "test_render_memory.py::test_a_crowd_s_frame_is_drawn_again_from_the_caches_without_rasterising",
+    "test_render_rgb.py::test_a_cell_block_is_keyed_by_all_its_robots_and_the_burst_by_its_cells",
+    "test_render_rgb.py::test_kept_blocks_and_legend_pieces_equal_a_fresh_renderers_frames",
+    "test_render_rgb.py::test_the_kept_frame_redraws_changed_legend_rows_and_a_new_overlay",
+    "test_train_limits.py::test_an_atlas_holds_as_many_mazes_as_the_level_limit_allows",
+    "test_train_limits.py::test_the_command_the_gif_refusal_recommends_runs",
+    "test_video.py::test_a_gif_shows_in_nbconvert_html_not_as_its_python_repr",
+    "test_window_policy.py::test_race_shows_a_family_policy_its_own_observations",
+    "test_window_policy.py::test_the_action_cache_stays_bounded_over_a_long_evaluation",
+    "test_workers.py::test_async_vector_env_with_spawn_workers_from_the_module_id",
+})
 HEAVY_NAMES = ("learns",)  # a test that trains in a file of quick ones: its name says it learns
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
@@ -117,7 +175,9 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
     """``heavy``: the browser, notebook, training and soak tests (``slow`` ones included); ``train``:
     the tests of files that skip without the train extra."""
     for item in items:
-        if item.path.name in HEAVY_FILES or item.get_closest_marker("slow") or any(n in item.name for n in HEAVY_NAMES):
+        test_id = f"{item.path.name}::{getattr(item, 'originalname', item.name)}"
+        if (item.path.name in HEAVY_FILES or test_id in HEAVY_TESTS or item.get_closest_marker("slow")
+                or any(n in item.name for n in HEAVY_NAMES)):
             item.add_marker(pytest.mark.heavy)
         if _needs_train(item):
             item.add_marker(pytest.mark.train)

@@ -36,4 +36,4 @@ def test_a_bad_spec_is_one_line_naming_the_flag_and_the_form(command, spec, caps
     assert run([*command, "--level", spec]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "Traceback" not in err
-    assert "argument --level: a level family is 'maze:A..B'" in err and "e.g. 'maze:8..16'" in err
+    assert err.startswith("babyrobot-marl: error: --level: a level family is 'maze:A..B'") and "e.g. 'maze:8..16'" in err

@@ -35,3 +35,12 @@ def test_skip_reasons_of_the_train_extra_are_told_from_other_libraries():
     assert TRAIN_WORDS.search("could not import 'torch': No module named 'torch'")
     assert TRAIN_WORDS.search("needs the train extra (Stable-Baselines3)")
     assert not TRAIN_WORDS.search("needs torchrl (not installed)")
+
+
+def test_every_test_named_heavy_by_id_exists():
+    from tests.conftest import HEAVY_TESTS, ROOT
+
+    for test_id in HEAVY_TESTS:
+        file, function = test_id.split("::")
+        text = (ROOT / "tests" / file).read_text(encoding="utf-8")
+        assert f"def {function}(" in text, f"{test_id}: no such test (renamed? then rename it in HEAVY_TESTS)"
