@@ -293,7 +293,8 @@ class WindowPolicy(TrainedPolicy):
         with torch.no_grad(), torch_threads(1):
             if p is None:
                 x = torch.from_numpy(rows)
-                p = self.net.encode(x) if self.hidden is not None else torch.softmax(self.net.actor(x), 1).double().numpy()[0]
+                recurrent = self.hidden is not None
+                p = self.net.gate_inputs(x) if recurrent else torch.softmax(self.net.actor(x), 1).double().numpy()[0]
                 self._probs.put(key, p)
             if self.hidden is None:
                 return p, None

@@ -32,8 +32,9 @@ DEFAULT_HIDDEN = 32  # PPOConfig.hidden
 
 def make_recurrent_net(n_in: int, net_arch: tuple[int, ...] = (64,), hidden: int = DEFAULT_HIDDEN) -> Any:
     """The recurrent actor-critic: ``encode(rows)`` (the input layers, tanh; row ``n_in`` of ``first`` is the
-    padding, kept zero), ``step(x, h)`` (the GRU cell), ``heads(h) -> (logits, value)``. Orthogonal
-    initialisation as SB3 and CleanRL (sqrt(2) for the input layers, 1 for the cell, 0.01 / 1 for the heads)."""
+    padding, kept zero), ``gate_inputs(rows)`` (then the GRU's input part), ``step(gi, h)`` (the GRU cell),
+    ``heads(h) -> (logits, value)``. Orthogonal initialisation as SB3 and CleanRL (sqrt(2) for the input
+    layers, 1 for the cell, 0.01 / 1 for the heads)."""
     torch = torch_module()
     nn = torch.nn
     sizes = list(net_arch) or [hidden]
@@ -77,8 +78,17 @@ def make_recurrent_net(n_in: int, net_arch: tuple[int, ...] = (64,), hidden: int
                 h = torch.tanh(layer(h))
             return h
 
-        def step(self, x: Any, h: Any) -> Any:
-            return self.gru(x, h)
+        def gate_inputs(self, rows: Any) -> Any:
+            """The GRU's input part of its gates, ``W_ih x + b_ih`` (``(B, 3 * hidden)``): a function of the input
+            alone, so it is computed once per distinct input and looked up per robot-step."""
+            return torch.addmm(self.gru.bias_ih, self.encode(rows), self.gru.weight_ih.T)
+
+        def step(self, gi: Any, h: Any) -> Any:
+            """``nn.GRUCell``'s step from the gates' input part ``gi`` (``gate_inputs``) and the state ``h``."""
+            gh = torch.addmm(self.gru.bias_hh, h, self.gru.weight_hh.T)
+            r, z = torch.sigmoid(gi[:, : 2 * hidden] + gh[:, : 2 * hidden]).chunk(2, 1)
+            n = torch.tanh(gi[:, 2 * hidden :] + r * gh[:, 2 * hidden :])
+            return n + z * (h - n)
 
         def heads(self, h: Any) -> tuple[Any, Any]:
             return self.actor(h), self.critic(h)[:, 0]
@@ -123,7 +133,7 @@ class Recurrence:
     def start(self, inputs: Any) -> Recurrence:
         """A rollout begins: the weights are fixed, so the input layers run once per distinct input."""
         self.t, self.h0 = 0, self.h.clone()
-        self.features = PerKey(inputs, self.net.encode)
+        self.features = PerKey(inputs, self.net.gate_inputs)
         return self
 
     def _advance(self, keys: np.ndarray, h: Any) -> Any:
@@ -160,6 +170,20 @@ class Recurrence:
         h = self._advance(keys.reshape(-1), self.h * torch.from_numpy(self.keep)[:, None])
         return self.net.heads(h)[1].numpy().reshape(keys.shape)
 
+    def replay(self, rows: Any, inv: Any, seq: Any) -> tuple[Any, Any]:
+        """The logits and values ``(T * B, ...)`` of the robots ``seq`` over the rollout, replayed from their
+        states at its start with the rollout's resets; ``rows[inv]`` (``(T, B)``): their inputs."""
+        torch = torch_module()
+        present, local = torch.unique(inv, return_inverse=True)
+        # (T * B, 3H): the input layers once per distinct input (index_select: its gradient is one index_add)
+        x = self.net.gate_inputs(rows[present]).index_select(0, local.reshape(-1)).view(*inv.shape, -1)
+        keep = torch.from_numpy(self.keep_buf)[:, seq, None]
+        h, states = self.h0[seq], []
+        for t, x_t in enumerate(x.unbind(0)):  # unbind: one gradient buffer for all steps (x[t]'s would fill one each)
+            h = self.net.step(x_t, h * keep[t])
+            states.append(h)
+        return self.net.heads(torch.cat(states))
+
     def update(self, inputs: Any, keys: np.ndarray, actions: np.ndarray, adv: np.ndarray, returns: np.ndarray,
                valid: np.ndarray, cfg: Any, optim: Any, params: list[Any], order: Any) -> None:
         """``n_epochs`` passes over the rollout's segments (``(T, S)`` arrays), minibatches of whole segments
@@ -170,7 +194,7 @@ class Recurrence:
         T, S = keys.shape[0], self.h0.shape[0]
         rows, inv = distinct_rows(inputs, keys.reshape(-1))
         inv = inv.view(T, S)
-        keep, old = torch.from_numpy(self.keep_buf), torch.from_numpy(self.logp_buf)
+        old = torch.from_numpy(self.logp_buf)
         act = torch.from_numpy(actions.reshape(T, S))
         b_adv, b_ret = torch.from_numpy(adv.reshape(T, S)), torch.from_numpy(returns.reshape(T, S).astype(np.float32))
         mask = torch.from_numpy(valid.reshape(T, S).astype(np.float32))
@@ -183,13 +207,7 @@ class Recurrence:
                 n = m.sum()
                 if n == 0:
                     continue
-                present, local = torch.unique(inv[:, seq], return_inverse=True)
-                x = self.net.encode(rows[present])[local]  # (T, B, F)
-                h, states = self.h0[seq], []
-                for t in range(T):
-                    h = self.net.step(x[t], h * keep[t, seq, None])
-                    states.append(h)
-                logits, value = self.net.heads(torch.cat(states))
+                logits, value = self.replay(rows, inv[:, seq], seq)
                 logp = log_softmax(logits).view(T, len(seq), N_ACTIONS)
                 new = logp.gather(2, act[:, seq, None])[..., 0]
                 a = b_adv[:, seq]

@@ -295,7 +295,7 @@ def _play(net: Any, atlas: Atlas, n_robots: int, n_envs: int, max_steps: int, rn
     batch = atlas.batch(n_envs, n_robots, max_steps)
     batch.reset_drawn(np.arange(n_envs), rng)
     recurrent = getattr(net, "recurrent", False)
-    probs = PerKey(atlas, net.encode if recurrent else lambda rows: torch.softmax(net.actor(rows), 1))
+    probs = PerKey(atlas, net.gate_inputs if recurrent else lambda rows: torch.softmax(net.actor(rows), 1))
     h = net.initial_state(n_envs * n_robots) if recurrent else None  # one hidden state per robot, zero at the start
     done_at = np.full(n_envs, max_steps)
     last = np.full((n_envs, n_robots), NO_ACTION)
