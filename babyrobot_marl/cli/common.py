@@ -9,7 +9,7 @@ import re
 from typing import NoReturn, TextIO
 
 from ..play.screen import DEFAULT_DELAY, Display, isatty
-from .checks import SEED_HELP, level_spec, seconds, seed_int
+from .checks import SEED_HELP, level_spec, positive_int, seconds, seed_int
 
 PROG = "babyrobot-marl"
 EXIT_USAGE = 2  # bad input, as argparse uses
@@ -26,6 +26,17 @@ class Parser(argparse.ArgumentParser):
         self.exit(EXIT_USAGE, f"{PROG}: error: {text} (see '{self.prog} --help')\n")
 
 
+def add_memory_args(p: argparse.ArgumentParser) -> None:
+    """``train``'s ways for a robot to remember: its last action (``--memory``), or a recurrent net."""
+    p.add_argument("--memory", action="store_true",
+                   help="--observe local: the net also reads the robot's own last action (it can tell the way it came)")
+    p.add_argument("--recurrent", action="store_true",
+                   help="--observe local: a recurrent net (a GRU between the input layers and the heads): each robot "
+                   "remembers its whole episode")
+    p.add_argument("--hidden", type=positive_int, default=None, metavar="N",
+                   help="--recurrent: the GRU's hidden units (default: 32)")
+
+
 def one_line(err: BaseException | str, limit: int = 1000) -> str:
     """The message on one line, at most ``limit`` characters."""
     text = " ".join(str(err).split()) or type(err).__name__
@@ -36,7 +47,8 @@ def one_line(err: BaseException | str, limit: int = 1000) -> str:
 FLAGS = {
     "n_robots": "--robots", "max_cycles": "--max-cycles", "max_steps": "--max-steps", "view_radius": "--view-radius",
     "near_radius": "--near-radius", "collisions": "--collisions", "start": "--start", "observe": "--observe",
-    "hint": "--hint", "memory": "--memory", "seed": "--seed", "level": "--level",
+    "hint": "--hint", "memory": "--memory", "recurrent": "--recurrent", "hidden": "--hidden", "seed": "--seed",
+    "level": "--level",
 }
 # the flag that names a policy, by command (a saved policy's errors start "policy:"); `levels` takes a NAME
 POLICY_FLAGS = {"play": "--policy", "race": "--policies", "evaluate": "POLICY", "train": "--load"}

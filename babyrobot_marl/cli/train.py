@@ -58,7 +58,7 @@ from .checks import (
     seed_int,
     unit_real,
 )
-from .common import add_level_arg
+from .common import add_level_arg, add_memory_args
 
 BACKENDS = ("fast", "sb3")
 # PPO knobs: CLI flag -> (PPOConfig / SB3 PPO keyword, type)
@@ -99,8 +99,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--view-radius", type=non_negative_int, default=None, metavar="N",
                    help="--observe local: the window's radius, as race_v0's view_radius (default: 2)")
     p.add_argument("--hint", action="store_true", help="--observe local: the net also reads the goal hint (race_v0's hint=True)")
-    p.add_argument("--memory", action="store_true",
-                   help="--observe local: the net also reads the robot's own last action (it can tell the way it came)")
+    add_memory_args(p)
     p.add_argument("--collisions", choices=COLLISION_MODES, default=None,
                    help="fast backend, race: the collision rule (default: the env's, block)")
     p.add_argument("--backend", choices=BACKENDS, default="fast",
@@ -279,7 +278,7 @@ def _family(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> d
     knobs["eval_every"] = args.eval_every or FAMILY_EVAL_EVERY
     knobs.setdefault("n_envs", FAMILY_ENVS)
     config = PPOConfig(threads=args.threads or None, view_radius=2 if args.view_radius is None else args.view_radius,
-                       hint=args.hint, memory=args.memory, **knobs)
+                       hint=args.hint, memory=args.memory, recurrent=args.recurrent, hidden=args.hidden or 32, **knobs)
     one_level = parse_level_family(args.level) is None
     if one_level:  # an atlas of that one level
         config = config.replace(atlas_size=1)
@@ -312,7 +311,8 @@ def _family(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> d
     mazes = 1 if one_level else min(episodes, 256, EVAL_ATLASES * judge.atlas_capacity)
     score = judge.play(result.net, episodes, mazes, np.random.default_rng(args.seed + 2))
     where = _name(level, args) if one_level else f"{args.level}, mazes of the evaluation seeds"
-    reads = f"view_radius {config.view_radius}{', hint' if config.hint else ''}{', memory' if config.memory else ''}"
+    reads = f"view_radius {config.view_radius}{', hint' if config.hint else ''}{', memory' if config.memory else ''}" + (
+        f", a GRU of {config.hidden} units" if config.recurrent else "")
     out.write(f"fast PPO, one policy for {args.robots} robot(s) reading local windows ({reads}{_crowd_note(args)}"
               f") on {where}: {episodes} episodes, greedy: success rate {score['success_rate']:.3f}, "
               f"all reached {score['all_reached_rate']:.3f}, makespan {score['makespan']:.1f}\n")

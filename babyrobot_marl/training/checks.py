@@ -37,7 +37,8 @@ def check_config(cfg: Any, start_choices: Sequence[str]) -> tuple[int, ...]:
     check_int(cfg.eval_every, "eval_every", 0)
     check_int(cfg.near_radius, "near_radius", 0, MAX_NEAR_RADIUS)
     check_int(cfg.view_radius, "view_radius", 0)
-    for name in ("hint", "memory"):
+    check_int(cfg.hidden, "hidden", 1, MAX_LAYER_SIZE)
+    for name in ("hint", "memory", "recurrent"):
         if not isinstance(getattr(cfg, name), bool):
             raise ValueError(f"{name}: must be True or False, got {shown(getattr(cfg, name))}")
     if cfg.threads is not None:
@@ -156,6 +157,7 @@ def check_weights(state: Any, shapes: dict[str, tuple[int, ...]], net_arch: tupl
             raise ValueError(f"state_dict: {name} must be a float32 tensor of shape {shape}, got {got}")
         if not bool(torch.isfinite(t).all()):
             raise ValueError(f"state_dict: {name} holds non-finite weights (NaN or infinity: a training that diverged)")
-    n_in = shapes["actor.first"][0] - 1  # the padding row
-    if bool((state["actor.first"][n_in] != 0).any() or (state["critic.first"][n_in] != 0).any()):
+    firsts = [name for name in shapes if name.split(".")[-1] == "first"]  # actor's and critic's, or a recurrent net's one
+    n_in = shapes[firsts[0]][0] - 1  # the padding row
+    if any(bool((state[name][n_in] != 0).any()) for name in firsts):
         raise ValueError("state_dict: the padding row of the first layer must be zero")

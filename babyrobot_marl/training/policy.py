@@ -38,6 +38,7 @@ from .deps import torch_module, torch_threads
 from .ppo.config import PPOConfig
 from .ppo.inputs import Inputs, near_offsets
 from .ppo.net import make_net, weight_shapes
+from .ppo.recurrent import make_recurrent_net, recurrent_weight_shapes
 from .ppo.sampler import PerKey
 from .ppo.window import NO_ACTION, WindowForm
 
@@ -218,9 +219,10 @@ class WindowPolicy(TrainedPolicy):
     hint bits, if trained with ``hint``), on any level. ``for_env(env)`` checks that ``env`` shows that
     form and undoes its ``obs_encoding``. The net runs once per distinct input (the last ``PROBS_CACHE`` kept).
 
-    Trained with ``memory``, it also reads the action it took last (``last``, none at first): one
-    instance acts for one robot in one episode, so bind a new one (``for_env``) per robot and episode,
-    as ``experiments.evaluate`` and ``run_races`` do."""
+    Trained with ``memory``, it also reads the action it took last (``last``, none at first); a recurrent
+    one (``PPOConfig.recurrent``) keeps its GRU's state (``hidden``, zero at first). One instance acts for one
+    robot in one episode, so bind a new one (``for_env``) per robot and episode, as ``experiments.evaluate``
+    and ``run_races`` do."""
 
     def __init__(self, net: Any, form: WindowForm, n_robots: int, deterministic: bool = True, seed: int | None = None,
                  encoder: Encoder | None = None):
@@ -229,6 +231,10 @@ class WindowPolicy(TrainedPolicy):
         self.rng = np.random.default_rng(seed)
         self._probs = LastUsed(PROBS_CACHE)  # shared by the bound copies
         self.last = NO_ACTION  # the action it took last (read with ``memory``)
+        self.hidden = self._fresh()  # a recurrent net's state (None: feed-forward)
+
+    def _fresh(self) -> Any:
+        return self.net.initial_state(1) if getattr(self.net, "recurrent", False) else None
 
     @property
     def observation(self) -> dict[str, Any]:
@@ -245,7 +251,7 @@ class WindowPolicy(TrainedPolicy):
             raise TypeError(f"env: expected an env of babyrobot_marl (race_v0), got {type(env).__name__}")
         if not hasattr(e, "possible_agents"):  # one robot, no race: its window read from the level
             bound = copy.copy(self)
-            bound.encoder, bound.last = SingleWindowRows(e, self.form), NO_ACTION
+            bound.encoder, bound.last, bound.hidden = SingleWindowRows(e, self.form), NO_ACTION, self._fresh()
             return bound
         observer = getattr(e, "_observer", None)
         radius = observer.view.radius if getattr(e, "observe", "global") == "local" else None
@@ -259,7 +265,7 @@ class WindowPolicy(TrainedPolicy):
         if self.form.near and radius < max(abs(dx) + abs(dy) for dx, dy in self.form.near):
             raise ValueError(f"policy: sees the robots near it within view_radius {radius}")
         bound = copy.copy(self)  # the same net, cache and generator; a memory of its own
-        bound.encoder, bound.last = encoder, NO_ACTION
+        bound.encoder, bound.last, bound.hidden = encoder, NO_ACTION, self._fresh()
         return bound
 
     def rows(self, obs: Any) -> np.ndarray:
@@ -275,19 +281,28 @@ class WindowPolicy(TrainedPolicy):
         return self.form.rows_of_observations(o[None, :], np.array([self.last]))
 
     def action_probabilities(self, obs: Any) -> np.ndarray:
+        return self._next(obs)[0]
+
+    def _next(self, obs: Any) -> tuple[np.ndarray, Any]:
+        """The probabilities and the recurrent state after ``obs`` (None: feed-forward)."""
         rows = self.rows(obs)
         key = rows.tobytes()
-        p = self._probs.get(key)
-        if p is None:
-            torch = torch_module()
-            # one thread: on a busy machine torch's own threads wait on each other, 5 ms for this 1-row pass
-            with torch.no_grad(), torch_threads(1):
-                p = torch.softmax(self.net.actor(torch.from_numpy(rows)), 1).double().numpy()[0]
-            self._probs.put(key, p)
-        return p
+        p = self._probs.get(key)  # per input: the probabilities, or a recurrent net's input layers
+        torch = torch_module()
+        # one thread: on a busy machine torch's own threads wait on each other, 5 ms for this 1-row pass
+        with torch.no_grad(), torch_threads(1):
+            if p is None:
+                x = torch.from_numpy(rows)
+                recurrent = self.hidden is not None
+                p = self.net.gate_inputs(x) if recurrent else torch.softmax(self.net.actor(x), 1).double().numpy()[0]
+                self._probs.put(key, p)
+            if self.hidden is None:
+                return p, None
+            h = self.net.step(p, self.hidden)
+            return torch.softmax(self.net.heads(h)[0], 1).double().numpy()[0], h
 
     def __call__(self, obs: Any = None) -> int:
-        p = self.action_probabilities(obs)
+        p, self.hidden = self._next(obs)
         self.last = int(np.argmax(p)) if self.deterministic else int(self.rng.choice(len(p), p=p / p.sum()))
         return self.last
 
@@ -370,7 +385,7 @@ def load_checkpoint(path: str | os.PathLike) -> dict[str, Any]:
     try:
         check_fields(data, version, PPOConfig)
         arch = tuple(data["net_arch"])
-        check_weights(data["state_dict"], weight_shapes(inputs_of(data).n_in, arch), arch)
+        check_weights(data["state_dict"], _shapes(data, inputs_of(data)), arch)
     except ValueError as err:
         raise ValueError(f"policy: {str(path)!r} is a broken policy file: {err}") from None
     return data
@@ -395,9 +410,23 @@ def observation_kwargs(path: str | os.PathLike) -> dict[str, Any]:
     return {"observe": "local", "view_radius": form["view_radius"], "hint": form["hint"]}
 
 
+def _shapes(data: dict[str, Any], inputs: Inputs | WindowForm) -> dict[str, tuple[int, ...]]:
+    """The weights' names and shapes of loaded data's network: a recurrent one reads local windows only."""
+    cfg, arch = data["config"], tuple(data["net_arch"])
+    if not cfg.get("recurrent", False):
+        return weight_shapes(inputs.n_in, arch)
+    if not isinstance(inputs, WindowForm):
+        raise ValueError("config: a recurrent policy reads local windows (observe='local'), got the global rows")
+    return recurrent_weight_shapes(inputs.n_in, arch, cfg.get("hidden", PPOConfig.hidden))
+
+
 def load_net(data: dict[str, Any]) -> Any:
     """The network of loaded data (``load_checkpoint``)."""
-    net = make_net(inputs_of(data).n_in, tuple(data["net_arch"]))
+    cfg, n_in = data["config"], inputs_of(data).n_in
+    if cfg.get("recurrent", False):
+        net = make_recurrent_net(n_in, tuple(data["net_arch"]), cfg.get("hidden", PPOConfig.hidden))
+    else:
+        net = make_net(n_in, tuple(data["net_arch"]))
     net.load_state_dict(data["state_dict"])
     net.eval()
     return net

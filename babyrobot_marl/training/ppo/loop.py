@@ -27,6 +27,7 @@ from ..deps import torch_module, torch_threads  # torch_threads: also training.p
 from .config import PPOConfig, known_settings
 from .inputs import make_inputs
 from .net import log_softmax, make_net
+from .recurrent import Recurrence, make_recurrent_net
 from .result import EvalPoint, TrainResult
 from .sampler import PerKey, Sampler, distinct_rows
 from .update import Samples, clip_grad_norm, gae, grads_of, ppo_gradients
@@ -40,6 +41,15 @@ def _deterministic(seed: int) -> Iterator[None]:
     # needs seeding (torch.use_deterministic_algorithms would import torch's compiler: 3 s)
     torch.manual_seed(seed)
     yield
+
+
+def _hidden(net: Any) -> int | None:
+    """A recurrent net's hidden units (None: feed-forward)."""
+    return getattr(net, "hidden", None) if getattr(net, "recurrent", False) else None
+
+
+def _gru(net: Any) -> str:
+    return "" if _hidden(net) is None else f" and a GRU of {_hidden(net)} units"
 
 
 def make_batch(level: Level, n_robots: int, n_envs: int, start: str, seed: int, **env_kwargs: Any) -> BatchRace:
@@ -97,9 +107,10 @@ def train_ppo(
     source = parse_level_family(level, TRAIN_MAZE_SEEDS) if isinstance(level, str) else None
     source = source or level_source(level)
     family = None if source is None else Family(source, n, cfg, seed, env_kwargs or {})
-    if cfg.memory and family is None:
-        raise ValueError(f"memory: the last-action input is read by a level family's policy (level='maze:A..B'), "
-                         f"got level {level if isinstance(level, str) else getattr(level, 'name', 'a Level')!r}")
+    for name, what in (("memory", "the last-action input"), ("recurrent", "a recurrent net")):
+        if getattr(cfg, name) and family is None:
+            raise ValueError(f"{name}: {what} is read by a level family's policy (level='maze:A..B'), "
+                             f"got level {level if isinstance(level, str) else getattr(level, 'name', 'a Level')!r}")
     if family is None:
         level = resolve_level(level)
         batch = make_batch(level, n, cfg.n_envs, cfg.start, seed, **(env_kwargs or {}))
@@ -118,13 +129,15 @@ def train_ppo(
     mem = () if last is None else (last,)
 
     with torch_threads(cfg.threads), _deterministic(seed):
-        net = make_net(inputs.n_in, cfg.net_arch)
+        net = make_recurrent_net(inputs.n_in, cfg.net_arch, cfg.hidden) if cfg.recurrent else make_net(inputs.n_in, cfg.net_arch)
+        # a recurrent net's hidden states, one per robot beside the batch engine's cells (None: feed-forward)
+        rec = Recurrence(net, E * n, T) if cfg.recurrent else None
         if init is not None:
-            if init.n_in != net.n_in or tuple(init.net_arch) != cfg.net_arch:
+            if init.n_in != net.n_in or tuple(init.net_arch) != cfg.net_arch or _hidden(init) != _hidden(net):
                 raise ValueError(
-                    f"init: the network has {init.n_in} inputs and layers {init.net_arch}; this run needs "
+                    f"init: the network has {init.n_in} inputs and layers {init.net_arch}{_gru(init)}; this run needs "
                     f"{net.n_in} inputs ({family.spec if family else f'{level.width}x{level.height}'}, {n} robot(s), near_radius "
-                    f"{cfg.near_radius}) and layers {cfg.net_arch}"
+                    f"{cfg.near_radius}) and layers {cfg.net_arch}{_gru(net)}"
                 )
             net.load_state_dict(init.state_dict())
         params = list(net.parameters())
@@ -171,10 +184,12 @@ def train_ppo(
                 ep_return[:] = 0.0
                 if last is not None:
                     last[:] = NO_ACTION
+                if rec is not None:
+                    rec.restart()
             rollouts += 1
             # ---- rollout: n_steps steps of every env, actions sampled from the current policy
             with torch.no_grad():
-                actor = Sampler(inputs, net)  # weights fixed: the net runs once per distinct input
+                actor = Sampler(inputs, net) if rec is None else rec.start(inputs)  # weights fixed: once per distinct input
                 for t in range(T):
                     keys = inputs.keys(batch.cells, batch.racing, *mem).reshape(-1)
                     actions = actor.sample(keys, rng)
@@ -186,6 +201,8 @@ def train_ppo(
                     rew_buf[t] = rewards - cfg.blocked_cost * blocked if cfg.blocked_cost else rewards
                     ended = racing & (finishing | over[:, None])
                     done_buf[t] = ended | ~racing  # parked steps end nothing: isolated, masked out
+                    if rec is not None:
+                        rec.ended(done_buf[t])
                     trunc_buf[t] = racing & over[:, None] & ~finishing
                     ep_return += rewards
                     if np.count_nonzero(ended):
@@ -195,44 +212,54 @@ def train_ppo(
                         envs = np.flatnonzero(over)
                         if np.count_nonzero(trunc_buf[t]):
                             final_buf[t] = inputs.keys(batch.cells, batch.racing, *mem)
+                            if rec is not None:
+                                rec.truncated(final_buf[t], trunc_buf[t])
                         batch.reset_drawn(envs, reset_rng)
                         if last is not None:
                             last[envs] = NO_ACTION
 
                 # ---- advantages (GAE), truncated episodes bootstrapped from their last observation
-                critic = PerKey(inputs, lambda rows: net.critic(rows)[:, 0])
-                values = critic(key_buf)
                 rewards_b = rew_buf.copy()
-                if np.count_nonzero(trunc_buf):
-                    rewards_b[trunc_buf] += cfg.gamma * critic(final_buf[trunc_buf])
-                next_value = critic(inputs.keys(batch.cells, batch.racing, *mem))
+                if rec is None:
+                    critic = PerKey(inputs, lambda rows: net.critic(rows)[:, 0])
+                    values = critic(key_buf)
+                    if np.count_nonzero(trunc_buf):
+                        rewards_b[trunc_buf] += cfg.gamma * critic(final_buf[trunc_buf])
+                    next_value = critic(inputs.keys(batch.cells, batch.racing, *mem))
+                else:
+                    values = rec.value_buf.reshape(T, E, n)
+                    rewards_b += cfg.gamma * rec.final_value.reshape(T, E, n) * trunc_buf
+                    next_value = rec.next_value(inputs.keys(batch.cells, batch.racing, *mem))
                 adv, returns = gae(rewards_b, values, next_value, done_buf, cfg.gamma, cfg.gae_lambda)
 
             # ---- update: n_epochs passes over the decisions of the rollout, in minibatches; the net
             # runs once per distinct input of the rollout (rows), sample i being row b_inv[i]
             net.train()
-            keep = slice(None) if n == 1 else valid_buf  # one robot: every step is a decision
-            rows, b_inv = distinct_rows(inputs, key_buf[keep].reshape(-1))
-            b_act = torch.from_numpy(act_buf[keep].reshape(-1))
-            b_adv = torch.from_numpy(adv[keep].reshape(-1))
-            b_ret = torch.from_numpy(returns[keep].reshape(-1).astype(np.float32))
-            with torch.no_grad():  # the rollout's policy, per row (the weights have not changed yet)
-                old_logp = log_softmax(net.actor(rows))
-            samples = Samples.of(b_inv, b_act, b_adv, b_ret)
-            size = b_act.shape[0]
-            for _ in range(cfg.n_epochs):
-                # shuffled once per epoch, minibatches are then slices; one minibatch: order changes nothing
-                shuffled = samples.part(torch.randperm(size, generator=order_gen)) if size > cfg.batch_size else samples
-                for start in range(0, size, cfg.batch_size):
-                    mb = shuffled.part(slice(start, start + cfg.batch_size))
-                    mb_rows, mb_old = rows, old_logp
-                    if rows.shape[0] > mb.inv.shape[0]:  # more inputs than samples: only the minibatch's
-                        present, inv = torch.unique(mb.inv, return_inverse=True)
-                        mb_rows, mb_old = rows[present], old_logp[present]
-                        mb = Samples.of(inv, mb.actions(), mb.adv, mb.ret_one[:, 0])
-                    ppo_gradients(net, mb_rows, mb_old, mb, cfg)
-                    clip_grad_norm(grads_of(params), cfg.max_grad_norm)
-                    optim.step()
+            if rec is not None:  # whole segments replayed from their first state (truncated BPTT)
+                rec.update(inputs, key_buf, act_buf, adv, returns, valid_buf, cfg, optim, params, order_gen)
+            else:
+                keep = slice(None) if n == 1 else valid_buf  # one robot: every step is a decision
+                rows, b_inv = distinct_rows(inputs, key_buf[keep].reshape(-1))
+                b_act = torch.from_numpy(act_buf[keep].reshape(-1))
+                b_adv = torch.from_numpy(adv[keep].reshape(-1))
+                b_ret = torch.from_numpy(returns[keep].reshape(-1).astype(np.float32))
+                with torch.no_grad():  # the rollout's policy, per row (the weights have not changed yet)
+                    old_logp = log_softmax(net.actor(rows))
+                samples = Samples.of(b_inv, b_act, b_adv, b_ret)
+                size = b_act.shape[0]
+                for _ in range(cfg.n_epochs):
+                    # shuffled once per epoch, minibatches are then slices; one minibatch: order changes nothing
+                    shuffled = samples.part(torch.randperm(size, generator=order_gen)) if size > cfg.batch_size else samples
+                    for start in range(0, size, cfg.batch_size):
+                        mb = shuffled.part(slice(start, start + cfg.batch_size))
+                        mb_rows, mb_old = rows, old_logp
+                        if rows.shape[0] > mb.inv.shape[0]:  # more inputs than samples: only the minibatch's
+                            present, inv = torch.unique(mb.inv, return_inverse=True)
+                            mb_rows, mb_old = rows[present], old_logp[present]
+                            mb = Samples.of(inv, mb.actions(), mb.adv, mb.ret_one[:, 0])
+                        ppo_gradients(net, mb_rows, mb_old, mb, cfg)
+                        clip_grad_norm(grads_of(params), cfg.max_grad_norm)
+                        optim.step()
             check_finite(params, result.timesteps + T * E * n, cfg)
 
             result.timesteps += T * E * n

@@ -294,11 +294,17 @@ def _play(net: Any, atlas: Atlas, n_robots: int, n_envs: int, max_steps: int, rn
 
     batch = atlas.batch(n_envs, n_robots, max_steps)
     batch.reset_drawn(np.arange(n_envs), rng)
-    probs = PerKey(atlas, lambda rows: torch.softmax(net.actor(rows), 1))
+    recurrent = getattr(net, "recurrent", False)
+    probs = PerKey(atlas, net.gate_inputs if recurrent else lambda rows: torch.softmax(net.actor(rows), 1))
+    h = net.initial_state(n_envs * n_robots) if recurrent else None  # one hidden state per robot, zero at the start
     done_at = np.full(n_envs, max_steps)
     last = np.full((n_envs, n_robots), NO_ACTION)
     while not batch.over.all():
         p = probs(atlas.keys(batch.cells, batch.racing, last).reshape(-1))
+        if recurrent:
+            with torch.no_grad():
+                h = net.step(torch.from_numpy(p), h)
+                p = torch.softmax(net.heads(h)[0], 1).numpy()
         if deterministic:
             actions = p.argmax(axis=1)
         else:

@@ -1,0 +1,225 @@
+"""Recurrent policies (``PPOConfig.recurrent``): a GRU cell between the input layers and the heads, and the
+hidden state of every robot kept beside the batch engine's cells.
+
+A memoryless policy in a maze takes the same action wherever its windows look alike, so a greedy robot
+cycles; one that remembers where it has been need not. The net (``make_recurrent_net``): the input
+layers (a look-up of the first layer's rows, as ``net.make_net``; tanh), a GRU cell of ``hidden`` units,
+then a linear actor head and a linear critic head on its state, as CleanRL's ``ppo_atari_lstm.py``.
+A GRU rather than an LSTM: one state tensor per robot instead of two (one array to keep, reset and
+replay), three weight blocks instead of four, and on small tasks the two learn alike.
+
+Training (``Recurrence``) follows CleanRL's loop: during a rollout each robot's state is zeroed before
+the first step of each of its episodes (and stays zero once it has finished and is parked); the state at
+the rollout's start is kept, and the update replays each robot's whole rollout segment from it with the
+same resets (truncated backpropagation through time over segments of ``n_steps``). Minibatches hold whole
+segments; a parked robot's steps are no decisions and are masked out of the loss.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from ...core.actions import N_ACTIONS
+from ..deps import torch_module
+from .net import DENSE_LIMIT, log_softmax
+from .sampler import PerKey, distinct_rows
+
+DEFAULT_HIDDEN = 32  # PPOConfig.hidden
+
+
+def make_recurrent_net(n_in: int, net_arch: tuple[int, ...] = (64,), hidden: int = DEFAULT_HIDDEN) -> Any:
+    """The recurrent actor-critic: ``encode(rows)`` (the input layers, tanh; row ``n_in`` of ``first`` is the
+    padding, kept zero), ``gate_inputs(rows)`` (then the GRU's input part), ``step(gi, h)`` (the GRU cell),
+    ``heads(h) -> (logits, value)``. Orthogonal initialisation as SB3 and CleanRL (sqrt(2) for the input
+    layers, 1 for the cell, 0.01 / 1 for the heads)."""
+    torch = torch_module()
+    nn = torch.nn
+    sizes = list(net_arch) or [hidden]
+
+    class RecurrentActorCritic(nn.Module):
+        recurrent = True
+
+        def __init__(self) -> None:
+            super().__init__()
+            self.n_in, self.net_arch, self.hidden = n_in, tuple(net_arch), hidden
+            self.first = nn.Parameter(torch.empty(n_in + 1, sizes[0]))
+            self.first_bias = nn.Parameter(torch.zeros(sizes[0]))
+            self.layers = nn.ModuleList(nn.Linear(a, b) for a, b in zip(sizes[:-1], sizes[1:]))
+            self.gru = nn.GRUCell(sizes[-1], hidden)
+            self.actor = nn.Linear(hidden, N_ACTIONS)
+            self.critic = nn.Linear(hidden, 1)
+            with torch.no_grad():
+                w = torch.empty(sizes[0], n_in)
+                nn.init.orthogonal_(w, math.sqrt(2))
+                self.first[:n_in] = w.T
+                self.first[n_in] = 0.0
+                for layer in self.layers:
+                    nn.init.orthogonal_(layer.weight, math.sqrt(2))
+                    nn.init.zeros_(layer.bias)
+                for name, p in self.gru.named_parameters():
+                    nn.init.orthogonal_(p) if "weight" in name else nn.init.zeros_(p)
+                for head, gain in ((self.actor, 0.01), (self.critic, 1.0)):
+                    nn.init.orthogonal_(head.weight, gain)
+                    nn.init.zeros_(head.bias)
+
+        def encode(self, rows: Any) -> Any:
+            b, k = rows.shape
+            if k > 1 and n_in <= DENSE_LIMIT:  # the one-hot counts times the weights: faster than many look-ups
+                dense = torch.zeros(b, n_in + 1).scatter_add_(1, rows, torch.ones(rows.shape))
+                dense[:, n_in] = 0.0  # the padding row: no input, no gradient
+                h = torch.tanh(torch.addmm(self.first_bias, dense, self.first))
+            else:
+                h = nn.functional.embedding(rows, self.first, padding_idx=n_in)  # the padding row gets no gradient
+                h = torch.tanh((h if k == 1 else h.sum(1)).view(b, -1) + self.first_bias)
+            for layer in self.layers:
+                h = torch.tanh(layer(h))
+            return h
+
+        def gate_inputs(self, rows: Any) -> Any:
+            """The GRU's input part of its gates, ``W_ih x + b_ih`` (``(B, 3 * hidden)``): a function of the input
+            alone, so it is computed once per distinct input and looked up per robot-step."""
+            return torch.addmm(self.gru.bias_ih, self.encode(rows), self.gru.weight_ih.T)
+
+        def step(self, gi: Any, h: Any) -> Any:
+            """``nn.GRUCell``'s step from the gates' input part ``gi`` (``gate_inputs``) and the state ``h``."""
+            gh = torch.addmm(self.gru.bias_hh, h, self.gru.weight_hh.T)
+            r, z = torch.sigmoid(gi[:, : 2 * hidden] + gh[:, : 2 * hidden]).chunk(2, 1)
+            n = torch.tanh(gi[:, 2 * hidden :] + r * gh[:, 2 * hidden :])
+            return n + z * (h - n)
+
+        def heads(self, h: Any) -> tuple[Any, Any]:
+            return self.actor(h), self.critic(h)[:, 0]
+
+        def initial_state(self, n: int) -> Any:
+            return torch.zeros(n, hidden)
+
+    return RecurrentActorCritic()
+
+
+def recurrent_weight_shapes(n_in: int, net_arch: tuple[int, ...], hidden: int) -> dict[str, tuple[int, ...]]:
+    """The name and shape of every tensor of ``make_recurrent_net(n_in, net_arch, hidden)``'s state dict."""
+    sizes = list(net_arch) or [hidden]
+    shapes: dict[str, tuple[int, ...]] = {"first": (n_in + 1, sizes[0]), "first_bias": (sizes[0],)}
+    for i, (a, b) in enumerate(zip(sizes[:-1], sizes[1:])):
+        shapes[f"layers.{i}.weight"], shapes[f"layers.{i}.bias"] = (b, a), (b,)
+    shapes.update({"gru.weight_ih": (3 * hidden, sizes[-1]), "gru.weight_hh": (3 * hidden, hidden),
+                   "gru.bias_ih": (3 * hidden,), "gru.bias_hh": (3 * hidden,), "actor.weight": (N_ACTIONS, hidden),
+                   "actor.bias": (N_ACTIONS,), "critic.weight": (1, hidden), "critic.bias": (1,)})
+    return shapes
+
+
+class Recurrence:
+    """The hidden states of ``n_seq`` robots (``E * R``, row-major) through rollouts, what the update replays,
+    and the update itself. In a rollout: ``start(inputs)``, then per step ``sample(keys, rng)`` (the actor:
+    each robot's state advanced one step) and ``ended(done)`` (whose episode ended at that step)."""
+
+    def __init__(self, net: Any, n_seq: int, n_steps: int):
+        self.net, self.t = net, 0
+        self.h = net.initial_state(n_seq)
+        self.keep = np.ones(n_seq, dtype=bool)  # False: the robot's next step starts an episode (state zeroed)
+        self.keep_buf = np.zeros((n_steps, n_seq), dtype=bool)
+        self.logp_buf = np.zeros((n_steps, n_seq), dtype=np.float32)  # the sampled action's log-probability
+        self.value_buf = np.zeros((n_steps, n_seq), dtype=np.float32)
+        self.final_value = np.zeros((n_steps, n_seq), dtype=np.float32)  # of a truncated episode's last observation
+        self.h0 = self.h
+
+    def restart(self) -> None:
+        """Every robot starts a new episode (new mazes)."""
+        self.keep[:] = False
+
+    def start(self, inputs: Any) -> Recurrence:
+        """A rollout begins: the weights are fixed, so the input layers run once per distinct input."""
+        self.t, self.h0 = 0, self.h.clone()
+        self.features = PerKey(inputs, self.net.gate_inputs)
+        return self
+
+    def _advance(self, keys: np.ndarray, h: Any) -> Any:
+        torch = torch_module()
+        return self.net.step(torch.from_numpy(self.features(keys)), h)
+
+    def sample(self, keys: np.ndarray, rng: np.random.Generator) -> np.ndarray:
+        """One action per robot by inverse-CDF sampling (one uniform number each, as ``Sampler``)."""
+        torch = torch_module()
+        self.keep_buf[self.t] = self.keep
+        self.h = self._advance(keys, self.h * torch.from_numpy(self.keep)[:, None])
+        logits, value = self.net.heads(self.h)
+        logp = log_softmax(logits).numpy()
+        u = rng.random((keys.size, 1))
+        actions = np.minimum((u >= np.cumsum(np.exp(logp), axis=1)).sum(axis=1), N_ACTIONS - 1)
+        self.logp_buf[self.t] = logp[np.arange(keys.size), actions]
+        self.value_buf[self.t] = value.numpy()
+        return actions
+
+    def ended(self, done: np.ndarray) -> None:
+        self.keep = ~done.reshape(-1)
+        self.t += 1
+
+    def truncated(self, keys: np.ndarray, which: np.ndarray) -> None:
+        """The critic's values of the last observations (``keys``) of the robots ``which`` whose episodes the
+        time limit ended at this step: their states carry on into that observation."""
+        at = np.flatnonzero(which.reshape(-1))
+        h = self._advance(keys.reshape(-1)[at], self.h[at])
+        self.final_value[self.t - 1, at] = self.net.heads(h)[1].numpy()
+
+    def next_value(self, keys: np.ndarray) -> np.ndarray:
+        """The critic's values of the observations after the rollout (for GAE's bootstrap)."""
+        torch = torch_module()
+        h = self._advance(keys.reshape(-1), self.h * torch.from_numpy(self.keep)[:, None])
+        return self.net.heads(h)[1].numpy().reshape(keys.shape)
+
+    def replay(self, rows: Any, inv: Any, seq: Any) -> tuple[Any, Any]:
+        """The logits and values ``(T * B, ...)`` of the robots ``seq`` over the rollout, replayed from their
+        states at its start with the rollout's resets; ``rows[inv]`` (``(T, B)``): their inputs."""
+        torch = torch_module()
+        present, local = torch.unique(inv, return_inverse=True)
+        # (T * B, 3H): the input layers once per distinct input (index_select: its gradient is one index_add)
+        x = self.net.gate_inputs(rows[present]).index_select(0, local.reshape(-1)).view(*inv.shape, -1)
+        keep = torch.from_numpy(self.keep_buf)[:, seq, None]
+        h, states = self.h0[seq], []
+        for t, x_t in enumerate(x.unbind(0)):  # unbind: one gradient buffer for all steps (x[t]'s would fill one each)
+            h = self.net.step(x_t, h * keep[t])
+            states.append(h)
+        return self.net.heads(torch.cat(states))
+
+    def update(self, inputs: Any, keys: np.ndarray, actions: np.ndarray, adv: np.ndarray, returns: np.ndarray,
+               valid: np.ndarray, cfg: Any, optim: Any, params: list[Any], order: Any) -> None:
+        """``n_epochs`` passes over the rollout's segments (``(T, S)`` arrays), minibatches of whole segments
+        (``batch_size // n_steps`` of them), each replayed from its state at the rollout's start."""
+        from .update import clip_grad_norm, grads_of
+
+        torch = torch_module()
+        T, S = keys.shape[0], self.h0.shape[0]
+        rows, inv = distinct_rows(inputs, keys.reshape(-1))
+        inv = inv.view(T, S)
+        old = torch.from_numpy(self.logp_buf)
+        act = torch.from_numpy(actions.reshape(T, S))
+        b_adv, b_ret = torch.from_numpy(adv.reshape(T, S)), torch.from_numpy(returns.reshape(T, S).astype(np.float32))
+        mask = torch.from_numpy(valid.reshape(T, S).astype(np.float32))
+        per = max(1, cfg.batch_size // T)
+        for _ in range(cfg.n_epochs):
+            perm = torch.randperm(S, generator=order) if per < S else torch.arange(S)
+            for start in range(0, S, per):
+                seq = perm[start : start + per]
+                m = mask[:, seq]
+                n = m.sum()
+                if n == 0:
+                    continue
+                logits, value = self.replay(rows, inv[:, seq], seq)
+                logp = log_softmax(logits).view(T, len(seq), N_ACTIONS)
+                new = logp.gather(2, act[:, seq, None])[..., 0]
+                a = b_adv[:, seq]
+                if cfg.normalize_advantage and n > 1:
+                    mean = (a * m).sum() / n
+                    a = (a - mean) / (torch.sqrt((((a - mean) * m) ** 2).sum() / (n - 1)) + 1e-8)
+                ratio = torch.exp(new - old[:, seq])
+                pg = torch.maximum(-a * ratio, -a * torch.clamp(ratio, 1 - cfg.clip_range, 1 + cfg.clip_range))
+                entropy = -(torch.exp(logp) * logp).sum(2)
+                v_err = (value.view(T, -1) - b_ret[:, seq]) ** 2
+                loss = ((pg - cfg.ent_coef * entropy + cfg.vf_coef * v_err) * m).sum() / n
+                optim.zero_grad(set_to_none=False)
+                loss.backward()
+                clip_grad_norm(grads_of(params), cfg.max_grad_norm)
+                optim.step()

@@ -1,0 +1,181 @@
+"""Recurrent policies on the fast trainer: a GRU between the input layers and the heads, trained with truncated
+backpropagation through time over rollout segments, one hidden state per robot in the trainer and per bound policy."""
+
+import numpy as np
+import pytest
+
+torch = pytest.importorskip("torch")
+
+from babyrobot_marl import race_v0  # noqa: E402
+from babyrobot_marl.cli import main  # noqa: E402
+from babyrobot_marl.training.policy import WindowPolicy, load_checkpoint, load_policy  # noqa: E402
+from babyrobot_marl.training.ppo import PPOConfig, train_ppo  # noqa: E402
+from babyrobot_marl.training.ppo.inputs import near_offsets  # noqa: E402
+from babyrobot_marl.training.ppo.recurrent import Recurrence, make_recurrent_net  # noqa: E402
+from babyrobot_marl.training.ppo.sampler import distinct_rows  # noqa: E402
+from babyrobot_marl.training.ppo.window import NO_ACTION, Atlas, WindowForm, play_atlas  # noqa: E402
+
+SMALL = PPOConfig(n_envs=32, n_steps=8, batch_size=768, atlas_size=4, atlas_every=2, eval_every=0, recurrent=True, hidden=8,
+                  net_arch=(16,))
+
+
+@pytest.fixture(scope="module")
+def trained():
+    return train_ppo("maze:8..10", n_robots=3, timesteps=4_000, seed=0, config=SMALL)
+
+
+def test_the_same_seed_gives_the_same_policy_and_the_same_evaluation(trained):
+    again = train_ppo("maze:8..10", n_robots=3, timesteps=4_000, seed=0, config=SMALL)
+    for (name, a), b in zip(trained.net.state_dict().items(), again.net.state_dict().values()):
+        assert torch.equal(a, b), name
+    other = train_ppo("maze:8..10", n_robots=3, timesteps=4_000, seed=1, config=SMALL)
+    assert not torch.equal(trained.net.gru.weight_hh, other.net.gru.weight_hh)
+    form = WindowForm(2, near_offsets(1), False)
+    env = race_v0.parallel_env(level="maze:8..10", n_robots=3, start="random")
+    env.reset(seed=0)
+    atlas = Atlas([env.level], env.rules, form)
+    for greedy in (True, False):
+        runs = [play_atlas(net, atlas, 3, 8, 60, np.random.default_rng(5), greedy) for net in (trained.net, again.net)]
+        assert runs[0] == runs[1]
+
+
+def test_the_trainer_and_each_bound_robot_hold_the_same_rows_and_hidden_states_over_whole_races(trained):
+    """Rows and hidden states built by the trainer's ``Recurrence`` from the batch engine's cells equal those each
+    robot's own bound policy reads and keeps from race_v0's observations, and the greedy actions agree."""
+    form = WindowForm(2, near_offsets(1), False)
+    env = race_v0.parallel_env(level="maze:8..10", n_robots=3, observe="local", start="random", max_cycles=60)
+    checked, moved = 0, 0
+    for seed in range(3):
+        obs, _ = env.reset(seed=seed)
+        robots = {a: trained.policy().for_env(env) for a in env.possible_agents}  # one each, a fresh state
+        atlas = Atlas([env.level], env.rules, form)
+        rec = Recurrence(trained.net, 3, env.max_cycles + 1).start(atlas)
+        while env.agents:
+            cells, racing = np.array(env._cells)[None, :], np.array(env._racing)[None, :]
+            keys = atlas.keys(cells, racing).reshape(-1)
+            with torch.no_grad():
+                rec.sample(keys, np.random.default_rng(0))
+                greedy = rec.net.heads(rec.h)[0].argmax(1).numpy()
+            rows = atlas.rows(keys)
+            actions = {}
+            for a in env.agents:
+                i = env.possible_agents.index(a)
+                assert (robots[a].rows(obs[a])[0] == rows[i]).all()
+                actions[a] = robots[a](obs[a])
+                # equal up to float rounding: a batch of robots and a single robot sum their products in another order
+                assert torch.allclose(robots[a].hidden[0], rec.h[i], rtol=0, atol=1e-5) and actions[a] == greedy[i]
+                checked += 1
+            obs, *_ = env.step(actions)
+            rec.ended(~np.array(env._racing))
+            moved += float(rec.h.abs().sum()) > 0
+    assert checked > 100 and moved > 0
+
+
+def test_a_robots_state_is_zeroed_when_its_episode_ends_and_not_before():
+    """The trainer's state of a robot whose episode ended starts its next step from zero, as a new robot's;
+    the others carry theirs on."""
+    net = make_recurrent_net(6, (4,), 3)
+    inputs = _Flat(6)
+    rec = Recurrence(net, 2, 4).start(inputs)
+    rng = np.random.default_rng(0)
+    with torch.no_grad():
+        rec.sample(np.array([1, 2]), rng)
+        rec.ended(np.array([False, False]))
+        rec.sample(np.array([3, 4]), rng)
+        rec.ended(np.array([True, False]))  # robot 0's episode ended at this step
+        before = rec.h.clone()
+        rec.sample(np.array([5, 5]), rng)
+        fresh = net.step(net.gate_inputs(torch.tensor([[5]])), net.initial_state(1))[0]
+        carried = net.step(net.gate_inputs(torch.tensor([[5]])), before[1:2])[0]
+    assert torch.allclose(rec.h[0], fresh) and torch.allclose(rec.h[1], carried)
+    assert not torch.allclose(rec.h[1], fresh)
+    assert rec.keep_buf[:3].tolist() == [[True, True], [True, True], [False, True]]
+
+
+def test_the_update_replays_each_segment_as_the_rollout_played_it():
+    """Truncated BPTT: replaying a rollout's segments from their first states with the rollout's resets gives
+    the rollout's own log-probabilities (ratio 1 at the update's first step), across an episode's end."""
+    net = make_recurrent_net(6, (4,), 3)
+    inputs = _Flat(6)
+    T, n = 5, 4
+    rec = Recurrence(net, n, T)
+    rec.h = torch.randn(n, 3)  # a state carried over from the previous rollout
+    rec.start(inputs)
+    rng = np.random.default_rng(1)
+    keys, actions = rng.integers(0, 6, (T, n)), np.zeros((T, n), dtype=np.int64)
+    with torch.no_grad():
+        for t in range(T):
+            actions[t] = rec.sample(keys[t], rng)
+            rec.ended(np.array([t == 1, False, t == 3, False]))
+        rows, inv = distinct_rows(inputs, keys.reshape(-1))
+        logits, values = rec.replay(rows, inv.view(T, n), torch.arange(n))
+    logp = torch.log_softmax(logits, 1).view(T, n, 5).gather(2, torch.from_numpy(actions)[..., None])[..., 0]
+    assert np.allclose(logp.numpy(), rec.logp_buf, atol=1e-6)
+    assert np.allclose(values.view(T, n).numpy(), rec.value_buf, atol=1e-6)
+    assert not rec.keep_buf[2, 0] and not rec.keep_buf[4, 2] and rec.keep_buf[:, 1].all()
+
+
+class _Flat:
+    """Inputs of one index per key (the key itself)."""
+
+    def __init__(self, n: int):
+        self.n_in = self.n_keys = n
+
+    def rows(self, keys):
+        return np.asarray(keys, dtype=np.int64).reshape(-1, 1)
+
+
+def test_a_bound_policys_state_does_not_leak_into_the_next_episode(trained, tmp_path):
+    env = race_v0.parallel_env(level="maze:8..10", n_robots=3, observe="local", start="random", max_cycles=60)
+    obs, _ = env.reset(seed=4)
+    fresh_actions = [trained.policy().for_env(env)(obs["robot_0"]) for _ in range(2)]
+    bound = trained.policy().for_env(env)
+    for _ in range(10):  # mid-episode: its state is no longer zero
+        bound(obs["robot_0"])
+    assert float(bound.hidden.abs().sum()) > 0
+    saved = load_policy(trained.save(str(tmp_path / "r.pt")))
+    assert isinstance(saved, WindowPolicy) and float(saved.hidden.abs().sum()) == 0
+    nxt = bound.for_env(env)  # the next episode's robot: bound afresh
+    assert float(nxt.hidden.abs().sum()) == 0 and nxt.last == NO_ACTION
+    assert nxt(obs["robot_0"]) == fresh_actions[0] == saved.for_env(env)(obs["robot_0"])
+
+
+def test_recurrent_policies_are_saved_loaded_and_checked(trained, tmp_path):
+    path = trained.save(str(tmp_path / "r.pt"))
+    data = load_checkpoint(path)
+    assert data["config"]["recurrent"] is True and data["config"]["hidden"] == 8
+    loaded = load_policy(path)
+    for a, b in zip(loaded.net.state_dict().values(), trained.net.state_dict().values()):
+        assert torch.equal(a, b)
+    data["observation"] = {"observe": "global", "obs_encoding": "multidiscrete", "hint": False}
+    torch.save(data, tmp_path / "bad.pt")
+    with pytest.raises(ValueError, match="a recurrent policy reads local windows"):
+        load_checkpoint(tmp_path / "bad.pt")
+    with pytest.raises(ValueError, match="^recurrent: a recurrent net is read by a level family's policy"):
+        train_ppo("maze-8x8", timesteps=10, config=SMALL)
+    with pytest.raises(ValueError, match="^hidden: must be"):
+        PPOConfig(hidden=0)
+    with pytest.raises(ValueError, match="^recurrent: must be True or False"):
+        PPOConfig(recurrent=1)
+
+
+def test_train_recurrent_on_the_command_line_then_evaluate_and_race(tmp_path, capsys):
+    path = str(tmp_path / "r.pt")
+    assert main(["train", "--level", "maze:8..8", "--robots", "2", "--observe", "local", "--recurrent", "--hidden", "8",
+                 "--steps", "2000", "--n-envs", "16", "--save", path, "--episodes", "4", "--no-progress"]) == 0
+    out = capsys.readouterr().out
+    assert "a GRU of 8 units" in out and load_checkpoint(path)["config"]["hidden"] == 8
+    assert main(["evaluate", path, "--level", "maze:8..8", "--robots", "2", "--episodes", "3", "--seed", "1"]) == 0
+    assert '"policy"' in capsys.readouterr().out.splitlines()[-1]
+    assert main(["race", "--level", "maze:8..8", "--robots", "2", "--start", "random", "--policies", path]) == 0
+    for args, message in ((["--recurrent"], "--recurrent: only with --observe local"),
+                          (["--observe", "local", "--hidden", "8"], "--hidden: the GRU's size, only with --recurrent")):
+        assert main(["train", "--level", "maze-8x8", "--steps", "10", *args]) == 2
+        assert message in capsys.readouterr().err
+
+
+def test_the_step_from_precomputed_input_gates_is_torchs_gru_cell():
+    net = make_recurrent_net(7, (5,), 4)
+    rows, h = torch.tensor([[0, 3], [6, 7], [2, 2]]), torch.randn(3, 4)
+    with torch.no_grad():
+        assert torch.allclose(net.step(net.gate_inputs(rows), h), net.gru(net.encode(rows), h), atol=1e-6)
