@@ -87,6 +87,18 @@ def test_race_runs_own_goal_races_and_lifelong_throughput_with_races(capsys):
     assert "targets reached" in out and re.search(r"^throughput: 0\.\d+", out, re.M), out
 
 
+def test_race_saves_a_lifelong_run_as_a_gif_one_picture_per_step(capsys, tmp_path):
+    iio = pytest.importorskip("imageio.v3", reason="the video extra is not installed")
+    path = tmp_path / "lifelong.gif"
+    code, out, err = cli(capsys, "race", "--level", "maze-8x8", "--robots", "3", "--goals", "own", "--lifelong",
+                         "--collisions", "soft", "--max-cycles", "12", "--seed", "0", "--gif", str(path))
+    assert code == 0, err
+    assert f"GIF of the race (13 pictures): {path}" in out
+    frames = iio.imread(path, index=None)
+    assert frames.shape[0] == 13 and frames.shape[-1] == 3
+    assert any((frames[k] != frames[k + 1]).any() for k in range(12))  # the robots move
+
+
 # ------------------------------------------------------------------------ play
 def test_play_with_own_goals_drives_the_robot_to_its_own_target(capsys):
     code, out, err = cli(capsys, "play", "--level", "maze-8x8", "--goals", "own", "--seed", "3")
@@ -138,6 +150,8 @@ REFUSED = {
                                           "--collisions: a lone robot (--robots 1) meets nobody"),
     "play keys without a terminal": (["play", "--goals", "own", "--policy", "keys"],
                                      "--policy keys: the keyboard game needs an interactive terminal"),
+    "a GIF of many races": (["race", "--gif", "race.gif", "--races", "3"], "--gif: a GIF shows one race; drop --races"),
+    "a GIF of a race you drive": (["race", "--gif", "race.gif", "--human", "0"], "--gif: not for a race you drive"),
 }
 
 
@@ -167,6 +181,7 @@ FIXES = {  # an error, then the command its advice makes of it
     "give --policy shortest": (["play", "--goals", "own", "--policy", "keys"], "give --policy shortest", [],
                                ["--policy", "keys"]),
     "leave out --human": (["race", "--human", "0"], "leave out --human", [], ["--human", "0"]),
+    "drop --races (for --gif)": (["race", "--gif", "{tmp}/r.gif", "--races", "3"], "drop --races", [], ["--races", "3"]),
     "drop --human (for --races)": (["race", "--human", "0", "--races", "3"], "drop --races (N races without frames) or "
                                    "--human", [], ["--human", "0"]),
 }
@@ -180,7 +195,8 @@ def _without(argv: list[str], drop: list[str]) -> list[str]:
 
 
 @pytest.mark.parametrize(("argv", "advice", "add", "drop"), FIXES.values(), ids=FIXES.keys())
-def test_the_fix_an_error_recommends_runs(argv, advice, add, drop, capsys):
+def test_the_fix_an_error_recommends_runs(argv, advice, add, drop, capsys, tmp_path):
+    argv = [a.replace("{tmp}", str(tmp_path)) for a in argv]
     code, _, err = cli(capsys, *argv)
     assert code == 2 and advice in err, err
     fixed = _without(argv, drop) + add + ["--seed", "0"] * ("--seed" not in argv)

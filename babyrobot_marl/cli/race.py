@@ -16,7 +16,16 @@ from ..levels.sources import parse_level_family
 from ..play.screen import animate
 from ..render.ansi import ROBOT_COLOURS, robot_glyph
 from ..training.policy import make_policy
-from .checks import check_goal_flags, check_policy_goals, non_negative_int, policies_form, policy_list, positive_int, race_count
+from .checks import (
+    check_goal_flags,
+    check_policy_goals,
+    non_negative_int,
+    output_path,
+    policies_form,
+    policy_list,
+    positive_int,
+    race_count,
+)
 from .common import add_display_args, add_goal_args, add_level_arg, add_seed_arg, display_of, fresh_seed
 from .levels import level_label
 
@@ -65,13 +74,19 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--max-cycles", type=positive_int, default=None, metavar="N", help="truncate the race after N steps")
     p.add_argument("--human", type=non_negative_int, default=None, metavar="N", help="drive robot N yourself (arrow keys)")
     p.add_argument("--races", type=race_count, default=None, metavar="N", help="run N seeded races; print metrics, no frames")
+    p.add_argument("--gif", type=output_path, default=None, metavar="PATH",
+                   help="also save the race as a GIF here, one picture per step (imageio: the video extra)")
     add_display_args(p)
     p.set_defaults(func=run)
 
 
-def _race_frames(env: RaceEnv, robot_policies: list, results: list[RobotResult], seed: int, colour: bool) -> Iterator[str]:
-    """Run one race, yielding a frame after the reset and after every step."""
+def _race_frames(env: RaceEnv, robot_policies: list, results: list[RobotResult], seed: int, colour: bool,
+                 pictures: list | None = None) -> Iterator[str]:
+    """Run one race, yielding a frame after the reset and after every step (``pictures``: also each one's
+    ``rgb_array`` picture, appended, for an env made with that render mode)."""
     obs, _ = env.reset(seed=seed)
+    if pictures is not None:
+        pictures.append(env.render())
     yield _with_targets(env, env.render_text(colour=colour), colour)
     while env.agents:
         actions = {a: robot_policies[env.possible_agents.index(a)](obs[a]) for a in env.agents}
@@ -81,6 +96,8 @@ def _race_frames(env: RaceEnv, robot_policies: list, results: list[RobotResult],
             r.steps = env.elapsed_steps
             if "rank" in info:
                 r.rank = info["rank"]
+        if pictures is not None:
+            pictures.append(env.render())
         yield _with_targets(env, env.render_text(colour=colour), colour)
     _fill_goals(env, results)
     for r, ret, bumps in zip(results, env.returns, env.collisions_count):
@@ -147,9 +164,11 @@ def run(args: argparse.Namespace, out: TextIO) -> int:
     check_policy_goals(args.policies, args.goals, "--policies")  # what each saved policy was trained for
     form = policies_form(args.policies)  # the observations the saved policies read
     goals = {"goals": args.goals, "lifelong": args.lifelong}
+    if args.gif:
+        _check_gif(args)
     # The env checks the robots against the level's starts and free cells before anything per robot exists
     env = RaceEnv(level=level, n_robots=args.robots, collisions=args.collisions, start=args.start,
-                  max_cycles=args.max_cycles, **goals, **form)
+                  max_cycles=args.max_cycles, render_mode="rgb_array" if args.gif else None, **goals, **form)
     names = args.policies * args.robots if len(args.policies) == 1 else args.policies
     seed = fresh_seed() if args.seed is None else args.seed
     if args.races:  # experiments: the metrics table of N races (babyrobot_marl.experiments)
@@ -167,7 +186,8 @@ def run(args: argparse.Namespace, out: TextIO) -> int:
         names[args.human] = "keys"
     results = [RobotResult(robot_glyph(i, args.robots) + f" {agent}", names[i]) for i, agent in enumerate(env.possible_agents)]
     display = display_of(args, out)
-    frames = _race_frames(env, robot_policies, results, seed, display.colour)
+    pictures: list | None = [] if args.gif else None
+    frames = _race_frames(env, robot_policies, results, seed, display.colour, pictures)
     if args.human is not None:  # babyrobot_marl.play: your keys for one robot; a paced, legended race on a terminal
         from ..play.terminal import race_keys
 
@@ -191,7 +211,23 @@ def run(args: argparse.Namespace, out: TextIO) -> int:
         reached = sum(env.goals_reached)
         out.write(f"\nthroughput: {reached / max(env.elapsed_steps, 1):.3f} targets reached per step "
                   f"({reached} targets in {env.elapsed_steps} steps)\n")
+    if pictures:
+        from ..render.video import save_gif
+
+        out.write(f"GIF of the race ({len(pictures)} pictures): {save_gif(pictures, args.gif)}\n")
     return 0
+
+
+def _check_gif(args: argparse.Namespace) -> None:
+    """``--gif``: one race with frames (not ``--races``, not your keys), and imageio at hand, before the race."""
+    if args.races:
+        raise ValueError("--gif: a GIF shows one race; drop --races (N races without frames) or --gif")
+    if args.human is not None:
+        raise ValueError("--gif: not for a race you drive (--human); drop --gif or --human")
+    try:
+        import imageio  # noqa: F401
+    except ImportError:
+        raise ValueError("--gif: needs imageio: pip install 'babyrobot_marl[video]'") from None
 
 
 def robot_policy(env: RaceEnv, i: int, name: str, seed: int) -> Any:
