@@ -247,3 +247,38 @@ def test_a_policy_trained_for_own_goals_is_refused_for_the_exit_race(exit_policy
     code, out, err = cli(capsys, "race", "--level", "maze-8x8", "--robots", "2", "--policies", exit_policy)
     assert code == 2 and "was trained for own targets (--goals own), not for the race to the exits" in err
     assert "pass --goals own" in err
+
+
+def test_the_level_a_saved_policy_asks_for_runs(exit_policy, capsys):
+    code, _, err = cli(capsys, "race", "--level", "maze-16x16", "--robots", "2", "--policies", exit_policy)
+    assert code == 2 and "(pass --level maze-8x8)" in err, err
+    code, _, err = cli(capsys, "race", "--level", "maze-8x8", "--robots", "2", "--policies", exit_policy, "--seed", "0")
+    assert code == 0, err
+
+
+TRAIN = ["train", "--level", "maze-8x8", "--robots", "2", "--steps", "10", "--episodes", "2", "--no-progress"]
+
+
+def test_the_race_a_local_policy_is_watched_with_runs(capsys, tmp_path):
+    saved = str(tmp_path / "local.pt")
+    argv = [*TRAIN, "--observe", "local", "--save", saved]
+    code, _, err = cli(capsys, *argv, "--gif", str(tmp_path / "x.gif"))
+    command = recommended(err)
+    assert code == 2 and "train without it" in err and command and command[-2:] == ["--policies", saved], err
+    code, _, err = cli(capsys, *argv)  # without --gif, as the error says
+    assert code == 0, err
+    code, out, err = cli(capsys, *command, "--seed", "0")
+    assert code == 0 and "race on maze-8x8, 2 robots" in out, err
+
+
+@pytest.mark.parametrize(("argv", "advice", "fixed"), [
+    (["train", "--level", "maze:8..10", "--robots", "2", "--steps", "10", "--episodes", "2", "--no-progress"],
+     "pass --observe local", ["--observe", "local"]),
+    (["train", "--level", "maze-8x8", "--steps", "10", "--episodes", "2", "--no-progress", "--collisions", "soft"],
+     "drop --collisions or race --robots 2 or more", ["--robots", "2"]),
+], ids=["a level family", "collisions of a lone robot"])
+def test_the_fix_a_train_error_recommends_runs(argv, advice, fixed, capsys):
+    code, _, err = cli(capsys, *argv)
+    assert code == 2 and advice in err, err
+    code, _, err = cli(capsys, *argv, *fixed)
+    assert code == 0, err
