@@ -295,3 +295,16 @@ def check_play_flags(args: argparse.Namespace) -> None:
         raise ValueError(f"--collisions: a lone robot (--robots 1) meets nobody; drop --collisions or play among "
                          f"--robots 2 or more with --goals own (--collisions {args.collisions})")
     check_policy_goals([args.policy], args.goals, "--policy")
+
+
+def check_race_gif(args: argparse.Namespace) -> None:
+    """``--gif``: one race with frames (not ``--races``, not your keys), and imageio at hand, before the race."""
+    if args.races:
+        raise ValueError("--gif: a GIF shows one race; drop --races (N races without frames) or --gif")
+    if args.human is not None:
+        raise ValueError("--gif: not for a race you drive (--human); drop --gif or --human")
+    try:
+        import imageio  # noqa: F401
+    except ImportError:
+        raise ValueError("--gif: needs imageio: pip install 'babyrobot_marl[video]'") from None
+

@@ -13,7 +13,7 @@ from ..render.ansi import robot_glyph
 from .checks import policies_form
 from .common import display_of
 from .levels import level_label
-from .race import RobotResult, _race_frames, _results_table, robot_policy
+from .race import RobotResult, race_frames, results_table, robot_policy
 
 OTHERS = "shortest"  # the policy of the robots besides yours
 
@@ -32,7 +32,7 @@ def play_own_goal(args: argparse.Namespace, level: Level, seed: int, out: TextIO
 
         race_keys(env, policies, 0, seed, results, display.delay, display.colour, out, human_flag=False)
     else:
-        frames = _race_frames(env, policies, results, seed, display.colour)
+        frames = race_frames(env, policies, results, seed, display.colour)
         if display.clear:
             from ..play.watch import watch_race
 
@@ -43,7 +43,7 @@ def play_own_goal(args: argparse.Namespace, level: Level, seed: int, out: TextIO
             animate(frames, display, out)
             out.write("\n".join(legend(names, level=env.level, goals="own", lifelong=args.lifelong)) + "\n")
     if args.robots > 1:
-        out.write(f"\n{_results_table(results, 'own', args.lifelong)}\n")
+        out.write(f"\n{results_table(results, 'own', args.lifelong)}\n")
     out.write(f"\nlevel {level_label(level, args.level)}, policy {args.policy}, seed {seed}: {_outcome(env, results[0])}\n")
     return 0
 

@@ -19,6 +19,7 @@ from ..training.policy import make_policy
 from .checks import (
     check_goal_flags,
     check_policy_goals,
+    check_race_gif,
     non_negative_int,
     output_path,
     policies_form,
@@ -80,7 +81,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=run)
 
 
-def _race_frames(env: RaceEnv, robot_policies: list, results: list[RobotResult], seed: int, colour: bool,
+def race_frames(env: RaceEnv, robot_policies: list, results: list[RobotResult], seed: int, colour: bool,
                  pictures: list | None = None) -> Iterator[str]:
     """Run one race, yielding a frame after the reset and after every step (``pictures``: also each one's
     ``rgb_array`` picture, appended, for an env made with that render mode)."""
@@ -132,7 +133,7 @@ def _fill_goals(env: RaceEnv, results: list[RobotResult]) -> None:
         r.target, r.reached = str(env.goals[agent]), reached
 
 
-def _results_table(results: list[RobotResult], goals: str = "exit", lifelong: bool = False) -> str:
+def results_table(results: list[RobotResult], goals: str = "exit", lifelong: bool = False) -> str:
     """One row per robot: its rank, steps, return and collisions; with own goals its target and whether it
     reached it (``lifelong``: how many targets it reached, in robot order, no ranks)."""
     if lifelong:
@@ -165,7 +166,7 @@ def run(args: argparse.Namespace, out: TextIO) -> int:
     form = policies_form(args.policies)  # the observations the saved policies read
     goals = {"goals": args.goals, "lifelong": args.lifelong}
     if args.gif:
-        _check_gif(args)
+        check_race_gif(args)
     # The env checks the robots against the level's starts and free cells before anything per robot exists
     env = RaceEnv(level=level, n_robots=args.robots, collisions=args.collisions, start=args.start,
                   max_cycles=args.max_cycles, render_mode="rgb_array" if args.gif else None, **goals, **form)
@@ -187,7 +188,7 @@ def run(args: argparse.Namespace, out: TextIO) -> int:
     results = [RobotResult(robot_glyph(i, args.robots) + f" {agent}", names[i]) for i, agent in enumerate(env.possible_agents)]
     display = display_of(args, out)
     pictures: list | None = [] if args.gif else None
-    frames = _race_frames(env, robot_policies, results, seed, display.colour, pictures)
+    frames = race_frames(env, robot_policies, results, seed, display.colour, pictures)
     if args.human is not None:  # babyrobot_marl.play: your keys for one robot; a paced, legended race on a terminal
         from ..play.terminal import race_keys
 
@@ -205,7 +206,7 @@ def run(args: argparse.Namespace, out: TextIO) -> int:
     task = {"exit": "", "own": ", own goals"}[args.goals] + (", lifelong" if args.lifelong else "")
     out.write(
         f"\nrace on {name}, {args.robots} robots, collisions {args.collisions}{task}, seed {seed}, "
-        f"{env.elapsed_steps} steps\n\n{_results_table(results, args.goals, args.lifelong)}\n"
+        f"{env.elapsed_steps} steps\n\n{results_table(results, args.goals, args.lifelong)}\n"
     )
     if args.lifelong:  # POGEMA's lifelong measure
         reached = sum(env.goals_reached)
@@ -216,18 +217,6 @@ def run(args: argparse.Namespace, out: TextIO) -> int:
 
         out.write(f"GIF of the race ({len(pictures)} pictures): {save_gif(pictures, args.gif)}\n")
     return 0
-
-
-def _check_gif(args: argparse.Namespace) -> None:
-    """``--gif``: one race with frames (not ``--races``, not your keys), and imageio at hand, before the race."""
-    if args.races:
-        raise ValueError("--gif: a GIF shows one race; drop --races (N races without frames) or --gif")
-    if args.human is not None:
-        raise ValueError("--gif: not for a race you drive (--human); drop --gif or --human")
-    try:
-        import imageio  # noqa: F401
-    except ImportError:
-        raise ValueError("--gif: needs imageio: pip install 'babyrobot_marl[video]'") from None
 
 
 def robot_policy(env: RaceEnv, i: int, name: str, seed: int) -> Any:
