@@ -263,12 +263,12 @@ GOAL_TASKS = {"exit": "the race to the exits (--goals exit)", "own": "own target
 
 
 def trained_goals(path: str) -> str:
-    """What the saved policy at ``path`` was trained for: ``"own"`` when its file records own goals (in its
-    observation form or beside it), else ``"exit"``, the race to the exits."""
+    """What the saved policy at ``path`` was trained for: ``"own"`` when its file records own goals (in the
+    observation form it reads, or the env settings it trained under), else ``"exit"``, the race to the exits."""
     from ..training.policy import load_checkpoint
 
     data = load_checkpoint(path)
-    for where in (data.get("observation"), data):
+    for where in (data.get("observation"), data.get("env")):
         if isinstance(where, dict) and where.get("goals") in GOAL_TASKS:
             return where["goals"]
     return "exit"

@@ -22,7 +22,7 @@ def play_own_goal(args: argparse.Namespace, level: Level, seed: int, out: TextIO
     """Play one episode of ``args`` (``--goals own``) on ``level``; robot_0 follows ``--policy``."""
     form = policies_form([args.policy]) if args.policy != "keys" else {}  # the observations a saved policy reads
     env = RaceEnv(level=level, n_robots=args.robots, collisions=args.collisions, start="fill", max_cycles=args.max_steps,
-                  goals="own", lifelong=args.lifelong, **form)
+                  **{**form, "goals": "own", "lifelong": args.lifelong})
     names = [args.policy] + [OTHERS] * (args.robots - 1)
     policies = [None if name == "keys" else robot_policy(env, i, name, seed) for i, name in enumerate(names)]
     results = [RobotResult(robot_glyph(i, args.robots) + f" {agent}", names[i]) for i, agent in enumerate(env.possible_agents)]

@@ -169,7 +169,7 @@ def run(args: argparse.Namespace, out: TextIO) -> int:
         check_race_gif(args)
     # The env checks the robots against the level's starts and free cells before anything per robot exists
     env = RaceEnv(level=level, n_robots=args.robots, collisions=args.collisions, start=args.start,
-                  max_cycles=args.max_cycles, render_mode="rgb_array" if args.gif else None, **goals, **form)
+                  max_cycles=args.max_cycles, render_mode="rgb_array" if args.gif else None, **{**form, **goals})
     names = args.policies * args.robots if len(args.policies) == 1 else args.policies
     seed = fresh_seed() if args.seed is None else args.seed
     if args.races:  # experiments: the metrics table of N races (babyrobot_marl.experiments)
@@ -177,7 +177,7 @@ def run(args: argparse.Namespace, out: TextIO) -> int:
             raise ValueError("--human: you drive one race with frames; drop --races (N races without frames) or --human")
         from ..experiments.races import run_races
 
-        kw = {"collisions": args.collisions, "start": args.start, "max_cycles": args.max_cycles, **goals, **form}
+        kw = {"collisions": args.collisions, "start": args.start, "max_cycles": args.max_cycles, **form, **goals}
         out.write(f"{run_races(level, _race_policies(names, env), args.races, seed, **kw).table()}\nseed {seed}\n")
         return 0
     if family:  # the scripted robots plan on the level this seed draws (the race below resets with it again)
