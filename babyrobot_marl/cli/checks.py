@@ -242,12 +242,73 @@ def check_train_args(args: argparse.Namespace, n_envs: int, family: bool = False
 _RACE_FLAGS = {"n_robots": "--robots", "level": "--level", "collisions": "--collisions"}
 
 
-def check_race_flags(level: str, robots: int, collisions: str) -> None:
-    """The race's own checks (robots that fit on the level, the level itself) before any episode, naming the flags."""
+def check_race_flags(level: str, robots: int, collisions: str, goals: str = "exit", lifelong: bool = False) -> None:
+    """The race's own checks (robots that fit on the level, the level itself, the goals it can have) before any
+    episode, naming the flags."""
     from ..envs.race import RaceEnv
 
     try:
-        RaceEnv(level=level, n_robots=robots, collisions=collisions, start="random", observe="nearest", k=1)
+        RaceEnv(level=level, n_robots=robots, collisions=collisions, start="random", observe="nearest", k=1, goals=goals,
+                lifelong=lifelong)
     except ValueError as err:
         name, _, rest = str(err).partition(":")
+        rest = rest.replace(" on level '',", " on this --level,")  # a grid map has no name
         raise ValueError(f"{_RACE_FLAGS[name]}:{rest}" if name in _RACE_FLAGS else str(err)) from None
+
+
+def check_goal_flags(goals: str, lifelong: bool) -> None:
+    """``--lifelong`` needs ``--goals own``: new targets replace reached ones."""
+    if lifelong and goals != "own":
+        raise ValueError("--lifelong: new targets replace reached ones, so it needs --goals own")
+
+
+# what a run's robots go for, by --goals: how an error names a saved policy's task and this run's
+GOAL_TASKS = {"exit": "the race to the exits (--goals exit)", "own": "own targets (--goals own)"}
+
+
+def trained_goals(path: str) -> str:
+    """What the saved policy at ``path`` was trained for: ``"own"`` when its file records own goals (in the
+    observation form it reads, or the env settings it trained under), else ``"exit"``, the race to the exits."""
+    from ..training.policy import load_checkpoint
+
+    data = load_checkpoint(path)
+    for where in (data.get("observation"), data.get("env")):
+        if isinstance(where, dict) and where.get("goals") in GOAL_TASKS:
+            return where["goals"]
+    return "exit"
+
+
+def check_policy_goals(names: list[str], goals: str, flag: str) -> None:
+    """Each saved policy among ``names`` was trained for ``goals`` (the robots' task changes what they read and do)."""
+    for name in dict.fromkeys(names):
+        if name in (*policies.POLICY_NAMES, "keys"):  # scripted, or you: any task
+            continue
+        trained = trained_goals(name)
+        if trained != goals:
+            raise ValueError(f"{flag}: {name} was trained for {GOAL_TASKS[trained]}, not for {GOAL_TASKS[goals]}; "
+                             f"pass --goals {trained}, or a policy trained with --goals {goals}")
+
+
+def check_play_flags(args: argparse.Namespace) -> None:
+    """``play``'s checks across flags: other robots and their collision rule only come with own goals."""
+    check_goal_flags(args.goals, args.lifelong)
+    if args.goals != "own" and args.robots > 1:
+        raise ValueError(f"--robots: play drives one robot to the exit; other robots come with --goals own (or watch "
+                         f"a race: babyrobot-marl race --robots {args.robots})")
+    if args.collisions is not None and args.robots == 1:
+        raise ValueError(f"--collisions: a lone robot (--robots 1) meets nobody; drop --collisions or play among "
+                         f"--robots 2 or more with --goals own (--collisions {args.collisions})")
+    check_policy_goals([args.policy], args.goals, "--policy")
+
+
+def check_race_gif(args: argparse.Namespace) -> None:
+    """``--gif``: one race with frames (not ``--races``, not your keys), and imageio at hand, before the race."""
+    if args.races:
+        raise ValueError("--gif: a GIF shows one race; drop --races (N races without frames) or --gif")
+    if args.human is not None:
+        raise ValueError("--gif: not for a race you drive (--human); drop --gif or --human")
+    try:
+        import imageio  # noqa: F401
+    except ImportError:
+        raise ValueError("--gif: needs imageio: pip install 'babyrobot_marl[video]'") from None
+

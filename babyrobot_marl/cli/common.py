@@ -8,6 +8,7 @@ import os
 import re
 from typing import NoReturn, TextIO
 
+from ..core.goals import GOAL_MODES
 from ..play.screen import DEFAULT_DELAY, Display, isatty
 from .checks import SEED_HELP, level_spec, positive_int, seconds, seed_int
 
@@ -48,7 +49,7 @@ FLAGS = {
     "n_robots": "--robots", "max_cycles": "--max-cycles", "max_steps": "--max-steps", "view_radius": "--view-radius",
     "near_radius": "--near-radius", "collisions": "--collisions", "start": "--start", "observe": "--observe",
     "hint": "--hint", "memory": "--memory", "recurrent": "--recurrent", "hidden": "--hidden", "seed": "--seed",
-    "level": "--level",
+    "level": "--level", "goals": "--goals", "lifelong": "--lifelong",
 }
 # the flag that names a policy, by command (a saved policy's errors start "policy:"); `levels` takes a NAME
 POLICY_FLAGS = {"play": "--policy", "race": "--policies", "evaluate": "POLICY", "train": "--load"}
@@ -90,6 +91,16 @@ def add_level_arg(p: argparse.ArgumentParser, default: str = "default", family: 
         help=f"a built-in level (see '{PROG} levels'), maze-WxH[-sSEED], the path of a level text file or of a "
         f"MovingAI .map file, a grid map (rows of '.' and '#'; it has no exit), or maze:A..B: {family} (default: {default})",
     )
+
+
+def add_goal_args(p: argparse.ArgumentParser, what: str = "race") -> None:
+    """``--goals`` and ``--lifelong``; ``what`` names the command's run in their help (a race, an episode)."""
+    p.add_argument("--goals", choices=GOAL_MODES, default="exit",
+                   help=f"exit: the robots {what} to the level's exits (default); own: each robot has its own target cell "
+                   "(drawn from --seed, free, distinct, reachable; the exits are floor), POGEMA's task")
+    p.add_argument("--lifelong", action="store_true",
+                   help="with --goals own: a robot on its target gets a new one and keeps going until the step limit "
+                   "(POGEMA's lifelong task: throughput, targets reached per step)")
 
 
 def add_seed_arg(p: argparse.ArgumentParser) -> None:

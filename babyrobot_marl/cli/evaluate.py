@@ -6,11 +6,20 @@ from __future__ import annotations
 import argparse
 from typing import Any, TextIO
 
-from ..core.goals import GOAL_MODES
 from ..core.rules import COLLISION_MODES
 from ..policies import POLICY_NAMES
-from .checks import SEED_HELP, check_race_flags, crowd_policy, int_in, output_path, positive_int, seed_int
-from .common import add_level_arg
+from .checks import (
+    SEED_HELP,
+    check_goal_flags,
+    check_policy_goals,
+    check_race_flags,
+    crowd_policy,
+    int_in,
+    output_path,
+    positive_int,
+    seed_int,
+)
+from .common import add_goal_args, add_level_arg
 
 MAX_EPISODES = 100_000  # episodes of one run, each kept for the metrics
 
@@ -32,13 +41,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                    help="seeded episodes per crowd (default: 200)")
     p.add_argument("--seed", type=seed_int, default=0, metavar="N",
                    help=f"episode i resets with seed N + i, {SEED_HELP} (default: 0)")
-    p.add_argument("--collisions", choices=COLLISION_MODES, default="block", help="collision rule (default: block)")
-    p.add_argument("--goals", choices=GOAL_MODES, default="exit",
-                   help="exit: the robots race to the exits (default); own: each robot has its own target cell, drawn "
-                   "at each episode's start (the exits are floor)")
-    p.add_argument("--lifelong", action="store_true",
-                   help="with --goals own: a robot on its target gets a new one and keeps going; adds throughput "
-                   "(targets reached per step)")
+    p.add_argument("--collisions", choices=COLLISION_MODES, default="block",
+                   help="collision rule; soft: POGEMA's (default: block)")
+    add_goal_args(p)
     p.add_argument("--plot", type=output_path, default=None, metavar="PATH",
                    help="also draw the metrics with their intervals to this PNG image (matplotlib: the plot extra)")
     p.add_argument("--greedy", action="store_true",
@@ -50,12 +55,12 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace, out: TextIO) -> int:
     from ..experiments.evaluate import evaluate
 
-    if args.lifelong and args.goals != "own":
-        raise ValueError("--lifelong: new targets replace reached ones, so it needs --goals own")
+    check_goal_flags(args.goals, args.lifelong)
+    check_policy_goals([args.policy], args.goals, "POLICY")  # what a saved policy was trained for
+    check_race_flags(args.level, args.robots, args.collisions, args.goals, args.lifelong)
     if args.plot:  # before the episodes: a missing matplotlib is known now
         _matplotlib()
     policy, form = _policy(args.policy, args.greedy, args.seed)
-    check_race_flags(args.level, args.robots, args.collisions)
     ev = evaluate(policy, level=args.level, n_robots=args.robots, episodes=args.episodes, seed=args.seed,
                   collisions=args.collisions, policy_env=form, goals=args.goals, lifelong=args.lifelong)
     out.write(ev.table() + "\n")

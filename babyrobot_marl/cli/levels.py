@@ -23,6 +23,14 @@ def level_of(spec: str, seed: int | None) -> Level:
     return family(new_generator(seed))
 
 
+def level_label(level: Level, spec: str) -> str:
+    """How a summary names the level of ``--level spec``: its name, else the spec when it is one short line
+    (a file's path), else "a grid map" (the rows given on the command line)."""
+    if level.name:
+        return level.name
+    return spec if "\n" not in spec and len(spec) <= 80 else f"a {level.width}x{level.height} grid map"
+
+
 def add_parser(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "levels",

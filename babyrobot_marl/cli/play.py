@@ -1,4 +1,5 @@
-"""``babyrobot-marl play``: one robot plays one episode in the terminal (a scripted or saved policy, or your keys)."""
+"""``babyrobot-marl play``: one robot plays one episode in the terminal (a scripted or saved policy, or your keys):
+to the exit, or with ``--goals own`` to its own target (``--robots N``: among shortest-path robots going to theirs)."""
 
 from __future__ import annotations
 
@@ -9,12 +10,13 @@ from typing import TextIO
 
 from ..core.actions import Action
 from ..core.outcomes import OUTCOME_NAMES
+from ..core.rules import COLLISION_MODES
 from ..envs.single import BabyRobotEnv
 from ..play.screen import animate
 from ..render.ansi import frame, symbols
 from ..training.policy import make_policy
-from .checks import policy_spec, positive_int
-from .common import add_display_args, add_level_arg, add_seed_arg, display_of, fresh_seed
+from .checks import check_play_flags, policy_spec, positive_int
+from .common import add_display_args, add_goal_args, add_level_arg, add_seed_arg, display_of, fresh_seed
 from .levels import level_of
 
 
@@ -32,7 +34,9 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "play",
         help="watch one robot play one episode in the terminal",
-        description="Animate one episode of BabyRobot-v0 with a scripted policy, then print steps, return and outcome.",
+        description="Animate one episode of BabyRobot-v0 with a scripted policy, then print steps, return and outcome. "
+        "With --goals own the robot (robot_0 of race_v0) goes to its own target instead, alone or, with --robots N, "
+        "among shortest-path robots going to theirs under --collisions.",
     )
     add_level_arg(p)
     p.add_argument(
@@ -50,6 +54,12 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
         metavar="N",
         help="truncate after N steps (default: 4 per cell, at least 100)",
     )
+    add_goal_args(p, "go")
+    p.add_argument("--robots", type=positive_int, default=1, metavar="N",
+                   help="with --goals own: robots on the board, yours (robot_0, --policy) and N-1 shortest-path robots "
+                   "(default: 1)")
+    p.add_argument("--collisions", choices=COLLISION_MODES, default=None,
+                   help="with --robots 2 or more: the collision rule; soft: POGEMA's (default: block)")
     add_display_args(p)
     p.set_defaults(func=run)
 
@@ -73,8 +83,13 @@ def _episode_frames(env: BabyRobotEnv, policy: Callable, summary: EpisodeSummary
 
 
 def run(args: argparse.Namespace, out: TextIO) -> int:
+    check_play_flags(args)
     seed = fresh_seed() if args.seed is None else args.seed
     level = level_of(args.level, seed)  # maze:A..B: the maze the seed draws
+    if args.goals == "own":  # a race of robot_0 (and shortest-path robots) to their own targets
+        from .play_goals import play_own_goal
+
+        return play_own_goal(args, level, seed, out)
     env = BabyRobotEnv(level=level, max_steps=args.max_steps)
     if args.policy == "keys":  # the keyboard game: babyrobot_marl.play.terminal
         from ..play.terminal import play_keys

@@ -11,6 +11,9 @@ mean steps to finish (finishers only), mean return, and mean steps blocked by ot
 Per race: makespan (steps until the last robot finished; the race's length when some did not),
 sum of costs (each robot's steps until it finished, or the race's length), collisions (steps in
 which some robot was stopped by another), and the rate of races every robot finished.
+With ``goals="own"`` a robot finishes on its own target and ``"shortest"`` walks to it
+(``OwnGoalRobot``); with ``lifelong=True`` the table counts each robot's targets reached and the
+races' throughput (targets reached per step) instead.
 
 Intervals are 95%: Wilson score intervals for rates, mean +- 1.96 standard errors for means
 (normal approximation: read them as rough below some 30 races), truncated at the range the
@@ -27,10 +30,10 @@ beside the shortest-path and random robots on the same seeded episodes (mazes fr
 """
 
 from .evaluate import Episode, Evaluation, crowd_metrics, evaluate
-from .races import Policy, RaceRecord, RaceStats, run_races, summary
+from .races import OwnGoalRobot, Policy, RaceRecord, RaceStats, run_races, summary
 from .stats import Z95, Metric, mean_interval, wilson
 
 __all__ = [
-    "Z95", "Episode", "Evaluation", "Metric", "Policy", "RaceRecord", "RaceStats", "crowd_metrics", "evaluate", "mean_interval",
-    "run_races", "summary", "wilson",
+    "Z95", "Episode", "Evaluation", "Metric", "OwnGoalRobot", "Policy", "RaceRecord", "RaceStats", "crowd_metrics", "evaluate",
+    "mean_interval", "run_races", "summary", "wilson",
 ]

@@ -12,6 +12,7 @@ from .. import policies as policy_module
 from ..core.checks import check_int
 from ..core.level import Level
 from ..envs.race import RaceEnv
+from ..envs.race_goals import towards_own_goal
 from .stats import Metric, mean_metric, rate_metric
 
 Policy = Callable[[np.ndarray], int]
@@ -28,6 +29,7 @@ class RaceRecord:
     returns: list[float]
     blocked: list[int]
     collisions: int
+    goals_reached: list[int] = field(default_factory=list)  # own goals: the targets each robot reached
 
 
 @dataclass
@@ -37,6 +39,7 @@ class RaceStats:
     level: str
     policies: list[str]
     records: list[RaceRecord]
+    lifelong: bool = False  # own goals renewed on reaching them: targets reached and throughput count
     robots: list[dict[str, Any]] = field(init=False)
     race: dict[str, Metric] = field(init=False)
 
@@ -64,6 +67,7 @@ class RaceStats:
             "steps to finish": mean_metric([r.finish_steps[k] for r in finished], 1),
             "return": mean_metric([r.returns[k] for r in recs]),  # any sign: the rules set the rewards
             "blocked steps": mean_metric([r.blocked[k] for r in recs], 0),
+            **({"targets reached": mean_metric([r.goals_reached[k] for r in recs], 0)} if self.lifelong else {}),
         }
 
     def _race(self) -> dict[str, Metric]:
@@ -75,11 +79,15 @@ class RaceStats:
             "sum of costs": mean_metric(costs, 0),
             "collisions": mean_metric([r.collisions for r in recs], 0),
             "all finished": rate_metric(sum(1 for r in recs if all(r.finish_steps)), len(recs)),
+            # POGEMA's lifelong measure: targets reached per step, all robots together
+            **({"throughput": mean_metric([sum(r.goals_reached) / r.steps for r in recs], 0)} if self.lifelong else {}),
         }
 
     def table(self) -> str:
         """Per-robot rows, then the per-race figures: ``value [95% interval]``."""
         cols = ["robot", "policy", "win rate", "tie rate", "finish rate", "mean rank", "steps to finish", "blocked steps"]
+        if self.lifelong:  # nobody finishes: each reached target brings a new one
+            cols = ["robot", "policy", "targets reached", "blocked steps"]
         rows = [cols] + [[str(r[c]) for c in cols] for r in self.robots]
         widths = [max(len(row[i]) for row in rows) for i in range(len(cols))]
         lines = [f"{self.n_races} races on {self.level}, 95% intervals in brackets"]
@@ -131,7 +139,7 @@ def run_races(
     env = RaceEnv(level=level, n_robots=len(policies), **env_kwargs)
     names = [p if isinstance(p, str) else getattr(p, "name", getattr(p, "__name__", type(p).__name__)) for p in policies]
     records = [_one_race(env, policies, seed, i) for i in range(n_races)]
-    return RaceStats(_level_name(level, env), names, records)
+    return RaceStats(_level_name(level, env), names, records, env.lifelong)
 
 
 def _level_name(level: Any, env: RaceEnv) -> str:
@@ -140,6 +148,20 @@ def _level_name(level: Any, env: RaceEnv) -> str:
     if isinstance(level, (str, Level)):
         return env.level.name or "custom level"
     return getattr(level, "family", "drawn levels")
+
+
+class OwnGoalRobot:
+    """Robot ``k``'s shortest-path robot with own goals: the first step of a shortest path to its own target,
+    read from the race itself, so it plays with any observation form (a copy of the race and this robot taken
+    together, as ``copy.deepcopy`` takes them, plays on the copy)."""
+
+    name = "shortest"
+
+    def __init__(self, race: RaceEnv, k: int):
+        self.race, self.k = race, k
+
+    def __call__(self, obs: Any = None) -> int:
+        return towards_own_goal(self.race, self.k)
 
 
 def bound_policy(policy: Policy, env: RaceEnv) -> Policy:
@@ -153,9 +175,11 @@ def _one_race(env: RaceEnv, policies: Sequence[str | Policy], seed: int, i: int)
     obs, _ = env.reset(seed=seed + i)
     # named policies after the reset: a drawn level (level= a family) changes the table
     acting = [
-        policy_module.make(p, env.table, seed=np.random.default_rng([seed, i, k])) if isinstance(p, str) else bound_policy(p, env)
+        OwnGoalRobot(env, k) if p == "shortest" and env.goals_mode == "own"
+        else policy_module.make(p, env.table, seed=np.random.default_rng([seed, i, k])) if isinstance(p, str)
+        else bound_policy(p, env)
         for k, p in enumerate(policies)
-    ]
+    ]  # fmt: skip
     n = env.n_robots
     index = {a: k for k, a in enumerate(env.possible_agents)}
     finish = [0] * n
@@ -167,7 +191,8 @@ def _one_race(env: RaceEnv, policies: Sequence[str | Policy], seed: int, i: int)
         for a, info in infos.items():
             if info["finished"] and not finish[index[a]]:
                 finish[index[a]] = env.elapsed_steps
-    return RaceRecord(seed + i, env.elapsed_steps, env.ranks, finish, env.returns, env.collisions_count, collisions)
+    return RaceRecord(seed + i, env.elapsed_steps, env.ranks, finish, env.returns, env.collisions_count, collisions,
+                      env.goals_reached)
 
 
 def summary(stats: RaceStats) -> Mapping[str, Any]:

@@ -249,6 +249,7 @@ class RaceGame:
         you = f"you: {self.glyph(self.driven)} (robot_{self.driven})"
         lines = [f"step {env.elapsed_steps}/{env.max_cycles}  {you}" + (f"  last: {self.last}" if self.last else ""),
                  f"returns: {rets}"]  # fmt: skip
+        lines += self._goal_lines()
         done = [(r, i) for i, r in enumerate(env.ranks) if r]
         if done:
             lines.append("finished: " + "  ".join(f"{self.glyph(i)} {ordinal(r)}" for r, i in sorted(done)))
@@ -256,6 +257,17 @@ class RaceGame:
             lines.append(f"the race is over. {self.over_hint}")
         if self.message:
             lines.append(self.message)
+        return lines
+
+
+    def _goal_lines(self) -> list[str]:
+        """Own goals: your robot's target, and under lifelong the targets each robot has reached."""
+        env = self.env
+        if env.goals is None:
+            return []
+        lines = [f"your target: {env.goals[env.possible_agents[self.driven]]}"] if self.driven_racing else []
+        if env.lifelong:
+            lines.append("targets reached: " + "  ".join(f"{self.glyph(i)} {k}" for i, k in enumerate(env.goals_reached)))
         return lines
 
 

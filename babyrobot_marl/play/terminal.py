@@ -26,11 +26,13 @@ from .game import RaceGame, SingleGame
 from .screen import CLEAR_SCREEN, HIDE_CURSOR, SHOW_CURSOR, draw
 from .watch import schedule, settled_step
 
+WATCH_ONE = "give --policy shortest"  # play's advice without a terminal
 ESC_WAIT = 0.05  # seconds to wait for the rest of an escape sequence cut between two reads
 
 
-def require_terminal(stdin: Any, stdout: Any, what: str) -> int:
-    """The file descriptor of ``stdin`` if both ends are a terminal, else a ValueError saying so."""
+def require_terminal(stdin: Any, stdout: Any, what: str, instead: str) -> int:
+    """The file descriptor of ``stdin`` if both ends are a terminal, else a ValueError saying so and what to do
+    ``instead`` to watch scripted robots."""
     try:
         ok = stdin.isatty() and stdout.isatty()
         fd = stdin.fileno()
@@ -39,7 +41,7 @@ def require_terminal(stdin: Any, stdout: Any, what: str) -> int:
     if not ok:
         raise ValueError(
             f"{what}: the keyboard game needs an interactive terminal, and stdin or stdout is not one "
-            "(run it in a terminal; to watch scripted robots, leave out --human)"
+            f"(run it in a terminal; to watch scripted robots, {instead})"
         )
     try:
         import termios  # noqa: F401  (POSIX only)
@@ -147,7 +149,7 @@ def single_screen(game: SingleGame, title: str, colour: bool) -> str:
 
 def play_keys(env: BabyRobotEnv, seed: int, name: str, colour: bool, out: TextIO = sys.stdout, stdin: Any = None) -> int:
     """``babyrobot-marl play --policy keys``: drive the robot until ``q``; then the last episode's summary."""
-    fd = require_terminal(stdin or sys.stdin, out, "policy keys")
+    fd = require_terminal(stdin or sys.stdin, out, "--policy keys", WATCH_ONE)
     game = SingleGame(env, seed)
     with Keyboard(fd, out) as kb:
         title = lambda: f"Baby Robot on {name}, seed {seed}, episode {game.episode}"  # noqa: E731
@@ -185,6 +187,7 @@ def race_keys(
     colour: bool,
     out: TextIO = sys.stdout,
     stdin: Any = None,
+    human_flag: bool = True,
 ) -> int:
     """``babyrobot-marl race --human N``: robot N waits for your key each step, the others follow their
     policies. Once you finish (or the race ends) the rest is played out, paced as ``race`` paces it,
@@ -192,7 +195,8 @@ def race_keys(
     n = env.n_robots
     wording = "{name}: must be a robot number in 0..{hi} (robot_0 ... robot_{hi}), got {value}"
     human = check_int(human, "--human", 0, n - 1, message=wording)
-    fd = require_terminal(stdin or sys.stdin, out, "race --human")
+    what = "race --human" if human_flag else "--policy keys"  # play --policy keys --goals own: robot_0 of a race
+    fd = require_terminal(stdin or sys.stdin, out, what, "leave out --human" if human_flag else WATCH_ONE)
     pols = [None if i == human else p for i, p in enumerate(robot_policies)]
     game = RaceGame(env, pols, driven=human, seed=seed, switchable=False)
     glyph = game.glyph(human)

@@ -82,9 +82,11 @@ def play_ahead(env: Any, robot_policies: Sequence[Callable], seed: int) -> tuple
     return finish, env.elapsed_steps
 
 
-def legend(names: Sequence[str], colour: bool = False, level: Any = None) -> list[str]:
+def legend(names: Sequence[str], colour: bool = False, level: Any = None, goals: str = "exit",
+           lifelong: bool = False) -> list[str]:
     """Two lines under the frame: which letter is which robot (and policy), and what the level's symbols
-    (``level``: those it uses; else the exit and puddles) and the footer say."""
+    (``level``: those it uses; else the exit and puddles) and the footer say (``goals="own"``: a robot
+    finishes on its own target; ``lifelong``: it gets a new one instead)."""
     n = len(names)
 
     def glyph(i: int) -> str:
@@ -98,7 +100,12 @@ def legend(names: Sequence[str], colour: bool = False, level: Any = None) -> lis
         robots = f"{glyph(0)}..{glyph(n - 1)} robot_0..robot_{n - 1} (" + ", ".join(f"{c} {p}" for p, c in counts.items()) + ")"
     first = robot_glyph(0, n)
     board = symbols(level) if level is not None else "E exit, p/P puddle"
-    return [f"robots: {robots}", f"{board}; footer '{first}#2': {first} finished 2nd and left the board"]
+    if lifelong:
+        return [f"robots: {robots}", f"{board}; 'targets:' each robot's target, a new one once it is reached"]
+    where = "reached its target" if goals == "own" else "finished"
+    if n == 1:
+        return [f"robots: {robots}", f"{board}; footer '{first}#1': {first} {where} and left the board"]
+    return [f"robots: {robots}", f"{board}; footer '{first}#2': {first} {where} 2nd and left the board"]
 
 
 def watch_race(
@@ -121,7 +128,7 @@ def watch_race(
     finish, n_steps = play_ahead(env, robot_policies, seed)
     plan = schedule(finish, n_steps, delay)
     end = len(plan)
-    foot = legend(names, colour, env.level)
+    foot = legend(names, colour, env.level, env.goals_mode, env.lifelong)
     it = iter(frames)
     out.write(HIDE_CURSOR + CLEAR_SCREEN)
     try:
