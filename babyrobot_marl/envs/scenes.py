@@ -63,7 +63,16 @@ def race_scene(env: Any) -> Scene:
         _value(LegendRow, i, names.get(i, ""), live_returns.get(i, env._returns[i]), env._rank[i], racing[i]) for i in range(n)
     )
     corner = env.drawing.overlay.has_cells
-    return Scene(tuple(views), tuple(marks), legend, done=not env.agents, corner=corner)
+    return Scene(tuple(views), tuple(marks), legend, done=not env.agents, corner=corner, goals=own_goals(env))
+
+
+def own_goals(env: Any) -> tuple[tuple[int, tuple[int, int]], ...]:
+    """``Scene.goals``: each racing robot's own target ``(number, (x, y))`` (``goals="own"``), else none."""
+    goal_of = getattr(env, "_goal_of", None)
+    if goal_of is None:
+        return ()
+    xy = env._xy
+    return tuple((i, xy[g]) for i, (g, on) in enumerate(zip(goal_of, env._racing)) if on)
 
 
 _VALUES: list[dict[tuple, Any]] = [{}, {}]  # views and legend rows by content, this generation's and the last's

@@ -36,7 +36,7 @@ from .crowd import CellBlocks
 from .memo import ENTRY_BYTES, MB, ByteCache
 from .overlay import Overlay
 from .paint import Patch, blend, paint, patch, to_uint8
-from .palette import THEMES, Theme, resolve_theme
+from .palette import THEMES, Theme, resolve_theme, robot_colour
 from .panel import LEGEND_ROWS, legend_row_section, metrics, panel_sections
 from .picture import feature_ops, floor_ops, label_band, label_ops, level_ops
 from .scene import (
@@ -52,7 +52,7 @@ from .scene import (
     robot_sprites,
 )
 from .shapes import Op, Text
-from .sprites import burst
+from .sprites import burst, goal_mark
 
 __all__ = ["MAX_CELL_SIZE", "MAX_FRAME_PIXELS", "MIN_CELL_SIZE", "THEMES", "RgbRenderer", "Theme", "resolve_theme"]
 
@@ -92,6 +92,7 @@ class RgbRenderer(CellBlocks):
         self._blocks_static: np.ndarray | None = None  # by content, on this static image
         self._placed: ByteCache[tuple] = ByteCache(PLACED_BYTES, _placed_bytes)  # placed robots' sprites, patches, cells
         self._checked: tuple | None = None
+        self._goal_layer: tuple = (None, (), None)  # the last static image with targets: its cells, targets, image
         self._legend_y: int | None = None  # the first legend row's top, from the panel's
         self._base_img: np.ndarray | None = None  # the last frame without robots, its panel strips, its key
         self._base_strips: list[np.ndarray] = []
@@ -109,7 +110,7 @@ class RgbRenderer(CellBlocks):
         frames for smooth GIFs, as the live canvas glides)."""
         scene = as_scene(robots)
         self.check_frame(overlay, scene)
-        static = self.static(overlay)
+        static = self.static(overlay, scene.goals)
         img = self._base(static, overlay, scene).copy()
         grid = img[: static.shape[0]]
         if t >= 1.0:
@@ -238,9 +239,32 @@ class RgbRenderer(CellBlocks):
             blend(block, label, lx - ox, ly - oy)
         return self._blocks.put(key, block)
 
-    def static(self, overlay: Overlay | None) -> np.ndarray:
-        """The level with ``overlay``'s tints, arrows and numbers, and the labels (read-only; the
-        live canvas's bottom layer). The same cell parts give the same image object back."""
+    def static(self, overlay: Overlay | None, goals: tuple = ()) -> np.ndarray:
+        """The level with ``overlay``'s tints, arrows and numbers, the robots' own targets
+        (``Scene.goals``) and the labels (read-only; the live canvas's bottom layer). The same
+        cell parts and targets give the same image object back."""
+        cells = self._cells_static(overlay)
+        return self._with_goals(cells, goals) if goals else cells
+
+    def _with_goals(self, cells: np.ndarray, goals: tuple) -> np.ndarray:
+        """``cells`` with each robot's target marked in its colour, under the labels (the last kept)."""
+        kept = self._goal_layer
+        if kept[0] is cells and kept[1] == goals:
+            return kept[2]
+        img, cs = cells.copy(), self.cell_size
+        boxes = []
+        for number, (x, y) in goals:
+            p = patch(goal_mark(self.theme, robot_colour(self.theme, number), cs), (x + 0.5) * cs, (y + 0.5) * cs)
+            blend(img, p, (x + 0.5) * cs, (y + 0.5) * cs)
+            boxes.append(_box(p, (x + 0.5) * cs, (y + 0.5) * cs))
+        for ly, lx, label in self._labels_over(boxes):
+            blend(img, label, lx, ly)
+        img.setflags(write=False)
+        self._goal_layer = (cells, goals, img)
+        return img
+
+    def _cells_static(self, overlay: Overlay | None) -> np.ndarray:
+        """``static`` without the targets."""
         if overlay is self._static[0]:  # the same overlay as the last frame's (the usual case)
             return self._static[1]
         if overlay is None or not overlay.has_cells:
