@@ -70,7 +70,62 @@ def test_only_a_frames_clashing_cells_are_drawn_the_general_way():
             inside = [k for k in clash if overlap(units[k][0], rect)]
             assert inside or any(overlap(m[5], rect) for m in marks)
         lone_items = {id(e[1]) for k, u in enumerate(units) if k not in clash and not any(
-            overlap(u[0], rect) for rect, _ in calls) for e in u[2]}  # fmt: skip
+            overlap(u[0], rect) for rect, _ in calls) for e in u[2] or ()}  # fmt: skip (a tile's: none kept)
         assert not lone_items & {id(it) for _, items in calls for it in items}
         seen += 1
     assert seen > 0
+
+
+def test_a_robot_on_a_floor_cell_it_never_stood_on_is_drawn_by_a_copy():
+    """A lone robot's block is the same in every cell of the same pixels (a floor cell with the
+    same walls round it): a robot that looks the same blends once per kind of cell, not once per
+    cell, with the general way's pixels (also beside START / EXIT labels, with an overlay's
+    corner, and for a bumped robot whose stars reach the next cell)."""
+    import babyrobot_marl.render.crowd as crowd
+    import babyrobot_marl.render.rgb as rgbmod
+    from babyrobot_marl import levels
+    from babyrobot_marl.render import paint
+    from babyrobot_marl.render.overlay import Overlay
+    from babyrobot_marl.render.scene import RobotView, Scene
+
+    level = levels.get("maze-16x16")
+    real = paint.blend
+    for cs, pose, corner in ((31, "idle", False), (12, "moving", False), (48, "bumped", False), (40, "idle", True)):
+        r, ref = RgbRenderer(level, cs), RgbRenderer(level, cs)
+        overlay = Overlay(values=np.zeros((level.height, level.width))) if corner else None
+        blends: list[int] = []
+
+        def counting(*args, blends=blends):
+            blends.append(1)
+            return real(*args)
+
+        crowd.blend = rgbmod.blend = counting
+        try:
+            frames = [(cell, r.frame(Scene((RobotView(3, cell, 2, pose),), corner=corner), overlay))
+                      for cell in level.free_cells()]  # fmt: skip
+        finally:
+            crowd.blend = rgbmod.blend = real
+        static = r.static(overlay)
+        for cell, got in frames:
+            want = ref._general(static, Scene((RobotView(3, cell, 2, pose),), corner=corner))
+            assert (got[: static.shape[0]] == want).all(), (cs, pose, cell)
+        if not corner:  # (an overlay's corner at these sizes is off the quarter pixel: keyed by cell)
+            share = 2 / 3 if pose == "bumped" else 1 / 3  # a bump's stars: a block of the cells round it
+            assert len(blends) <= len(frames) * share, (cs, pose, len(blends), len(frames))
+
+
+def test_a_crowd_s_views_stay_the_same_objects_from_frame_to_frame():
+    """The scene's views and legend rows are shared by content, bounded by two generations: a
+    value used in the last frame is the same object in this one however the generations turn
+    (renderers compare them by identity), and at most two generations are kept."""
+    from babyrobot_marl.envs import scenes
+    from babyrobot_marl.render.scene import RobotView
+
+    n = scenes.GENERATION // 4  # robots that stand still, and as many that move, each frame
+    still = [scenes._value(RobotView, i, (i % 50, i // 50)) for i in range(n)]
+    for step in range(8):
+        again = [scenes._value(RobotView, i, (i % 50, i // 50)) for i in range(n)]
+        assert all(a is b for a, b in zip(still, again)), step
+        for i in range(n):  # the moving ones: new views every frame
+            scenes._value(RobotView, n + i, (step, i))
+    assert sum(map(len, scenes._VALUES)) <= 2 * scenes.GENERATION

@@ -118,3 +118,20 @@ def test_sprites_are_grouped_by_shared_cells_as_pair_by_pair(seed):
     got = sorted((rect, sorted(item[6] for item in items)) for rect, items in rgb._groups(drawn))
     assert got == reference_groups(rects)
     assert rgb._any_overlap(rects) == (len(got) < len(rects))
+
+
+@pytest.mark.parametrize("seed", range(12))
+def test_a_crowd_s_rectangles_are_grouped_as_pair_by_pair(seed):
+    """Hundreds of cells, most of one cell and a few wider (a bump's stars, a burst): the cells no
+    other rectangle reaches are set aside first, and a merged group still takes in a lone cell its
+    bounding rectangle reaches."""
+    rng = np.random.default_rng(100 + seed)
+    rects = set()
+    while len(rects) < int(rng.integers(60, 300)):
+        x, y = (int(v) for v in rng.integers(0, 24, 2))
+        w, h = (int(v) for v in rng.integers(1, 4, 2)) if rng.random() < 0.15 else (1, 1)
+        rects.add((x, y, x + w, y + h))
+    rects = sorted(rects, key=lambda r: rng.random())
+    drawn = [(None,) * 5 + (r, k) for k, r in enumerate(rects)]
+    got = sorted((rect, sorted(item[6] for item in items)) for rect, items in rgb._groups(drawn))
+    assert got == reference_groups(rects)

@@ -8,7 +8,7 @@ import numpy as np
 from ..core.level import Cell
 from ..render.ansi import frame, robot_glyph
 from ..render.scene import Scene
-from .scenes import race_scene
+from .scenes import own_goals, race_scene
 
 
 class RaceReadouts:
@@ -43,7 +43,7 @@ class RaceReadouts:
         robots: list[Cell | None] = [self._xy[c] if r else None for c, r in zip(self._cells, self._racing)]
         done = [f"{robot_glyph(i, self.n_robots)}#{r}" for i, r in enumerate(self._rank) if r]  # [] before reset
         status = f"step {self._t}/{self.max_cycles}" + (f"  finished: {' '.join(done)}" if done else "")
-        return frame(self.level, robots, status, colour=colour)
+        return frame(self.level, robots, status, colour=colour, goals=own_goals(self))
 
     @property
     def robot_cells(self) -> list[Cell]:

@@ -63,21 +63,38 @@ def race_scene(env: Any) -> Scene:
         _value(LegendRow, i, names.get(i, ""), live_returns.get(i, env._returns[i]), env._rank[i], racing[i]) for i in range(n)
     )
     corner = env.drawing.overlay.has_cells
-    return Scene(tuple(views), tuple(marks), legend, done=not env.agents, corner=corner)
+    return Scene(tuple(views), tuple(marks), legend, done=not env.agents, corner=corner, goals=own_goals(env))
 
 
-_VALUES: dict[tuple, Any] = {}  # views and legend rows by content: they come back step after step
+def own_goals(env: Any) -> tuple[tuple[int, tuple[int, int]], ...]:
+    """``Scene.goals``: each racing robot's own target ``(number, (x, y))`` (``goals="own"``), else none."""
+    goal_of = getattr(env, "_goal_of", None)
+    if goal_of is None:
+        return ()
+    xy = env._xy
+    return tuple((i, xy[g]) for i, (g, on) in enumerate(zip(goal_of, env._racing)) if on)
+
+
+_VALUES: list[dict[tuple, Any]] = [{}, {}]  # views and legend rows by content, this generation's and the last's
+GENERATION = 1 << 14  # values a generation holds: a crowd's frame (a view and a row per robot) reuses the last's
 
 
 def _value(cls: type, *fields: Any) -> Any:
     """``cls(*fields)``, the same object for the same fields (frozen values: shared safely), so a
-    frame costs no new objects where nothing changed and the renderers compare them by identity."""
+    frame costs no new objects where nothing changed and the renderers compare them by identity.
+    Bounded by two generations: a value used again moves to the new one, so the values of a
+    frame of up to ``GENERATION`` stay the same objects from frame to frame."""
     key = (cls, *fields)
-    v = _VALUES.get(key)
+    now = _VALUES[0]
+    v = now.get(key)
     if v is None:
-        if len(_VALUES) >= 1 << 14:
-            _VALUES.clear()
-        v = _VALUES[key] = cls(*fields)
+        v = _VALUES[1].get(key)
+        if v is None:
+            v = cls(*fields)
+        if len(now) >= GENERATION:
+            _VALUES[1], _VALUES[0] = now, {}
+            now = _VALUES[0]
+        now[key] = v
     return v
 
 

@@ -56,8 +56,10 @@ def symbols(level: Level, robots: str = "") -> str:
     return "key: " + ", ".join(parts)
 
 
-def frame(level: Level, robots: Sequence[Cell | None], status: str = "", colour: bool = False) -> str:
-    """The level as text with robot ``i`` drawn at ``robots[i]`` (``None``: off the board).
+def frame(level: Level, robots: Sequence[Cell | None], status: str = "", colour: bool = False,
+          goals: Sequence[tuple[int, Cell]] = ()) -> str:  # fmt: skip
+    """The level as text with robot ``i`` drawn at ``robots[i]`` (``None``: off the board), and
+    each robot's own target (``goals``: ``(i, cell)``) as its letter in lower case, under the robots.
 
     Several robots in one cell (collision mode "pass") show the lowest-numbered one.
     ``colour=True`` adds ANSI colours for a terminal.
@@ -65,6 +67,10 @@ def frame(level: Level, robots: Sequence[Cell | None], status: str = "", colour:
     text = _level_text(level)
     lines = [list(line) for line in text.split("\n")]
     n = len(robots)
+    shown = [(i, cell) for i, cell in goals if n == 1 or i < len(ROBOT_LETTERS)]
+    for i, (x, y) in shown:
+        glyph = robot_glyph(i, n).lower()
+        lines[2 * y + 1][2 * x + 1] = f"\x1b[{ROBOT_COLOURS[i % len(ROBOT_COLOURS)]}m{glyph}\x1b[0m" if colour else glyph
     for i in reversed(range(n)):
         cell = robots[i]
         if cell is None:
@@ -74,7 +80,19 @@ def frame(level: Level, robots: Sequence[Cell | None], status: str = "", colour:
             glyph = f"\x1b[1;{ROBOT_COLOURS[i % len(ROBOT_COLOURS)]}m{glyph}\x1b[0m"
         lines[2 * cell[1] + 1][2 * cell[0] + 1] = glyph
     text = "\n".join("".join(line) for line in lines)
+    if goals:
+        note = goal_key(n, len(shown) < len(goals))
+        status = f"{status}\n{note}" if status else note
     if n > len(GLYPHS):
         note = f"robots {len(GLYPHS)}..{n - 1} drawn as {MANY} (one character each is not enough; rgb_array draws their numbers)"
         status = f"{status}\n{note}" if status else note
     return f"{text}\n{status}" if status else text
+
+
+def goal_key(n_robots: int, some_unshown: bool = False) -> str:
+    """The text frame's line naming the targets' letters."""
+    if n_robots == 1:
+        return "r: the robot's target"
+    last = ROBOT_LETTERS[min(n_robots, len(ROBOT_LETTERS)) - 1]
+    key = f"a-{last.lower()}: the targets of robots A-{last} (each its robot's letter in lower case)"
+    return key + (f"; robots past {last}: targets not shown (rgb_array draws them)" if some_unshown else "")

@@ -40,10 +40,9 @@ from typing import Any
 import numpy as np
 
 from ..core.level import Cell
+from .canvas_calls import _css, _frame_bars, _rect, _send, _Styles  # noqa: F401  (_css: read as canvas._css)
 from .checks import MAX_ANIMATION_FRAMES, MAX_CELL_SIZE, MIN_CELL_SIZE, check_animation_frames, check_fps  # noqa: F401
-from .glyphs import baseline_y, css_font, origin
 from .overlay import Overlay
-from .paint import Stamp
 from .rgb import RgbRenderer
 from .scene import Scene, as_scene, glide, robot_sprites
 from .shapes import Fill, Op, Text
@@ -106,12 +105,6 @@ def fit_cell_size(level: Any) -> int:
     return int(np.clip(cs, MIN_CELL_SIZE, MAX_CELL_SIZE // PIXEL_RATIO))
 
 
-def _css(colour: Sequence[int], alpha: float = 1.0) -> str:
-    if alpha >= 1.0:
-        return f"rgb({int(colour[0])}, {int(colour[1])}, {int(colour[2])})"
-    return f"rgba({int(colour[0])}, {int(colour[1])}, {int(colour[2])}, {alpha:.3f})"
-
-
 class LiveCanvas:
     """Draws one env's level, robots and overlay on an ipycanvas ``MultiCanvas`` (``widget``).
 
@@ -143,6 +136,7 @@ class LiveCanvas:
         self.overlay = Overlay()
         self.frames_sent = 0  # hold_canvas batches sent (tests, benchmarks)
         self._static: np.ndarray | None = None  # what layer 0 shows
+        self._goals: tuple = ()  # the robots' own targets layer 0 shows (``Scene.goals``)
         self._drawn: list[tuple] | None = None  # the keys of the panel's pieces on layer 2
         self._due = 0.0  # time.monotonic() at which the next robot frame may be sent
         self._still: Still | None = None  # the still shown with the canvas (``show``)
@@ -222,6 +216,7 @@ class LiveCanvas:
         panel (the race's legend) changes with the frame that shows the robots where they end."""
         scene = as_scene(robots)
         self.renderer.check_frame(overlay or self.overlay, scene)  # the whole frame within the limit: nothing drawn else
+        self._goals = scene.goals  # the robots' own targets: on the bottom layer
         if overlay is not None:
             self.set_overlay(overlay, self.scene, top=False)
         self._sync_static()  # a replay may have left another overlay's cells there
@@ -264,6 +259,7 @@ class LiveCanvas:
         """``scene`` under ``overlay`` (a replayed one), the live overlay kept; ``force``: every layer
         again; ``layer``: that layer alone, again (0: the level, 1: the robots, 2: labels and panel)."""
         live, self.overlay = self.overlay, overlay
+        goals, self._goals = self._goals, scene.goals
         again = force or layer is not None
         try:
             if layer in (None, 0):
@@ -273,7 +269,7 @@ class LiveCanvas:
             if layer in (None, 1):
                 self._draw_robots(scene)
         finally:
-            self.overlay = live
+            self.overlay, self._goals = live, goals
 
     def set_overlay(self, overlay: Overlay, scene: Scene | None = None, top: bool = True) -> None:
         """Show ``overlay``: the bottom layer again if its cells changed, the panel if it did."""
@@ -363,13 +359,13 @@ class LiveCanvas:
 
     def _sync_static(self) -> None:
         """Layer 0 again if it does not show the overlay's cells."""
-        if self._static is None or self.hi.static(self.overlay) is not self._static:
+        if self._static is None or self.hi.static(self.overlay, self._goals) is not self._static:
             self._draw_static()
 
     def _draw_static(self, fresh: bool = False) -> None:
         """Layer 0: the level under the overlay; ``fresh``: the browser's layer may be empty (a new,
         resized or reconnected canvas), see ``put_picture``."""
-        img = self._static = self.hi.static(self.overlay)
+        img = self._static = self.hi.static(self.overlay, self._goals)
         with self._hold():
             put_picture(self.widget[0], img, fresh)
 
@@ -438,63 +434,3 @@ class LiveCanvas:
             texts = [Text(t.x + x, t.y + y, t.text, t.size, t.colour, t.align, t.baseline, t.alpha)
                      for s, x, y in sprites for t in s.texts]  # fmt: skip
             _send(layer, texts, self._styles)
-
-
-def _frame_bars(x0: int, y0: int, x1: int, y1: int, t: int) -> list[np.ndarray]:
-    from .shapes import rect
-
-    return [rect(x0, y0, x1, y0 + t), rect(x0, y1 - t, x1, y1),
-            rect(x0, y0 + t, x0 + t, y1 - t), rect(x1 - t, y0 + t, x1, y1 - t)]  # fmt: skip
-
-
-class _Styles:
-    """The font and fill style each layer was last given: setting an ipycanvas attribute costs
-    tens of microseconds (a traitlet and a command), so unchanged ones are not sent again."""
-
-    def __init__(self) -> None:
-        self.last: dict[int, tuple[str, str]] = {}
-
-    def reset(self) -> None:
-        self.last.clear()
-
-    def set(self, layer: Any, font: str, fill: str) -> None:
-        old_font, old_fill = self.last.get(id(layer), ("", ""))
-        if font != old_font:
-            layer.font = font
-            if not old_font:
-                layer.text_align, layer.text_baseline = "left", "alphabetic"
-        if fill != old_fill:
-            layer.fill_style = fill
-        self.last[id(layer)] = (font, fill)
-
-
-def _rect(x0: float, y0: float, x1: float, y1: float) -> np.ndarray:
-    from .shapes import rect
-
-    return rect(x0, y0, x1, y1)
-
-
-def _send(layer: Any, ops: Sequence[Op], styles: _Styles) -> None:
-    """``ops`` as canvas calls: all polygons in one ``fill_styled_polygons`` call (in order), then
-    the texts (each element's text lies over its own shapes; elements do not overlap)."""
-    fills: list[Fill] = []
-    texts: list[Text] = []
-    for op in ops:
-        if isinstance(op, Stamp):
-            for part in op.sprite.ops(op.x, op.y):
-                (fills if isinstance(part, Fill) else texts).append(part)  # type: ignore[arg-type]
-        elif isinstance(op, Fill):
-            fills.append(op)
-        else:
-            texts.append(op)
-    if fills:
-        layer.fill_styled_polygons(
-            np.concatenate([f.points for f in fills]),
-            np.array([f.colour for f in fills], dtype=np.uint8),
-            np.array([f.alpha for f in fills], dtype=np.float64),
-            points_per_polygon=np.array([len(f.points) for f in fills]),
-        )
-    for t in sorted(texts, key=lambda t: (t.size, t.colour, t.alpha)):  # texts do not overlap: fewest style changes
-        styles.set(layer, css_font(t.size), _css(t.colour, t.alpha))
-        layer.fill_text(t.text, float(origin(t)[0]), float(baseline_y(t)))
-

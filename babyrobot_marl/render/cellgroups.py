@@ -23,10 +23,12 @@ def rect_groups(rects: Sequence[Rect]) -> list[tuple[Rect, list[int]]]:
         return [(r, [k]) for k, r in enumerate(rects)]  # one cell each, each its own (the usual case)
     if len(rects) <= PAIRWISE:
         return _pairwise(rects)
+    alone, rest = _clear_cells(rects)
     groups: dict[int, tuple[Rect, list[int]]] = {}
     owner: dict[tuple[int, int], int] = {}  # each cell's group (one that may since have been merged into another)
-    for k, rect in enumerate(rects):
-        members = [k]
+
+    def add(k: int) -> None:
+        rect, members = rects[k], [k]
         while True:  # the grown rectangle can reach a group it did not touch before
             hit = next((owner[c] for c in cells(rect) if owner.get(c) in groups), None)
             if hit is None:
@@ -37,7 +39,33 @@ def rect_groups(rects: Sequence[Rect]) -> list[tuple[Rect, list[int]]]:
         groups[k] = (rect, members)
         for c in cells(rect):
             owner[c] = k
-    return [(rect, sorted(members)) for rect, members in groups.values()]
+
+    for k in rest:
+        add(k)
+    while True:  # a merged group's rectangle is wider than its members: it can reach a cell left alone
+        reached = [k for k in alone if owner.get(rects[k][:2]) in groups]
+        if not reached:
+            break
+        alone = [k for k in alone if owner.get(rects[k][:2]) not in groups]
+        for k in reached:
+            add(k)
+    return [(rects[k], [k]) for k in alone] + [(rect, sorted(members)) for rect, members in groups.values()]
+
+
+def _clear_cells(rects: Sequence[Rect]) -> tuple[list[int], list[int]]:
+    """The rectangles of one cell that no other rectangle reaches (each its own group: most of a
+    crowd's cells), and the others, by index: only those need grouping."""
+    reached: dict[tuple[int, int], int] = {}
+    for r in rects:
+        if r[2] - r[0] == 1 and r[3] - r[1] == 1:
+            reached[r[0], r[1]] = reached.get((r[0], r[1]), 0) + 1
+        else:
+            for c in cells(r):
+                reached[c] = 2
+    alone, rest = [], []
+    for k, r in enumerate(rects):
+        (alone if r[2] - r[0] == 1 and r[3] - r[1] == 1 and reached[r[0], r[1]] == 1 else rest).append(k)
+    return alone, rest
 
 
 def _pairwise(rects: Sequence[Rect]) -> list[tuple[Rect, list[int]]]:

@@ -32,30 +32,27 @@ from .checks import (  # noqa: F401  (the limits and checks are read from here t
     check_frame_size,
     check_overlay_frame,
 )
+from .crowd import CellBlocks
 from .memo import ENTRY_BYTES, MB, ByteCache
 from .overlay import Overlay
 from .paint import Patch, blend, paint, patch, to_uint8
-from .palette import THEMES, Theme, resolve_theme
+from .palette import THEMES, Theme, resolve_theme, robot_colour
 from .panel import LEGEND_ROWS, legend_row_section, metrics, panel_sections
 from .picture import feature_ops, floor_ops, label_band, label_ops, level_ops
-from .robot import number_size
 from .scene import (
     BURST,
     RobotView,
     Scene,
     as_scene,
-    at_rest,
     burst_centre,
-    drawing_order,
     glide,
     lone_placement,
     placement_sprites,
     placements,
     robot_sprites,
-    with_numbers,
 )
 from .shapes import Op, Text
-from .sprites import burst
+from .sprites import burst, goal_mark
 
 __all__ = ["MAX_CELL_SIZE", "MAX_FRAME_PIXELS", "MIN_CELL_SIZE", "THEMES", "RgbRenderer", "Theme", "resolve_theme"]
 
@@ -65,7 +62,7 @@ BLOCK_BYTES, LONE_BYTES, PANEL_BYTES, ROW_BYTES, PLACED_BYTES, MARK_BYTES = 24 *
 RENDERER_BYTES = BLOCK_BYTES + LONE_BYTES + PANEL_BYTES + ROW_BYTES + PLACED_BYTES + MARK_BYTES
 
 
-class RgbRenderer:
+class RgbRenderer(CellBlocks):
     """Draws one level at one cell size and theme; ``frame(scene_or_robots, overlay)`` returns a fresh image."""
 
     def __init__(self, level: Level, cell_size: int | None = None, theme: str | Theme = "light"):
@@ -85,6 +82,9 @@ class RgbRenderer:
         self._panels: ByteCache[np.ndarray] = ByteCache(PANEL_BYTES, _array_bytes)
         self._lone = (ByteCache(LONE_BYTES, _lone_bytes), ByteCache(LONE_BYTES, _lone_bytes))  # lone robots' cells
         self._lone_static: np.ndarray | None = None  # and blocks by view, without and with an overlay, on this
+        self._tiles: list[list[int]] = []  # its cells numbered by their pixels (``crowd.tiles``)
+        self._reach: dict[tuple, tuple] = {}  # the cells a lone robot's look covers, relative to its cell
+        self._on_tiles = self._tiled()
         self._mark_cache: ByteCache[tuple] = ByteCache(MARK_BYTES, _ref_bytes)  # bursts placed, by their two cells
         self._row_h = metrics(cs).row_h
         self._rows: ByteCache[list] = ByteCache(ROW_BYTES, _row_bytes)  # legend rows' layouts, by content
@@ -92,6 +92,7 @@ class RgbRenderer:
         self._blocks_static: np.ndarray | None = None  # by content, on this static image
         self._placed: ByteCache[tuple] = ByteCache(PLACED_BYTES, _placed_bytes)  # placed robots' sprites, patches, cells
         self._checked: tuple | None = None
+        self._goal_layer: tuple = (None, (), None)  # the last static image with targets: its cells, targets, image
         self._legend_y: int | None = None  # the first legend row's top, from the panel's
         self._base_img: np.ndarray | None = None  # the last frame without robots, its panel strips, its key
         self._base_strips: list[np.ndarray] = []
@@ -109,7 +110,7 @@ class RgbRenderer:
         frames for smooth GIFs, as the live canvas glides)."""
         scene = as_scene(robots)
         self.check_frame(overlay, scene)
-        static = self.static(overlay)
+        static = self.static(overlay, scene.goals)
         img = self._base(static, overlay, scene).copy()
         grid = img[: static.shape[0]]
         if t >= 1.0:
@@ -127,89 +128,11 @@ class RgbRenderer:
         for (x0, y0, x1, y1), items in _groups(drawn):
             grid[y0 * cs : y1 * cs, x0 * cs : x1 * cs] = self._block(static, (x0, y0, x1, y1), items)
 
-    def _robots_at_rest(self, grid: np.ndarray, static: np.ndarray, scene: Scene) -> None:
-        """Each cell's robots from a block by the cell's views alone; the cells whose drawings
-        reach into another's (a bump's stars, a burst), and only those, drawn the general way."""
-        cs = self.cell_size
-        (units, views), marks = self._cell_units(static, scene), self._marks(scene)
-        if self._apart(units, marks):  # the usual frame: the blocks, the bursts over them, the labels over those
-            for (x0, y0, x1, y1), block, _ in units:
-                grid[y0 * cs : y1 * cs, x0 * cs : x1 * cs] = block
-            for _, cx, cy, p, box, _, _ in marks:
-                blend(grid, p, cx, cy)
-                for ly, lx, label in self._labels_over([box]):
-                    blend(grid, label, lx, ly)
-            return
-        n = len(units)
-        for rect, members in rect_groups([u[0] for u in units] + [m[5] for m in marks]):
-            x0, y0, x1, y1 = rect
-            if len(members) == 1 and members[0] < n:  # a cell clear of all others: its own block
-                grid[y0 * cs : y1 * cs, x0 * cs : x1 * cs] = units[members[0]][1]
-                continue
-            entries = [e for k in members if k < n for e in with_numbers(units[k][2], views[k])]
-            grid[y0 * cs : y1 * cs, x0 * cs : x1 * cs] = self._block(
-                static, rect, drawing_order(entries, [marks[k - n] for k in members if k >= n]))
-
     def _general(self, static: np.ndarray, scene: Scene) -> np.ndarray:
         """The robots at rest over ``static`` drawn all the general way (what ``frame`` draws)."""
         grid = static.copy()
         self._paste_groups(grid, static, self._still(scene))
         return grid
-
-    def _apart(self, units: list[tuple], marks: list[tuple]) -> bool:
-        """No cell's robots reach into another's cells and no rank badge lies under a burst: the
-        blocks can be copied and the bursts drawn over them."""
-        rects = [u[0] for u in units]
-        wide = any(r[2] - r[0] != 1 or r[3] - r[1] != 1 for r in rects)  # a bump's stars reach a neighbour
-        if wide and _any_overlap(rects):
-            return False
-        ranked = [u[0] for u in units if any(e[2] is not None for e in u[2])]
-        return not (ranked and any(_overlap(m[4], r) for m in marks for r in ranked))  # else the general order
-
-    def _cell_units(self, static: np.ndarray, scene: Scene) -> tuple[list[tuple], list[list]]:
-        """Each cell's robots as ``(cells, block, [(number, placed robot, placed badge or None)])``,
-        cached by the cell's look (where a robot came from does not change its picture; a lone
-        robot's entry may be another robot's that looks the same), and each cell's views."""
-        if self._lone_static is not static:
-            for c in self._lone:
-                c.clear()
-            self._lone_static = static
-        cache = self._lone[scene.corner]
-        by_cell: dict[tuple, list] = {}
-        for v in scene.robots:
-            by_cell.setdefault(v.cell, []).append(v)
-        out = []
-        for views in by_cell.values():
-            key = self._lone_key(views[0], scene.corner) if len(views) == 1 else tuple(map(at_rest, views))
-            hit = cache.get(key)
-            if hit is None:
-                hit = cache.put(key, self._cell_block(static, tuple(views), scene.corner))
-            out.append(hit)
-        return out, list(by_cell.values())
-
-    def _lone_key(self, v: RobotView, corner: bool) -> tuple:
-        """What the block of a robot alone in its cell shows: the cell, the robot's colour, heading,
-        pose and rank, and its number if one is drawn on its chest (below the size a number is
-        drawn at, robots of one colour share their blocks)."""
-        numbered = v.numbered and not v.rank  # as ``placement_sprites`` and ``robot_sprite`` decide
-        shown = None
-        if numbered and number_size(v.number, self._lone_size[corner, v.cell in self.labelled]) is not None:
-            shown = v.number
-        return v.cell, v.number % len(self.theme.robots), v.heading, v.pose, v.rank, numbered, shown
-
-    def _cell_block(self, static: np.ndarray, views: tuple, corner: bool) -> tuple:
-        """The robots of one cell drawn as ``_still`` draws them (robots, then their badges)."""
-        entries = []
-        v = views[0]
-        pls = ([lone_placement(v, corner, self.label_top if v.cell in self.labelled else 0.0)] if len(views) == 1
-               else placements(Scene(views, corner=corner), self.labelled, self.label_top))  # fmt: skip
-        for pl in pls:
-            hit = self._placed_of(pl)
-            entries.append((pl.view.number, hit[1], hit[2] if len(hit) > 2 else None))
-        items = [e[1] for e in entries] + [e[2] for e in entries if e[2] is not None]
-        rs = [it[5] for it in items]
-        rect = (min(r[0] for r in rs), min(r[1] for r in rs), max(r[2] for r in rs), max(r[3] for r in rs))
-        return rect, self._block(static, rect, items), entries
 
     def _marks(self, scene: Scene) -> list[tuple]:
         """The bursts of the scene's collisions, placed (cached by the two cells)."""
@@ -316,9 +239,32 @@ class RgbRenderer:
             blend(block, label, lx - ox, ly - oy)
         return self._blocks.put(key, block)
 
-    def static(self, overlay: Overlay | None) -> np.ndarray:
-        """The level with ``overlay``'s tints, arrows and numbers, and the labels (read-only; the
-        live canvas's bottom layer). The same cell parts give the same image object back."""
+    def static(self, overlay: Overlay | None, goals: tuple = ()) -> np.ndarray:
+        """The level with ``overlay``'s tints, arrows and numbers, the robots' own targets
+        (``Scene.goals``) and the labels (read-only; the live canvas's bottom layer). The same
+        cell parts and targets give the same image object back."""
+        cells = self._cells_static(overlay)
+        return self._with_goals(cells, goals) if goals else cells
+
+    def _with_goals(self, cells: np.ndarray, goals: tuple) -> np.ndarray:
+        """``cells`` with each robot's target marked in its colour, under the labels (the last kept)."""
+        kept = self._goal_layer
+        if kept[0] is cells and kept[1] == goals:
+            return kept[2]
+        img, cs = cells.copy(), self.cell_size
+        boxes = []
+        for number, (x, y) in goals:
+            p = patch(goal_mark(self.theme, robot_colour(self.theme, number), cs), (x + 0.5) * cs, (y + 0.5) * cs)
+            blend(img, p, (x + 0.5) * cs, (y + 0.5) * cs)
+            boxes.append(_box(p, (x + 0.5) * cs, (y + 0.5) * cs))
+        for ly, lx, label in self._labels_over(boxes):
+            blend(img, label, lx, ly)
+        img.setflags(write=False)
+        self._goal_layer = (cells, goals, img)
+        return img
+
+    def _cells_static(self, overlay: Overlay | None) -> np.ndarray:
+        """``static`` without the targets."""
         if overlay is self._static[0]:  # the same overlay as the last frame's (the usual case)
             return self._static[1]
         if overlay is None or not overlay.has_cells:

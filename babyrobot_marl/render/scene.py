@@ -50,6 +50,7 @@ class Scene:
     legend: tuple[LegendRow, ...] = ()
     done: bool = False  # the episode or race has ended
     corner: bool = False  # an overlay is on: a lone robot stands small in its cell's corner, clear of the numbers
+    goals: tuple[tuple[int, Cell], ...] = ()  # (robot number, its own target cell) of robots still going there
 
 
 def as_scene(robots: Scene | Sequence[Cell | None]) -> Scene:

@@ -18,7 +18,8 @@ from .palette import Theme, robot_colour
 from .robot import number_size, robot
 from .shapes import Fill, Op, Text, circle, star
 
-__all__ = ["MEDALS", "OTHER_RANK", "Patch", "Sprite", "Stamp", "badge", "blend", "burst", "flatten", "patch", "robot_sprite"]
+__all__ = ["MEDALS", "OTHER_RANK", "Patch", "Sprite", "Stamp", "badge", "blend", "burst", "flatten", "goal_mark", "patch",
+           "robot_sprite"]
 
 MEDALS = {1: (240, 190, 40), 2: (190, 196, 206), 3: (205, 130, 70)}  # gold, silver, bronze; then grey
 OTHER_RANK = (150, 154, 166)
@@ -63,3 +64,22 @@ def burst(theme: Theme, r: float) -> Sprite:
             Fill(star(0.0, 0.0, r * 0.5, r * 0.26, 8, -90), (255, 226, 90)),
         ]
     )
+
+
+@lru_cache(maxsize=256)
+def goal_mark(theme: Theme, colour: tuple, cs: int) -> Sprite:
+    """A robot's own target, in its colour, in a cell of ``cs`` pixels: a ring round a dot (a
+    target), outlined in the robots' ink; below 16 pixels a diamond, a shape no robot has."""
+    ink = theme.robot_ink
+    if cs < 16:
+        r = cs * 0.48
+        return flatten([Fill(_diamond(r), ink), Fill(_diamond(r - 1.0), colour)])
+    r, e = cs * 0.40, max(1.0, cs * 0.035)
+    t = max(2.0, cs * 0.1)  # the ring's width
+    return flatten([Fill(circle(0.0, 0.0, r), ink), Fill(circle(0.0, 0.0, r - e), colour),
+                    Fill(circle(0.0, 0.0, r - e - t), ink), Fill(circle(0.0, 0.0, r - 2 * e - t), theme.floor),
+                    Fill(circle(0.0, 0.0, r * 0.3 + e), ink), Fill(circle(0.0, 0.0, r * 0.3), colour)])  # fmt: skip
+
+
+def _diamond(r: float):
+    return star(0.0, 0.0, r, r * 0.5**0.5, 4, -90)  # a square on its corner: its sides' middles at r / sqrt 2
