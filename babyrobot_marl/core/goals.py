@@ -16,6 +16,7 @@ stands on its own target, and another robot's target is floor too. What lives he
 
 from __future__ import annotations
 
+import math
 from collections import deque
 from collections.abc import Collection, Sequence
 from dataclasses import dataclass, fields
@@ -249,8 +250,16 @@ def mark_targets(
     number per row (a local observer's pass). ``out``: C-contiguous rows ``(..., m)``."""
     key, where, _ = channel_tables(width, height, radius)
     at = where.take(key.take(goals) - key.take(cells))
-    m = out.shape[-1]
-    out.reshape(-1)[np.arange(column, at.size * m, m) + at.reshape(-1)] = 1  # each row's flat index
+    at += _row_starts(at.shape, out.shape[-1], column)  # each row's flat index
+    out.reshape(-1)[at] = 1
+
+
+@lru_cache(maxsize=16)
+def _row_starts(shape: tuple[int, ...], m: int, column: int) -> np.ndarray:
+    """``column`` of each row of ``shape`` rows of ``m`` numbers, as flat indices (kept: asked for every step)."""
+    starts = np.arange(column, math.prod(shape) * m, m).reshape(shape)
+    starts.setflags(write=False)
+    return starts
 
 
 @lru_cache(maxsize=COMPILED_CACHE)

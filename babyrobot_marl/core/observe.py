@@ -224,7 +224,7 @@ def local_observations(
     if n > 1:  # a lone robot sees no other: its robot column stays 0
         _robots_seen(view, at, idx, racing2, out[:, :, 2 + _ROBOT : view.size : len(LOCAL_FEATURES)])
     if goals is not None:
-        mark_targets(out, cells2, np.asarray(goals), view.width, view.height, view.radius, view.size)
+        mark_targets(out, cells2, goals, view.width, view.height, view.radius, view.size)
     return out.reshape(*lead, n, size)
 
 
@@ -235,7 +235,7 @@ def _robots_seen(view: LocalView, at: np.ndarray, idx: np.ndarray, racing: np.nd
     n_races, n = at.shape
     n_padded, centre = view.static.shape[0], view.window.size // 2
     if n_races == 1:  # one race: no offsets per race
-        count = np.bincount(at[racing] if not racing.all() else at.ravel(), minlength=n_padded)
+        count = np.bincount(at.ravel() if np.count_nonzero(racing) == n else at[racing], minlength=n_padded)
         seen = count.take(idx, mode="clip")
         seen[:, :, centre] -= racing  # not the observer itself
         robot[...] = seen > 0

@@ -248,7 +248,7 @@ class RaceEnv(RaceGoals, RaceReadouts, OverlayMethods, ParallelEnv):
         here = None if self._observer is None else np.array(cells)
         if self._goal_of is not None:  # own goals: finished on its own target (the table has no exits)
             on_goal = (np.array(cells) if here is None else here) == self._racing_goals()
-            if on_goal.any():
+            if np.count_nonzero(on_goal):  # faster than any() on short rows
                 finishing = on_goal.tolist()
                 for i, f in zip(live, finishing):
                     self._reached[i] += f
