@@ -224,12 +224,7 @@ def goal_hints(table: Table, cells: np.ndarray, goals: np.ndarray) -> np.ndarray
 
 
 def target_channel(
-    table: Table,
-    cells: np.ndarray,
-    goals: np.ndarray,
-    radius: int,
-    out: np.ndarray | None = None,
-    column: int = 0,
+    table: Table, cells: np.ndarray, goals: np.ndarray, radius: int, out: np.ndarray | None = None, column: int = 0
 ) -> np.ndarray:
     """``(..., (2r+1)^2)`` 0/1: the local window's target channel, as POGEMA's: 1 on the goal's cell when
     it lies in the window, else on the window's border cell its offset projects to (each of ``dx``,
