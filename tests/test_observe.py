@@ -9,7 +9,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from babyrobot_marl.core import observe
+from babyrobot_marl.core import nearest, observe
+from babyrobot_marl.core.goals import target_channel
 from babyrobot_marl.core.table import compile_level
 from tests.strategies import edge, grid_levels, inside
 
@@ -85,11 +86,34 @@ def test_local_rows_read_the_level_and_the_robots_cell_by_cell(crowd, r):
     table = compile_level(level)
     view = observe.local_view(table, r)
     cells = np.array([y * level.width + x for x, y in cells_xy])
-    got = observe.local_observations(view, cells, np.array(racing))
-    assert got.shape == (len(cells), view.size)
-    for i in range(len(cells)):
-        assert got[i].tolist() == reference_local(level, cells_xy, racing, i, r)
-    assert (got < view.nvec).all() and (got >= 0).all()
+    for table_bytes in (observe._LEVEL_ROWS_BYTES, 0):  # rows from the table of level rows, and window by window
+        with mock.patch.object(observe, "_LEVEL_ROWS_BYTES", table_bytes):
+            observe.level_rows.cache_clear()
+            assert (observe.level_rows(view) is None) == (table_bytes == 0)
+            got = observe.local_observations(view, cells, np.array(racing))
+        assert got.shape == (len(cells), view.size)
+        for i in range(len(cells)):
+            assert got[i].tolist() == reference_local(level, cells_xy, racing, i, r)
+        assert (got < view.nvec).all() and (got >= 0).all()
+    observe.level_rows.cache_clear()
+
+
+@pytest.mark.parametrize("table_bytes", [observe._LEVEL_ROWS_BYTES, 0])
+def test_local_rows_given_goals_carry_the_target_channel_first_in_their_extra_columns(table_bytes):
+    table = compile_level(__import__("babyrobot_marl").levels.get("mixed-8x8"))
+    view = observe.local_view(table, 2)
+    g = np.random.default_rng(1)
+    cells = np.stack([g.choice(table.n_cells, 5, replace=False) for _ in range(3)])
+    goals, racing = g.integers(0, table.n_cells, cells.shape), g.random(cells.shape) > 0.3
+    with mock.patch.object(observe, "_LEVEL_ROWS_BYTES", table_bytes):
+        observe.level_rows.cache_clear()
+        plain = observe.local_observations(view, cells, racing, extra=view.window.size + 3)
+        got = observe.local_observations(view, cells, racing, extra=view.window.size + 3, goals=goals)
+    observe.level_rows.cache_clear()
+    channel = got[..., view.size : view.size + view.window.size]
+    assert (got[..., : view.size] == plain[..., : view.size]).all()
+    assert (channel == target_channel(table, cells, goals, 2)).all() and (channel.sum(axis=-1) == 1).all()
+    assert (got[..., view.size + view.window.size :] == 0).all() and (plain[..., view.size :] == 0).all()
 
 
 def test_local_rows_of_many_races_at_once_equal_each_race_alone():
@@ -113,7 +137,7 @@ def test_nearest_rows_list_the_k_nearest_racing_robots_ties_to_the_lower_number(
     w, h = level.width, level.height
     xy = np.array(cells_xy, dtype=np.int64)
     # rings: the search used for many robots, forced here on a few
-    with mock.patch.object(observe, "_BRUTE_UP_TO", 0 if rings else observe._BRUTE_UP_TO):
+    with mock.patch.object(nearest, "_BRUTE_UP_TO", 0 if rings else nearest._BRUTE_UP_TO):
         got = observe.nearest_observations(xy, np.array(racing), k, w, h)
     for i in range(len(cells_xy)):
         assert got[i].tolist() == reference_nearest(cells_xy, racing, i, k, w, h)

@@ -387,7 +387,8 @@ class BatchRace:
         if columns is None:
             return self._rows()
         if self.observer is not None:  # rows with room for the goal's columns, filled in place
-            return columns(self.table, self.cells, self.goals, out=self.observer(self.cells, self.racing, columns.size))
+            rows = self.observer(self.cells, self.racing, columns.size, self.goals)  # with the goal's columns
+            return columns(self.table, self.cells, self.goals, out=rows, written=True)
         return np.concatenate([self._rows(), columns(self.table, self.cells, self.goals)], axis=-1)
 
     def _rows(self) -> np.ndarray:

@@ -16,6 +16,7 @@ stands on its own target, and another robot's target is floor too. What lives he
 
 from __future__ import annotations
 
+import math
 from collections import deque
 from collections.abc import Collection, Sequence
 from dataclasses import dataclass, fields
@@ -229,7 +230,7 @@ def target_channel(
     it lies in the window, else on the window's border cell its offset projects to (each of ``dx``,
     ``dy`` clamped to ``-r..r``); rows north to south, west to east, as the window's cells.
     ``out``: C-contiguous int64 rows ``(..., m)`` to write the channel into, at columns ``column`` on."""
-    key, where, one_hot = _channel_tables(table, radius)
+    key, where, one_hot = channel_tables(table.width, table.height, radius)
     at = where.take(key.take(goals) - key.take(cells))  # the goal's clamped offset, by two look-ups
     if out is None:
         return one_hot.take(at, axis=0)
@@ -237,12 +238,32 @@ def target_channel(
     return out
 
 
+def mark_targets(
+    out: np.ndarray, cells: np.ndarray, goals: np.ndarray, width: int, height: int, radius: int, column: int
+) -> None:
+    """``target_channel`` written into rows whose channel columns (``column`` on) are 0 already: one
+    number per row (a local observer's pass). ``out``: C-contiguous rows ``(..., m)``."""
+    key, where, _ = channel_tables(width, height, radius)
+    at = where.take(key.take(goals) - key.take(cells))
+    at += _row_starts(at.shape, out.shape[-1], column)  # each row's flat index
+    out.reshape(-1)[at] = 1
+
+
+@lru_cache(maxsize=16)
+def _row_starts(shape: tuple[int, ...], m: int, column: int) -> np.ndarray:
+    """``column`` of each row of ``shape`` rows of ``m`` numbers, as flat indices (kept: asked for every step)."""
+    starts = np.arange(column, math.prod(shape) * m, m).reshape(shape)
+    starts.setflags(write=False)
+    return starts
+
+
 @lru_cache(maxsize=COMPILED_CACHE)
-def _channel_tables(table: Table, radius: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Each cell's key ``y * (2W - 1) + x``; the channel's cell of each key difference ``dy * (2W - 1) + dx``
-    (``(2H - 1) * (2W - 1)`` of them, one per offset: negative ones read from the end); and one-hot rows."""
-    w, h, side = table.width, table.height, 2 * radius + 1
-    ids = np.arange(table.n_cells, dtype=np.int64)
+def channel_tables(w: int, h: int, radius: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """On a ``w x h`` grid: each cell's key ``y * (2W - 1) + x``; the channel's cell of each key difference
+    ``dy * (2W - 1) + dx`` (``(2H - 1) * (2W - 1)`` of them, one per offset: negative ones read from the
+    end); and one-hot rows."""
+    side = 2 * radius + 1
+    ids = np.arange(w * h, dtype=np.int64)
     key = ids // w * (2 * w - 1) + ids % w
     dx, dy = np.r_[0:w, -w + 1 : 0], np.r_[0:h, -h + 1 : 0]  # index k holds offset d (k - len for the tail)
     clamp_x, clamp_y = np.clip(dx, -radius, radius) + radius, np.clip(dy, -radius, radius) + radius
@@ -273,16 +294,21 @@ class GoalColumns:
     def size(self) -> int:  # len(nvec), without building it (read every step)
         return (2 if self.radius is None else (2 * self.radius + 1) ** 2) + (HINT_BITS if self.hint else 0)
 
-    def __call__(self, table: Table, cells: np.ndarray, goals: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
+    def __call__(
+        self, table: Table, cells: np.ndarray, goals: np.ndarray, out: np.ndarray | None = None, written: bool = False
+    ) -> np.ndarray:
         """``(..., n, size)`` int64 from each robot's cell and goal cell, ``(..., n)``, on ``table``; ``out``:
-        rows ``(..., n, m)`` whose last ``size`` columns to fill instead (returned)."""
+        rows ``(..., n, m)`` whose last ``size`` columns to fill instead (returned); ``written``: the goal's
+        columns of ``out`` are filled already (an observer given the goals), only the hint is left."""
         cells, goals = np.asarray(cells, dtype=np.int64), np.asarray(goals, dtype=np.int64)
         if out is None:
             out = np.empty((*cells.shape, self.size), dtype=np.int64)
         size = self.size
         first = out.shape[-1] - size  # the goal's columns, then the hint's
         hint = first + size - (HINT_BITS if self.hint else 0)
-        if self.radius is None:
+        if written:  # the observer's pass wrote them
+            pass
+        elif self.radius is None:
             out[..., first:hint] = cell_xy(table)[goals]
         else:
             target_channel(table, cells, goals, self.radius, out, first)

@@ -31,6 +31,8 @@ from functools import lru_cache
 import numpy as np
 
 from .checks import check_nearest_k, check_view_radius, shown
+from .goals import mark_targets
+from .nearest import nearest_nvec, nearest_observations
 from .table import Table
 
 OBSERVE_MODES = ("global", "local", "nearest")
@@ -196,168 +198,79 @@ def local_view(table: Table, radius: int) -> LocalView:
     return LocalView(r, w, h, static, (y + r) * pw + (x + r), window, np.stack([x, y], axis=1))
 
 
-def local_observations(view: LocalView, cells: np.ndarray, racing: np.ndarray, extra: int = 0) -> np.ndarray:
+def local_observations(
+    view: LocalView, cells: np.ndarray, racing: np.ndarray, extra: int = 0, goals: np.ndarray | None = None
+) -> np.ndarray:
     """``(..., n, view.size)`` int64 rows from cells and racing flags of shape ``(..., n)``
     (leading dimensions: separate races, e.g. the envs of a batch); ``extra`` more columns at the
-    end of each row, left for the caller to fill (own goals' columns: no copy to append them)."""
+    end of each row, zeros for the caller to fill (own goals' columns: no copy to append them).
+    ``goals`` (own goals, each robot's target cell, ``(..., n)``): the extra columns begin with the
+    target channel (``goals.target_channel``), written in this pass."""
     cells, racing = np.asarray(cells), np.asarray(racing, dtype=bool)
     *lead, n = cells.shape
     n_races = math.prod(lead)  # not np.prod: microseconds count every step
     cells2, racing2 = cells.reshape(n_races, n), racing.reshape(n_races, n)
-    n_padded = view.static.shape[0]
+    size = view.size + extra
     at = view.padded.take(cells2)  # (R, n) each robot's cell in the padded grid
     idx = at[:, :, None] + view.window  # (R, n, cells in a window): always inside the padded grid
-    size = view.size + extra
-    out = np.empty((n_races, n, size), dtype=np.int64)
-    out[:, :, :2] = view.xy.take(cells2, axis=0)
-    feats = out[:, :, 2 : view.size].reshape(n_races, n, view.window.size, len(LOCAL_FEATURES))  # a view: rows split
-    feats[...] = view.static.take(idx, axis=0, mode="clip")  # "clip": no bounds checks (all inside)
-    if n == 1:
-        feats[:, :, :, _ROBOT] = 0  # a lone robot sees no other
-        return out.reshape(*lead, n, size)
-    # the robots, on a scratch grid of a few races at a time (a bounded grid, O(n) work):
-    # only racing robots are on the board
+    rows = level_rows(view, extra)
+    if rows is not None:  # each robot's row as the level makes it, in one gather
+        out = rows.take(cells2, axis=0).astype(np.int64, copy=False)
+    else:
+        out = np.zeros((n_races, n, size), dtype=np.int64)
+        out[:, :, :2] = view.xy.take(cells2, axis=0)
+        feats = out[:, :, 2 : view.size].reshape(n_races, n, view.window.size, len(LOCAL_FEATURES))  # a view: rows split
+        feats[...] = view.static.take(idx, axis=0, mode="clip")  # "clip": no bounds checks (all inside)
+    if n > 1:  # a lone robot sees no other: its robot column stays 0
+        _robots_seen(view, at, idx, racing2, out[:, :, 2 + _ROBOT : view.size : len(LOCAL_FEATURES)])
+    if goals is not None:
+        mark_targets(out, cells2, goals, view.width, view.height, view.radius, view.size)
+    return out.reshape(*lead, n, size)
+
+
+def _robots_seen(view: LocalView, at: np.ndarray, idx: np.ndarray, racing: np.ndarray, robot: np.ndarray) -> None:
+    """The robot feature of every window cell, ``robot`` ``(R, n, cells in a window)``: another racing robot there.
+    The robots go on a scratch grid of a few races at a time (a bounded grid, O(n) work); only racing
+    robots are on the board."""
+    n_races, n = at.shape
+    n_padded, centre = view.static.shape[0], view.window.size // 2
+    if n_races == 1:  # one race: no offsets per race
+        count = np.bincount(at.ravel() if np.count_nonzero(racing) == n else at[racing], minlength=n_padded)
+        seen = count.take(idx, mode="clip")
+        seen[:, :, centre] -= racing  # not the observer itself
+        robot[...] = seen > 0
+        return
     step = max(1, _SCRATCH // n_padded)
     for s in range(0, n_races, step):
-        at_s, racing_s = at[s : s + step], racing2[s : s + step]
+        at_s, racing_s = at[s : s + step], racing[s : s + step]
         race_base = (np.arange(at_s.shape[0], dtype=np.int64) * n_padded)[:, None]
         count = np.bincount((at_s + race_base)[racing_s], minlength=at_s.shape[0] * n_padded)  # add.at's counts, faster
         seen = count.take(idx[s : s + step] + race_base[:, :, None], mode="clip")
-        seen[:, :, view.window.size // 2] -= racing_s  # not the observer itself
-        feats[s : s + step, :, :, _ROBOT] = seen > 0
-    return out.reshape(*lead, n, size)
+        seen[:, :, centre] -= racing_s
+        robot[s : s + step] = seen > 0
+
+
+_LEVEL_ROWS_BYTES = 8 << 20  # the largest table of level rows kept per view (else windows are gathered per step)
+
+
+@lru_cache(maxsize=8)
+def level_rows(view: LocalView, extra: int = 0) -> np.ndarray | None:
+    """Every cell's "local" row as the level alone makes it: ``[x, y]``, the window's features with
+    the robot column 0, then ``extra`` zeros; small ints (int16 where they fit), one row per cell,
+    so that a step's rows are one gather of contiguous rows. None when the table would pass
+    ``_LEVEL_ROWS_BYTES`` (large levels with wide windows)."""
+    dtype = np.int16 if max(view.width, view.height) <= np.iinfo(np.int16).max else np.int32
+    n_cells, size = view.padded.size, view.size + extra
+    if n_cells * size * np.dtype(dtype).itemsize > _LEVEL_ROWS_BYTES:
+        return None
+    rows = np.zeros((n_cells, size), dtype=dtype)
+    rows[:, :2] = view.xy
+    rows[:, 2 : view.size] = view.static.take(view.padded[:, None] + view.window, axis=0).reshape(n_cells, -1)
+    rows.setflags(write=False)  # shared by every env on the level
+    return rows
 
 
 _SCRATCH = 1 << 20  # cells of scratch grid per pass (4 MB of counts)
-
-
-def nearest_nvec(width: int, height: int, k: int) -> np.ndarray:
-    return np.array([width, height] + [2 * width, 2 * height] * k, dtype=np.int64)
-
-
-_BRUTE_UP_TO = 128  # robots per race up to which all pairs are compared
-_CHUNK = 1 << 20  # pairs compared at once (memory bound)
-
-
-def nearest_observations(xy: np.ndarray, racing: np.ndarray, k: int, width: int, height: int, extra: int = 0) -> np.ndarray:
-    """``(..., n, 2 + 2k)`` int64 rows from ``[x, y]`` of shape ``(..., n, 2)`` and racing flags ``(..., n)``
-    (``extra``: more columns at the end, as ``local_observations``)."""
-    xy, racing = np.asarray(xy, dtype=np.int64), np.asarray(racing, dtype=bool)
-    *lead, n, _ = xy.shape
-    n_races = math.prod(lead)
-    xy2, racing2 = xy.reshape(n_races, n, 2), racing.reshape(n_races, n)
-    size = 2 + 2 * k + extra
-    out = np.empty((n_races, n, size), dtype=np.int64)
-    out[:, :, :2] = xy2
-    rel = out[:, :, 2 : 2 + 2 * k].reshape(n_races, n, k, 2)
-    if k == 0:
-        return out.reshape(*lead, n, size)
-    if n <= _BRUTE_UP_TO:
-        step = max(1, _CHUNK // (n * n))
-        for s in range(0, n_races, step):
-            _nearest_brute(xy2[s : s + step], racing2[s : s + step], rel[s : s + step])
-    else:
-        for s in range(n_races):
-            _nearest_rings(xy2[s], racing2[s], rel[s], width, height)
-    # [dx, dy] -> [dx + W - 1, dy + H - 1]; a missing robot: [2W - 1, 2H - 1]
-    missing = rel[..., 0] == _MISSING
-    rel += (width - 1, height - 1)
-    rel[missing] = (2 * width - 1, 2 * height - 1)
-    return out.reshape(*lead, n, size)
-
-
-_MISSING = np.iinfo(np.int64).min // 4
-
-
-def _nearest_brute(xy: np.ndarray, racing: np.ndarray, rel: np.ndarray) -> None:
-    """All pairs: ``rel`` (R, n, k, 2) gets the k nearest's ``[dx, dy]`` (``_MISSING`` if none)."""
-    r, n, k = rel.shape[0], rel.shape[1], rel.shape[2]
-    d = xy[:, None, :, :] - xy[:, :, None, :]  # (R, i, j, 2): j relative to i
-    dist = np.abs(d).sum(axis=3)
-    big = 4 * (np.abs(xy).max() + 1) if xy.size else 1
-    dist = np.where(racing[:, None, :] & ~np.eye(n, dtype=bool), dist, big)  # others on the board only
-    key = dist * n + np.arange(n)  # ties to the lower robot number
-    kk = min(k, n)
-    near = np.argpartition(key, kk - 1, axis=2)[:, :, :kk] if kk < n else np.broadcast_to(np.arange(n), (r, n, n))
-    near = np.take_along_axis(near, np.argsort(np.take_along_axis(key, near, axis=2), axis=2), axis=2)
-    found = np.take_along_axis(dist, near, axis=2) < big
-    rel[:, :, :kk] = np.where(found[..., None], np.take_along_axis(d, near[..., None], axis=2), _MISSING)
-    rel[:, :, kk:] = _MISSING
-
-
-def _nearest_rings(xy: np.ndarray, racing: np.ndarray, rel: np.ndarray, width: int, height: int) -> None:
-    """One race of many robots: look at the cells at distance 0, 1, 2, ... around each robot until
-    ``k`` others are found; robots still looking once a ring would cost more than comparing with
-    everyone are done by brute force."""
-    n, k = rel.shape[0], rel.shape[1]
-    rel[...] = _MISSING
-    others = np.flatnonzero(racing)
-    if others.size == 0:
-        return
-    # the racing robots by cell (several may share one under "pass"), robot numbers ascending
-    cell = xy[others, 1] * width + xy[others, 0]
-    order = np.lexsort((others, cell))
-    robots = others[order]
-    # robots[first_on[c] : first_on[c] + count[c]] are the racing robots on cell c; the last slot: outside
-    count = np.bincount(cell, minlength=width * height + 1)
-    first_on = np.cumsum(count) - count
-    found = np.zeros(n, dtype=np.int64)
-    todo = np.arange(n)
-    d = 0
-    while todo.size and 2 * d * d <= n:
-        if d == 0:
-            dx = dy = np.zeros(1, dtype=np.int64)
-        else:
-            t = np.arange(d)
-            dx = np.concatenate([d - t, -t, t - d, t])
-            dy = np.concatenate([t, d - t, -t, t - d])
-        x = xy[todo, 0][:, None] + dx
-        y = xy[todo, 1][:, None] + dy
-        inside = (x >= 0) & (x < width) & (y >= 0) & (y < height)
-        c = np.where(inside, y * width + x, width * height)
-        lo = first_on.take(c)
-        hi = lo + count.take(c)
-        per_row = (hi - lo).sum(axis=1)
-        rows = np.flatnonzero(per_row)
-        if rows.size:
-            # every robot of the ring, row by row, then sorted by robot number within a row
-            lo_r, hi_r = lo[rows].ravel(), hi[rows].ravel()
-            length = hi_r - lo_r
-            row_of = np.repeat(np.repeat(rows, dx.size), length)
-            start = np.repeat(lo_r - np.cumsum(length) + length, length)
-            hits = robots[start + np.arange(length.sum())]
-            keep = hits != todo[row_of]  # not the observer itself
-            row_of, hits = row_of[keep], hits[keep]
-            o = np.lexsort((hits, row_of))
-            row_of, hits = row_of[o], hits[o]
-            first = np.searchsorted(row_of, row_of)  # rank of each hit within its row
-            slot = found[todo[row_of]] + np.arange(row_of.size) - first
-            use = slot < k
-            who = todo[row_of[use]]
-            rel[who, slot[use]] = xy[hits[use]] - xy[who]
-            np.add.at(found, who, 1)
-        todo = todo[found[todo] < k]
-        d += 1
-    if todo.size:  # far from the rest: compare with everyone
-        step = max(1, _CHUNK // max(n, 1))
-        for s in range(0, todo.size, step):
-            _nearest_subset(xy, racing, rel, todo[s : s + step])
-
-
-def _nearest_subset(xy: np.ndarray, racing: np.ndarray, rel: np.ndarray, who: np.ndarray) -> None:
-    n, k = rel.shape[0], rel.shape[1]
-    d = xy[None, :, :] - xy[who, None, :]  # (m, n, 2)
-    dist = np.abs(d).sum(axis=2)
-    big = 4 * (np.abs(xy).max() + 1)
-    ok = racing[None, :] & (np.arange(n)[None, :] != who[:, None])
-    key = np.where(ok, dist, big) * n + np.arange(n)
-    kk = min(k, n)
-    near = np.argpartition(key, kk - 1, axis=1)[:, :kk] if kk < n else np.broadcast_to(np.arange(n), (who.size, n))
-    near = np.take_along_axis(near, np.argsort(np.take_along_axis(key, near, axis=1), axis=1), axis=1)
-    found = np.take_along_axis(ok, near, axis=1)
-    vals = np.where(found[..., None], np.take_along_axis(d, near[..., None], axis=1), _MISSING)
-    rel[who, :kk] = vals
-    rel[who, kk:] = _MISSING
 
 
 @dataclass(frozen=True, eq=False)
@@ -372,12 +285,17 @@ class Observer:
     width: int
     height: int
 
-    def __call__(self, cells: np.ndarray, racing: np.ndarray, extra: int = 0) -> np.ndarray:
+    def __call__(self, cells: np.ndarray, racing: np.ndarray, extra: int = 0, goals: np.ndarray | None = None) -> np.ndarray:
         """``(..., n, len(nvec))`` int64 rows from every robot's cell and racing flag, ``(..., n)``
-        (``extra``: that many more columns at the end, for the caller to fill)."""
+        (``extra``: that many more columns at the end, for the caller to fill; ``goals``: own goals'
+        target cells, whose columns begin the extra ones: "local" the target channel, "nearest" ``[x, y]``)."""
         if self.view is not None:
-            return local_observations(self.view, cells, racing, extra)
-        return nearest_observations(self.xy[np.asarray(cells)], racing, self.k, self.width, self.height, extra)
+            return local_observations(self.view, cells, racing, extra, goals)
+        out = nearest_observations(self.xy[np.asarray(cells)], racing, self.k, self.width, self.height, extra)
+        if goals is not None:
+            first = len(self.nvec)
+            out[..., first : first + 2] = self.xy[np.asarray(goals)]
+        return out
 
 
 DEFAULT_VIEW_RADIUS, DEFAULT_K = 2, 4

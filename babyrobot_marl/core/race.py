@@ -60,9 +60,17 @@ def resolve_collisions(
     # cell once and each mover's new cell once more.
     if len({*cells, *desired}) == m + sum(map(operator.ne, cells, desired)):
         return desired
+    return _stop_movers(mode, cells, desired, key, step, robots, n)
+
+
+def _stop_movers(
+    mode: str, cells: Sequence[int], desired: Sequence[int], key: int, step: int, robots: Sequence[int] | None, n: int
+) -> Sequence[int]:
+    """``resolve_collisions`` past its first test (``race_step`` makes that test itself)."""
+    m = len(cells)
     if m > _ARRAYS_FROM:
         return _resolve_with_arrays(mode, cells, desired, key, step, robots, n)
-    occupant = {c: k for k, c in enumerate(cells)}
+    occupant = dict(zip(cells, range(m)))
     heading: dict[int, list[int]] = {}  # cell -> the movers heading for it
     stopped = [False] * m
     todo = []  # robots that stay and whose stopping has not spread yet
@@ -203,7 +211,7 @@ def race_step(
     ):
         final = desired  # nobody in anybody's way
     else:
-        final = resolve_collisions(mode, cells, desired, key, step, robots, n)
+        final = _stop_movers(mode, cells, desired, key, step, robots, n)
     blocked = [False] * m if final is desired else list(map(operator.ne, final, desired))
     finished = [False] * m if t.exits.isdisjoint(final) else list(map(t.is_exit.__getitem__, final))
     return final, outcome, blocked, finished

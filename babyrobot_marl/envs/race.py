@@ -44,7 +44,7 @@ from .starts import draw_starts, new_generator, placement
 START_MODES = ("level", "fill", "random")
 FINISHED_MODES = ("remove", "freeze")
 # actions on the fast path: Python ints 0..4 (bools, numpy ints and the rest are checked one by one)
-_ACTIONS = frozenset(range(N_ACTIONS))
+_ACTIONS, _INT = frozenset(range(N_ACTIONS)), frozenset({int})
 _LAYOUTS, _LAYOUT_SIZE = 256, 4096  # gathers kept per env, and the largest kept (int indices)
 _ARGS = (
     "level", "n_robots", "collisions", "max_cycles", "start", "finished", "rules", "render_mode", "cell_size", "theme",
@@ -235,10 +235,8 @@ class RaceEnv(RaceGoals, RaceReadouts, OverlayMethods, ParallelEnv):
         # robots); anything else is checked one by one by _check_actions, raising before anything changes.
         if type(actions) is dict and self._reported_live and list(actions) == reported:
             acts = list(actions.values())
-            for a in acts:
-                if type(a) is not int or a not in _ACTIONS:
-                    acts = self._check_actions(actions)
-                    break
+            if not (_INT.issuperset(map(type, acts)) and _ACTIONS.issuperset(acts)):  # both in C, no loop here
+                acts = self._check_actions(actions)
         else:
             acts = self._check_actions(actions)
         live, t = self._live, self._t
@@ -246,15 +244,18 @@ class RaceEnv(RaceGoals, RaceReadouts, OverlayMethods, ParallelEnv):
             self._lists, self.collisions, self._live_cells, acts, self._key, t, live, self.n_robots
         )
         reached = None
+        # "local" and "nearest": the cells as an array, once (own goals, observations, infos)
+        here = None if self._observer is None else np.array(cells)
         if self._goal_of is not None:  # own goals: finished on its own target (the table has no exits)
-            goals = self._goal_of if len(live) == self.n_robots else map(self._goal_of.__getitem__, live)
-            finishing = list(map(operator.eq, cells, goals))
-            if True in finishing:
+            on_goal = (np.array(cells) if here is None else here) == self._racing_goals()
+            if np.count_nonzero(on_goal):  # faster than any() on short rows
+                finishing = on_goal.tolist()
                 for i, f in zip(live, finishing):
                     self._reached[i] += f
                 if self.lifelong:  # a new target instead, and the robot keeps going
                     reached, finishing = finishing, [False] * len(finishing)
                     self._goal_arr = next_goals(self.np_random, self.table, self._goal_of, live, cells, reached)
+                    self._live_goals = None
         self._last_step = (live, self._live_cells, acts, outcome, blocked, finishing, t)
         self._live_cells = cells
         self._t = t = t + 1
@@ -266,17 +267,17 @@ class RaceEnv(RaceGoals, RaceReadouts, OverlayMethods, ParallelEnv):
             rewards = list(map(self._reward_at.__getitem__, cells))
             if reached:  # lifelong: the target's step earns the exit reward
                 rewards = [self.rules.exit_reward if r else x for r, x in zip(reached, rewards)]
-            out = self._step_general(cells, outcome, blocked, finishing, rewards)
+            out = self._step_general(cells, outcome, blocked, finishing, rewards)  # rarely: the cells change
         else:  # the common step: nobody finishes, the race goes on, the agents are the racing robots
             # the dicts by zip; infos fresh dicts, their cells rows of one fresh array (users keep and change them)
             rewards = dict(zip(reported, map(self._reward_at.__getitem__, cells)))
             self._live_returns = list(map(operator.add, self._live_returns, rewards.values()))
             infos = {
                 a: {"cell": xy, "outcome": o, "blocked": b, "finished": False, "rank": 0}
-                for a, xy, o, b in zip(reported, self._cell_xy.take(cells, axis=0), outcome, blocked)
+                for a, xy, o, b in zip(reported, self._cell_xy.take(cells if here is None else here, axis=0), outcome, blocked)
             }
             no = self._none_done
-            out = dict(zip(reported, self._observations())), rewards, no.copy(), no.copy(), infos
+            out = dict(zip(reported, self._observations(here))), rewards, no.copy(), no.copy(), infos
         if self.render_mode == "human":
             self.render()
         return out
@@ -365,6 +366,7 @@ class RaceEnv(RaceGoals, RaceReadouts, OverlayMethods, ParallelEnv):
         self._gather_reported = g
         self._reported_live = self._agent_ids == self._live
         self._live_set = frozenset(self._live)
+        self._live_goals: np.ndarray | None = None  # own goals: the racing robots' targets (_racing_goals)
 
     @property
     def _cells(self) -> list[int]:
@@ -438,13 +440,15 @@ class RaceEnv(RaceGoals, RaceReadouts, OverlayMethods, ParallelEnv):
             )
         return [given[i] for i in self._live]
 
-    def _observations(self) -> np.ndarray:
-        """One row per reported agent, in ``agents`` order (a fresh array per step, rows never shared)."""
+    def _observations(self, here: np.ndarray | None = None) -> np.ndarray:
+        """One row per reported agent, in ``agents`` order (a fresh array per step, rows never shared);
+        ``here``: the racing robots' cells as an array, if the step made one."""
         if self._goal_columns is not None:
-            return self._goal_observations()
+            return self._goal_observations(here)
         if self._observer is not None:
             if self._reported_live:  # the racing robots' rows alone: finished robots are in nobody's view
-                return self.encoder(self._observer(np.array(self._live_cells), self._all_racing[: len(self._live)]))
+                here = np.array(self._live_cells) if here is None else here
+                return self.encoder(self._observer(here, self._all_racing[: len(self._live)]))
             return self.encoder(self._observer(np.array(self._cells), np.array(self._racing))[self._agent_ids])
         rows = [*self._live_cells, *self._parked] if self._parked else self._live_cells
         obs = self._xyf.take(rows, axis=0).ravel()[self._gather_reported]

@@ -51,17 +51,26 @@ class OwnGoalShortest:
 class RaceGoals:
     """``RaceEnv``'s own-goal steps, stateless (the env holds the state): ``_cell_options``, ``_goals_for``, ...."""
 
-    def _goal_observations(self) -> np.ndarray:
-        """``_observations`` with own goals: each row, then its goal's columns (``core.goals.GoalColumns``)."""
+    def _racing_goals(self) -> np.ndarray:
+        """The racing robots' targets, in ``_live`` order (kept until the racing robots or their targets change)."""
+        if self._live_goals is None:
+            live = self._live
+            self._live_goals = self._goal_arr if len(live) == self.n_robots else self._goal_arr[live]
+        return self._live_goals
+
+    def _goal_observations(self, here: np.ndarray | None = None) -> np.ndarray:
+        """``_observations`` with own goals: each row, then its goal's columns (``core.goals.GoalColumns``;
+        "local" and "nearest" observers write the goal's part in their own pass, the hint is added after).
+        ``here``: the racing robots' cells as an array, if the step made one."""
         ids, columns, goals = self._agent_ids, self._goal_columns, self._goal_arr
         if self._observer is not None and self._reported_live:  # the racing robots' rows alone (as in _observations)
-            cells, live = np.array(self._live_cells), self._live
-            goals = goals if len(live) == self.n_robots else goals[live]
-            rows = self._observer(cells, self._all_racing[: len(live)], columns.size)
-            return self.encoder(columns(self.table, cells, goals, out=rows))
+            cells, goals = np.array(self._live_cells) if here is None else here, self._racing_goals()
+            rows = self._observer(cells, self._all_racing[: len(self._live)], columns.size, goals)
+            return self.encoder(columns(self.table, cells, goals, out=rows, written=True) if columns.hint else rows)
         cells = np.array(self._cells)
         if self._observer is not None:  # rows with room for the goal's columns, filled in place
-            rows = columns(self.table, cells, goals, out=self._observer(cells, np.array(self._racing), columns.size))
+            rows = self._observer(cells, np.array(self._racing), columns.size, goals)
+            rows = columns(self.table, cells, goals, out=rows, written=True)
             return self.encoder(rows if len(ids) == self.n_robots else rows[ids])  # all robots: already in order, fresh
         rows = self._xyf.take([*self._live_cells, *self._parked], axis=0).ravel()[self._gather_reported]
         return self.encoder(np.concatenate([rows, columns(self.table, cells[ids], goals[ids])], axis=-1))
