@@ -238,12 +238,26 @@ def check_train_args(args: argparse.Namespace, n_envs: int, family: bool = False
 _RACE_FLAGS = {"n_robots": "--robots", "level": "--level", "collisions": "--collisions"}
 
 
-def check_race_flags(level: str, robots: int, collisions: str) -> None:
-    """The race's own checks (robots that fit on the level, the level itself) before any episode, naming the flags."""
+def check_race_flags(level: str, robots: int, collisions: str, goals: str = "exit", lifelong: bool = False) -> None:
+    """The race's own checks (robots that fit on the level, the level itself, the goals it can have) before any
+    episode, naming the flags."""
     from ..envs.race import RaceEnv
 
     try:
-        RaceEnv(level=level, n_robots=robots, collisions=collisions, start="random", observe="nearest", k=1)
+        RaceEnv(level=level, n_robots=robots, collisions=collisions, start="random", observe="nearest", k=1, goals=goals,
+                lifelong=lifelong)
     except ValueError as err:
         name, _, rest = str(err).partition(":")
+        rest = rest.replace(" on level '',", " on this --level,")  # a grid map has no name
         raise ValueError(f"{_RACE_FLAGS[name]}:{rest}" if name in _RACE_FLAGS else str(err)) from None
+
+
+def check_train_goals(args: argparse.Namespace) -> None:
+    """``train``'s own goals: the fast trainer's policies that read local windows learn them (the target channel
+    and the hint toward it); ``--lifelong`` needs them."""
+    if args.lifelong and args.goals != "own":
+        raise ValueError("--lifelong: new targets replace reached ones, so it needs --goals own")
+    if args.goals == "own" and args.backend != "fast":
+        raise ValueError("--goals own: only the fast backend trains own goals; drop --backend sb3")
+    if args.goals == "own" and args.observe != "local":
+        raise ValueError("--goals own: a robot reads its own target in its local window: pass --observe local")

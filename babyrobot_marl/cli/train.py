@@ -42,7 +42,7 @@ from ..play.screen import isatty
 from ..training.checks import check_finite_sb3
 from ..training.crowd import crowd_defaults, said
 from ..training.deps import INSTALL_HINT
-from .checks import check_race_flags, check_train_args
+from .checks import check_race_flags, check_train_args, check_train_goals
 from .train_args import FAST_ROLLOUT, KNOBS, SB3_RACE_ROLLOUT, SB3_ROLLOUT, add_train_arguments
 
 
@@ -64,8 +64,9 @@ def run(args: argparse.Namespace, out: TextIO) -> int:
     family = parse_level_family(args.level)  # "maze:A..B": a new maze per episode
     level = family(np.random.default_rng(0)) if family is not None else load_level(args.level)
     check_train_args(args, _rollout(args)[0], family is not None)  # the user's mistakes first, with or without torch
-    if args.robots > 1:  # robots that fit on the level, named by flag, before asking for torch
-        check_race_flags(args.level, args.robots, args.collisions or "block")
+    check_train_goals(args)
+    if args.robots > 1 or args.goals == "own":  # robots that fit on the level, named by flag, before asking for torch
+        check_race_flags(args.level, args.robots, args.collisions or "block", args.goals, args.lifelong)
     # a missing package: MissingTrainExtraError, one line from the CLI's main (exit 2); called through the
     # package (training.require_train), where tests put a stand-in
     training.require_train(*(("torch", "tqdm") if args.backend == "fast" else ()))
@@ -184,7 +185,10 @@ EVAL_ATLASES = 8  # the final evaluation's atlases at most: large mazes fit few 
 
 
 def _env_kwargs(args: argparse.Namespace) -> dict[str, Any]:
-    return {} if args.collisions is None else {"collisions": args.collisions}
+    kwargs: dict[str, Any] = {} if args.collisions is None else {"collisions": args.collisions}
+    if args.goals == "own":  # each robot its own target (and a new one on reaching it, lifelong)
+        kwargs.update(goals="own", lifelong=args.lifelong)
+    return kwargs
 
 
 def _family(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> dict[str, Any]:
@@ -239,9 +243,12 @@ def _family(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> d
     score = judge.play(result.net, episodes, mazes, np.random.default_rng(args.seed + 2))
     where = _name(level, args) if one_level else f"{args.level}, mazes of the evaluation seeds"
     reads = f"view_radius {config.view_radius}{', hint' if config.hint else ''}{', memory' if config.memory else ''}"
+    reads += f", own goals{', lifelong' if args.lifelong else ''}" if args.goals == "own" else ""
+    reads += f", collisions {args.collisions}" if args.collisions else ""
+    lifelong = f", throughput {score['throughput']:.3f} targets per step" if "throughput" in score else ""
     out.write(f"fast PPO, one policy for {args.robots} robot(s) reading local windows ({reads}{_crowd_note(args)}"
               f") on {where}: {episodes} episodes, greedy: success rate {score['success_rate']:.3f}, "
-              f"all reached {score['all_reached_rate']:.3f}, makespan {score['makespan']:.1f}\n")
+              f"all reached {score['all_reached_rate']:.3f}, makespan {score['makespan']:.1f}{lifelong}\n")
     figures.update({k: _round(v) for k, v in score.items()})
     figures.update(level=_name(level, args) if one_level else args.level, episodes=episodes)
     points = [(p.timesteps, p.train_return, p.score) for p in result.history]

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 
+from ..core.goals import GOAL_MODES
 from ..core.rules import COLLISION_MODES
 from ..training.checks import MAX_NEAR_RADIUS
 from ..training.crowd import CROWD_DEFAULTS, said
@@ -57,7 +58,13 @@ def add_train_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--memory", action="store_true",
                    help="--observe local: the net also reads the robot's own last action (it can tell the way it came)")
     p.add_argument("--collisions", choices=COLLISION_MODES, default=None,
-                   help="fast backend, race: the collision rule (default: the env's, block)")
+                   help="fast backend, race: the collision rule; soft: POGEMA's (default: the env's, block)")
+    p.add_argument("--goals", choices=GOAL_MODES, default="exit",
+                   help="exit: the robots race to the level's exits (default); own: each robot has its own target cell, "
+                   "drawn at each episode's start (POGEMA's task; with --observe local: the net reads its target channel "
+                   "and, with --hint, the hint toward its own target); saved with the policy")
+    p.add_argument("--lifelong", action="store_true",
+                   help="with --goals own: a robot on its target gets a new one and keeps going until the step limit")
     p.add_argument("--backend", choices=BACKENDS, default="fast",
                    help="fast: PPO on the batch engine (default); sb3: Stable-Baselines3")
     p.add_argument("--algo", choices=("ppo", "dqn"), default="ppo", help="dqn: single robot, --backend sb3 only (default: ppo)")
