@@ -38,6 +38,7 @@ from .deps import torch_module, torch_threads
 from .ppo.config import PPOConfig
 from .ppo.inputs import Inputs, near_offsets
 from .ppo.net import make_net, weight_shapes
+from .ppo.result import ENV_SETTINGS
 from .ppo.sampler import PerKey
 from .ppo.window import NO_ACTION, WindowForm
 
@@ -233,7 +234,8 @@ class WindowPolicy(TrainedPolicy):
     @property
     def observation(self) -> dict[str, Any]:
         """The env settings whose observations it reads (``race_v0.parallel_env(**policy.observation)``)."""
-        return {"observe": "local", "view_radius": self.form.radius, "hint": self.form.hint, "goals": self.form.goals}
+        form = {"observe": "local", "view_radius": self.form.radius, "hint": self.form.hint}
+        return {**form, "goals": "own"} if self.form.own else form
 
     def for_env(self, env: Any) -> WindowPolicy:
         """This policy reading ``env``'s observations: a race env's of its own form, or a one-robot
@@ -336,7 +338,7 @@ def save_policy(result: Any, path: str | os.PathLike) -> str:
         "timesteps": result.timesteps,
         "state_dict": result.net.state_dict(),
     }
-    if getattr(result, "env", None):  # the env settings trained under: goals, collisions, lifelong
+    if getattr(result, "env", None) and result.env != ENV_SETTINGS:  # trained under other env settings: named
         data["env"] = dict(result.env)
     with open(path, "wb") as f:  # an open file: torch writes exactly here, whatever the suffix
         torch.save(data, f)
