@@ -144,3 +144,22 @@ def test_a_short_own_goals_run_saves_its_settings_and_evaluates_with_own_goals(t
     assert run(["evaluate", str(path), "--level", "maze:8..10", "--robots", "4", "--episodes", "4"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "goals" in err and "own" in err  # a policy of own goals in a race to the exits
+
+
+def test_lifelong_atlases_give_new_targets_and_the_hint_leads_to_them():
+    """Robots that follow the trainer's hint toward their own targets reach them; lifelong, each then gets a new
+    target and keeps going (nobody finishes), and play_atlas reports targets reached per step."""
+    from babyrobot_marl.levels import builtin
+
+    levels = [builtin.get("maze-8x8-s1"), builtin.get("maze-10x10-s2")]
+    rules = race_v0.parallel_env(level=levels[0], goals="own", start="random", collisions="pass").rules  # no jams
+    atlas = Atlas(levels, rules, WindowForm(2, (), True, goals="own"), lifelong=True)
+    batch = atlas.batch(20, 2, 200)
+    batch.reset_drawn(np.arange(20), np.random.default_rng(0))
+    first = batch.goals.copy()
+    for _ in range(200):
+        hint = atlas.distances.hint_values(batch.cells, batch.goals)
+        moves = np.where(hint > 0, np.log2(hint & -hint).astype(np.int64), 0)  # the lowest optimal action
+        batch.step(moves)
+    assert batch.reached.min() >= 2 and (batch.goals != first).any() and batch.racing.all()
+

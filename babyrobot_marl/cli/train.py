@@ -222,10 +222,10 @@ def _family(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> d
     along = judge.atlas(16)  # the evaluations along the way: 64 episodes on 16 unseen mazes
 
     def evaluate(result: Any) -> float:
-        return play_atlas(result.net, along, args.robots, 64, judge.max_steps, np.random.default_rng(args.seed + 1))[
-            "success_rate"]
+        score = play_atlas(result.net, along, args.robots, 64, judge.max_steps, np.random.default_rng(args.seed + 1))
+        return score.get("throughput", score["success_rate"])  # lifelong: nobody finishes, targets per step
 
-    score_name = "success rate (unseen mazes)"
+    score_name = "throughput (unseen mazes)" if args.lifelong else "success rate (unseen mazes)"
     progress = TrainProgress(args.steps or UNBOUNDED, tty, out, score_name, enabled=not args.no_progress)
     try:
         result = train_ppo(spec, args.robots, args.steps or UNBOUNDED, args.seed, config, evaluate=evaluate,
