@@ -27,6 +27,7 @@ TRAINED_ON = {"observe": "global", "obs_encoding": "multidiscrete"}
 # of the saved ``view_radius`` (training.ppo.window.WindowForm)
 GLOBAL_FORM = {**TRAINED_ON, "hint": False}
 LOCAL_FORM_KEYS = ("observe", "obs_encoding", "view_radius", "hint")
+ENV_SETTINGS = {"goals": "exit", "collisions": "block", "lifelong": False}  # a saved policy's env settings, defaults
 
 
 # ---------------------------------------------------------------------------- PPO's settings

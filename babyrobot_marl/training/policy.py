@@ -33,12 +33,11 @@ import numpy as np
 from ..core.checks import shown
 from ..core.table import Table
 from ..envs.encodings import Encoder
-from .checks import GLOBAL_FORM, check_fields, check_weights
+from .checks import ENV_SETTINGS, GLOBAL_FORM, check_fields, check_weights
 from .deps import torch_module, torch_threads
 from .ppo.config import PPOConfig
 from .ppo.inputs import Inputs, near_offsets
 from .ppo.net import make_net, weight_shapes
-from .ppo.result import ENV_SETTINGS
 from .ppo.sampler import PerKey
 from .ppo.window import NO_ACTION, WindowForm
 

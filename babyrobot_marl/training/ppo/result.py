@@ -6,6 +6,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from ...core.level import Level
+from ..checks import ENV_SETTINGS
 from .config import PPOConfig
 from .inputs import make_inputs
 from .window import window_form
@@ -76,8 +77,6 @@ class TrainResult:
 
         return save_policy(self, path)
 
-
-ENV_SETTINGS = {"goals": "exit", "collisions": "block", "lifelong": False}  # a saved policy's env settings, defaults
 
 
 def trained_env(env_kwargs: dict[str, Any] | None) -> dict[str, Any]:
