@@ -32,6 +32,7 @@ import subprocess
 import sys
 from functools import lru_cache
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -127,13 +128,14 @@ def table(results: dict[int, dict[str, float]], n_mazes: int,
                                                                              "sum_of_costs", "makespan")]
             lines.append(f"{name:<34}{n:>6}  {cols[0]:<24}{cols[1]:<24}{cols[2]:<26}{cols[3]}")
             name = ""
-    ours = {n: results[n]["all_reached_rate"] for n in (32, 64) if n in results}
     lines += ["", f"CSR at 32 / 64 robots ({SOURCE}):"]
     for name, (a, b) in PUBLISHED.items():
         lines.append(f"  {name:<28}{a:.2f} / {b:.2f}")
-    if ours:
-        shown = " / ".join(f"{ours[n]:.2f}" if n in ours else "-" for n in (32, 64))
-        lines.append(f"  {'shortest-path robots (ours)':<28}{shown}")
+    learnt = [res for name, res in (others or {}).items() if name.startswith("learnt")]
+    for name, res in zip(("shortest-path robots (ours)", "learnt policy (ours)"), [results, *learnt]):
+        if any(n in res for n in (32, 64)):
+            shown = " / ".join(_shown(res[n], "all_reached_rate", 2) if n in res else "-" for n in (32, 64))
+            lines.append(f"  {name:<28}{shown}")
     return "\n".join(lines)
 
 
@@ -219,20 +221,62 @@ def regenerate(python: str) -> str:
     return done.stdout
 
 
-def refuse_policy(path: str) -> str:
-    """The one line that says why a saved policy cannot run here (its file checked first)."""
-    from babyrobot_marl.training.policy import load_checkpoint
+def load_crowd_policy(path: str) -> tuple[Any, str | None]:
+    """The saved policy at ``path`` (a ``WindowPolicy`` of own goals), or ``None`` and the one line that says
+    why it cannot run here (its file checked first)."""
+    from babyrobot_marl.training.policy import load_checkpoint, load_policy
 
     try:
         data = load_checkpoint(path)
     except ValueError as err:
-        return f"--policy: {str(err).removeprefix('policy: ')}"
+        return None, f"--policy: {str(err).removeprefix('policy: ')}"
     except ImportError as err:  # a policy file is read with torch (the train extra)
-        return f"--policy: {err}"
-    if data.get("goals", "exit") != "own":
-        return (f"--policy: {path!r} was trained for the race to the exits; the benchmark needs a policy "
-                "trained with own goals, which 'babyrobot-marl train' cannot train yet")
-    return f"--policy: {path!r}: policies trained with own goals are not run by this benchmark yet"
+        return None, f"--policy: {err}"
+    if data["observation"].get("goals", "exit") != "own":
+        return None, (f"--policy: {path!r} was trained for the race to the exits; the benchmark needs a policy trained "
+                      "with own goals: babyrobot-marl train --goals own --observe local --level maze:A..B ...")
+    if data.get("env", {}).get("lifelong"):
+        return None, f"--policy: {path!r} was trained lifelong; the benchmark's robots finish at their targets"
+    return load_policy(path), None
+
+
+def policy_race(policy: Any, grid: str, starts: list[tuple[int, int]], goals: list[tuple[int, int]],
+                rng: np.random.Generator, greedy: bool) -> Episode:
+    """One episode of the learnt crowd: every robot reads its local window (target channel, hint) as
+    ``race_v0`` shows it, the net runs once per distinct row; actions sampled (``greedy``: the likeliest)."""
+    import torch
+
+    from babyrobot_marl.training.ppo.window import NO_ACTION
+
+    form = policy.form
+    env = race_v0.parallel_env(level=level_of(grid), n_robots=len(starts), goals="own", collisions="soft",
+                               observe="local", view_radius=form.radius, hint=form.hint, start="random", max_cycles=STEPS)
+    obs, _ = env.reset(seed=0, options={"starts": starts, "goals": goals})
+    names = {a: i for i, a in enumerate(env.possible_agents)}
+    finish, last, t = [0] * len(starts), np.full(len(starts), NO_ACTION), 0
+    while env.agents:
+        t += 1
+        who = [names[a] for a in env.agents]
+        rows = form.rows_of_observations(np.stack([obs[a] for a in env.agents]), last[who])
+        uniq, inv = np.unique(rows, axis=0, return_inverse=True)
+        with torch.no_grad():
+            p = torch.softmax(policy.net.actor(torch.from_numpy(uniq)), 1).double().numpy()[inv.reshape(-1)]
+        sampled = np.minimum((rng.random((len(p), 1)) >= np.cumsum(p, axis=1)).sum(axis=1), 4)  # inverse CDF
+        moves = p.argmax(axis=1) if greedy else sampled
+        last[who] = moves
+        obs, _, terminated, _, _ = env.step(dict(zip(env.agents, moves.tolist())))
+        for a, done in terminated.items():
+            if done:
+                finish[names[a]] = t
+    return Episode(seed=0, level=grid, steps=t, finish_steps=finish)
+
+
+def policy_episodes(policy: Any, mazes: list[dict], robots: tuple[int, ...], seed: int,
+                    greedy: bool) -> dict[int, list[Episode]]:
+    """The learnt crowd's episode on every maze, per robot count (one generator, seeded: same run, same figures)."""
+    rng = np.random.default_rng(seed)
+    return {n: [policy_race(policy, m["grid"], cells(m["scenarios"][str(n)]["starts"]),
+                            cells(m["scenarios"][str(n)]["goals"]), rng, greedy) for m in mazes] for n in robots}
 
 
 def counts(text: str) -> tuple[int, ...]:
@@ -258,7 +302,10 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--robots", type=counts, default=ROBOTS, help="robot counts (default: 8,16,32,48,64)")
     p.add_argument("--mazes", type=n_mazes, default=128, help="the first N of the 128 mazes (default: 128)")
     p.add_argument("--quick", action="store_true", help=f"CI smoke run: {QUICK_MAZES} mazes, 8 robots")
-    p.add_argument("--policy", metavar="FILE", help="a policy saved by 'babyrobot-marl train' (own goals)")
+    p.add_argument("--policy", metavar="FILE",
+                   help="also a policy saved by 'babyrobot-marl train --goals own --observe local' (its row below)")
+    p.add_argument("--greedy", action="store_true", help="--policy: the likeliest action (default: sampled, --seed)")
+    p.add_argument("--seed", type=int, default=0, help="--policy: the seed of its sampled actions (default: 0)")
     p.add_argument("--json", action="store_true", help="end with one JSON line of the metrics")
     p.add_argument("--regenerate", action="store_true",
                    help="make the data again with POGEMA's venv (--pogema-python) and compare with the shipped file")
@@ -268,8 +315,11 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--pogema-python", default=os.environ.get("POGEMA_PYTHON"), metavar="PATH",
                    help="the python of a venv with pogema 1.4 (and pogema-toolbox 0.1.1 for --regenerate)")
     args = p.parse_args(argv)
+    policy = None
     if args.policy is not None:
-        p.exit(2, refuse_policy(args.policy) + "\n")
+        policy, refused = load_crowd_policy(args.policy)
+        if refused:
+            p.exit(2, refused + "\n")
     if (args.regenerate or args.in_pogema) and (not args.pogema_python or not Path(args.pogema_python).is_file()):
         p.error(f"--pogema-python: the python of a venv with pogema 1.4 (and pogema-toolbox for --regenerate), "
                 f"got {args.pogema_python!r}")
@@ -281,6 +331,9 @@ def main(argv: list[str] | None = None) -> int:
     mazes, robots = load_mazes()[: QUICK_MAZES if args.quick else args.mazes], QUICK_ROBOTS if args.quick else args.robots
     ours = episodes(mazes, robots)
     results, others = metrics(ours), {}
+    if policy is not None:
+        learnt = metrics(policy_episodes(policy, mazes, robots, args.seed, args.greedy))
+        others[f"learnt policy ({'greedy' if args.greedy else 'sampled'})"] = learnt
     if args.in_pogema:
         finish = in_pogema(args.pogema_python, mazes, robots, "finish")
         same = all(a == b for n in robots for a, b in zip(ours[n], finish[n]))
@@ -289,8 +342,11 @@ def main(argv: list[str] | None = None) -> int:
         print(f"POGEMA 1.4 with on_target='finish': every episode {'the same as' if same else 'DIFFERENT from'} here")
     print(table(results, len(mazes), others))
     if args.json:
-        print(json.dumps({str(n): {k: m[k] for k in m if k.split("_low")[0].split("_high")[0] in METRICS}
-                          for n, m in results.items()}))
+        def kept(res: dict[int, dict[str, float]]) -> dict[str, dict[str, float]]:
+            return {str(n): {k: m[k] for k in m if k.split("_low")[0].split("_high")[0] in METRICS} for n, m in res.items()}
+
+        print(json.dumps({"shortest": kept(results), **({"policy": kept(learnt)} if policy is not None else {})}
+                         if policy is not None else kept(results)))
     return 0 if not args.in_pogema or same else 1
 
 

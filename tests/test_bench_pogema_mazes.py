@@ -129,3 +129,25 @@ def test_a_policy_trained_for_the_exits_is_refused_before_any_episode(b, capsys,
         b.main(["--policy", str(path)])
     err = capsys.readouterr().err
     assert stop.value.code == 2 and err.count("\n") == 1 and "race to the exits" in err and "own goals" in err
+
+
+def test_a_policy_of_own_goals_gets_its_row_beside_the_shortest_path_robots(b, capsys, tmp_path):
+    """A policy trained with own goals on the package's mazes runs on POGEMA's mazes (the benchmark's starts and
+    goals): its row in the table and the JSON, the same figures for the same --seed."""
+    pytest.importorskip("torch", reason="needs the train extra")
+    import json
+
+    from babyrobot_marl.training.ppo import PPOConfig, train_ppo
+
+    path = tmp_path / "own.pt"
+    config = PPOConfig(n_envs=16, n_steps=16, batch_size=256, eval_every=0, hint=True, atlas_size=2)
+    train_ppo("maze:8..10", 4, 2048, seed=0, config=config, env_kwargs={"goals": "own", "collisions": "soft"}).save(path)
+    runs = []
+    for _ in range(2):
+        assert b.main(["--policy", str(path), "--mazes", "2", "--robots", "8,32", "--json"]) == 0
+        runs.append(capsys.readouterr().out)
+    assert runs[0] == runs[1]
+    figures = json.loads(runs[0].splitlines()[-1])
+    assert set(figures) == {"shortest", "policy"} and set(figures["policy"]) == {"8", "32"}
+    assert 0 <= figures["policy"]["8"]["success_rate"] <= 1
+    assert "learnt policy (sampled)" in runs[0] and "learnt policy (ours)" in runs[0]

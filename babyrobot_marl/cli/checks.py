@@ -312,3 +312,12 @@ def check_race_gif(args: argparse.Namespace) -> None:
     except ImportError:
         raise ValueError("--gif: needs imageio: pip install 'babyrobot_marl[video]'") from None
 
+
+def check_train_goals(args: argparse.Namespace) -> None:
+    """``train``'s own goals: the fast trainer's policies that read local windows learn them (the target channel
+    and the hint toward it); ``--lifelong`` needs them."""
+    check_goal_flags(args.goals, args.lifelong)
+    if args.goals == "own" and args.backend != "fast":
+        raise ValueError("--goals own: only the fast backend trains own goals; drop --backend sb3")
+    if args.goals == "own" and args.observe != "local":
+        raise ValueError("--goals own: a robot reads its own target in its local window: pass --observe local")

@@ -35,46 +35,15 @@ import numpy as np
 
 from .. import training
 from ..core.level import Level
-from ..core.rules import COLLISION_MODES
 from ..envs.single import BabyRobotEnv
 from ..levels.files import load_level
 from ..levels.sources import parse_level_family
 from ..play.screen import isatty
-from ..training.checks import MAX_NEAR_RADIUS, check_finite_sb3
-from ..training.crowd import CROWD_DEFAULTS, crowd_defaults, said
+from ..training.checks import check_finite_sb3
+from ..training.crowd import crowd_defaults, said
 from ..training.deps import INSTALL_HINT
-from .checks import (
-    SEED_HELP,
-    check_race_flags,
-    check_train_args,
-    int_in,
-    layer_sizes,
-    non_negative_float,
-    non_negative_int,
-    output_path,
-    policy_file,
-    positive_float,
-    positive_int,
-    seed_int,
-    unit_real,
-)
-from .common import add_level_arg, add_memory_args
-
-BACKENDS = ("fast", "sb3")
-# PPO knobs: CLI flag -> (PPOConfig / SB3 PPO keyword, type)
-KNOBS = {
-    "n_envs": ("n_envs", positive_int),
-    "n_steps": ("n_steps", positive_int),
-    "batch_size": ("batch_size", positive_int),
-    "n_epochs": ("n_epochs", positive_int),
-    "lr": ("learning_rate", positive_float),
-    "gamma": ("gamma", unit_real),
-    "gae_lambda": ("gae_lambda", unit_real),
-    "clip_range": ("clip_range", positive_float),
-    "ent_coef": ("ent_coef", non_negative_float),
-}
-# the backends' own rollout sizes (PPOConfig; SB3: training.single.ALGO_KWARGS, training.race)
-FAST_ROLLOUT, SB3_ROLLOUT, SB3_RACE_ROLLOUT = (1024, 16), (8, 128), (4, 256)  # (n_envs, n_steps)
+from .checks import check_race_flags, check_train_args, check_train_goals
+from .train_args import FAST_ROLLOUT, KNOBS, SB3_RACE_ROLLOUT, SB3_ROLLOUT, add_train_arguments
 
 
 def add_parser(sub: argparse._SubParsersAction) -> None:
@@ -87,49 +56,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
         "trains Stable-Baselines3 (SuperSuit for a race). The last line printed is one JSON object of figures. "
         f"Needs the 'train' extra: {INSTALL_HINT}.",
     )
-    add_level_arg(p, default="maze-8x8")
-    p.add_argument("--robots", type=positive_int, default=1, metavar="N", help="1: single robot; more: a race (default: 1)")
-    p.add_argument("--steps", type=positive_int, default=None, metavar="N",
-                   help="training timesteps (one per robot per step); or --seconds")
-    p.add_argument("--seconds", type=positive_float, default=None, metavar="SECONDS",
-                   help="fast backend: train for SECONDS of wall-clock time (rollouts and updates) instead of --steps")
-    p.add_argument("--observe", choices=("global", "local"), default="global",
-                   help="fast backend: what the net reads; 'local' (needed for a level family, --level maze:A..B): the "
-                   "local window of --view-radius, which any maze shows alike (default: global, the robot's cell)")
-    p.add_argument("--view-radius", type=non_negative_int, default=None, metavar="N",
-                   help="--observe local: the window's radius, as race_v0's view_radius (default: 2)")
-    p.add_argument("--hint", action="store_true", help="--observe local: the net also reads the goal hint (race_v0's hint=True)")
-    add_memory_args(p)
-    p.add_argument("--collisions", choices=COLLISION_MODES, default=None,
-                   help="fast backend, race: the collision rule (default: the env's, block)")
-    p.add_argument("--backend", choices=BACKENDS, default="fast",
-                   help="fast: PPO on the batch engine (default); sb3: Stable-Baselines3")
-    p.add_argument("--algo", choices=("ppo", "dqn"), default="ppo", help="dqn: single robot, --backend sb3 only (default: ppo)")
-    p.add_argument("--seed", type=seed_int, default=0, metavar="N",
-                   help=f"seed of training and evaluation, {SEED_HELP} (default: 0)")
-    p.add_argument("--episodes", type=positive_int, default=None, metavar="N",
-                   help="final evaluation: episodes (one robot, default 20) or races per opponent (default 100)")
-    p.add_argument("--save", type=output_path, metavar="PATH",
-                   help="save the trained policy to exactly PATH (fast: a torch file; sb3: SB3's zip); its folder must exist")
-    p.add_argument("--load", type=policy_file, metavar="PATH", help="fast backend: start from a policy saved by --save")
-    p.add_argument("--gif", type=output_path, metavar="PATH", help="single robot: write a GIF of the learnt policy here")
-    p.add_argument("--curve", type=output_path, metavar="PATH", help="write the learning curve here as a PNG")
-    p.add_argument("--threads", type=non_negative_int, default=1, metavar="N",
-                   help="torch threads while training (default: 1, which a busy machine slows in proportion instead of "
-                   "stalling; 0: torch's own setting)")
-    p.add_argument("--no-progress", action="store_true", help="neither a progress bar nor evaluation lines")
-    knobs = p.add_argument_group("PPO settings (default: the backend's)")
-    for flag, (name, kind) in KNOBS.items():
-        knobs.add_argument("--" + flag.replace("_", "-"), type=kind, default=None, metavar="X", help=f"SB3's {name}")
-    knobs.add_argument("--net-arch", type=layer_sizes, default=None, metavar="H1,H2", help="hidden layers (default: 64,64)")
-    knobs.add_argument("--eval-every", type=positive_int, default=None, metavar="N", help="timesteps between evaluations")
-    knobs.add_argument("--near-radius", type=int_in(0, MAX_NEAR_RADIUS), default=None, metavar="N",
-                       help="fast backend, race: a robot sees the robots within N steps of it, 0..4 (default: 1; "
-                       f"{CROWD_DEFAULTS['near_radius']} for a crowd: see --blocked-cost)")
-    knobs.add_argument("--blocked-cost", type=non_negative_float, default=None, metavar="X",
-                       help="fast backend, race: a robot's training reward loses X on each step another robot stops its "
-                       "move (default: 0; a crowd, 2 or more robots under --collisions block, bounce or soft, trains with the "
-                       f"crowd defaults {said(CROWD_DEFAULTS)} unless given, as train's summary line says)")
+    add_train_arguments(p)
     p.set_defaults(func=run)
 
 
@@ -137,8 +64,9 @@ def run(args: argparse.Namespace, out: TextIO) -> int:
     family = parse_level_family(args.level)  # "maze:A..B": a new maze per episode
     level = family(np.random.default_rng(0)) if family is not None else load_level(args.level)
     check_train_args(args, _rollout(args)[0], family is not None)  # the user's mistakes first, with or without torch
-    if args.robots > 1:  # robots that fit on the level, named by flag, before asking for torch
-        check_race_flags(args.level, args.robots, args.collisions or "block")
+    check_train_goals(args)
+    if args.robots > 1 or args.goals == "own":  # robots that fit on the level, named by flag, before asking for torch
+        check_race_flags(args.level, args.robots, args.collisions or "block", args.goals, args.lifelong)
     # a missing package: MissingTrainExtraError, one line from the CLI's main (exit 2); called through the
     # package (training.require_train), where tests put a stand-in
     training.require_train(*(("torch", "tqdm") if args.backend == "fast" else ()))
@@ -257,7 +185,10 @@ EVAL_ATLASES = 8  # the final evaluation's atlases at most: large mazes fit few 
 
 
 def _env_kwargs(args: argparse.Namespace) -> dict[str, Any]:
-    return {} if args.collisions is None else {"collisions": args.collisions}
+    kwargs: dict[str, Any] = {} if args.collisions is None else {"collisions": args.collisions}
+    if args.goals == "own":  # each robot its own target (and a new one on reaching it, lifelong)
+        kwargs.update(goals="own", lifelong=args.lifelong)
+    return kwargs
 
 
 def _family(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> dict[str, Any]:
@@ -291,10 +222,10 @@ def _family(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> d
     along = judge.atlas(16)  # the evaluations along the way: 64 episodes on 16 unseen mazes
 
     def evaluate(result: Any) -> float:
-        return play_atlas(result.net, along, args.robots, 64, judge.max_steps, np.random.default_rng(args.seed + 1))[
-            "success_rate"]
+        score = play_atlas(result.net, along, args.robots, 64, judge.max_steps, np.random.default_rng(args.seed + 1))
+        return score.get("throughput", score["success_rate"])  # lifelong: nobody finishes, targets per step
 
-    score_name = "success rate (unseen mazes)"
+    score_name = "throughput (unseen mazes)" if args.lifelong else "success rate (unseen mazes)"
     progress = TrainProgress(args.steps or UNBOUNDED, tty, out, score_name, enabled=not args.no_progress)
     try:
         result = train_ppo(spec, args.robots, args.steps or UNBOUNDED, args.seed, config, evaluate=evaluate,
@@ -311,11 +242,14 @@ def _family(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> d
     mazes = 1 if one_level else min(episodes, 256, EVAL_ATLASES * judge.atlas_capacity)
     score = judge.play(result.net, episodes, mazes, np.random.default_rng(args.seed + 2))
     where = _name(level, args) if one_level else f"{args.level}, mazes of the evaluation seeds"
-    reads = f"view_radius {config.view_radius}{', hint' if config.hint else ''}{', memory' if config.memory else ''}" + (
-        f", a GRU of {config.hidden} units" if config.recurrent else "")
+    reads = f"view_radius {config.view_radius}{', hint' if config.hint else ''}{', memory' if config.memory else ''}"
+    reads += f", a GRU of {config.hidden} units" if config.recurrent else ""
+    reads += f", own goals{', lifelong' if args.lifelong else ''}" if args.goals == "own" else ""
+    reads += f", collisions {args.collisions}" if args.collisions else ""
+    lifelong = f", throughput {score['throughput']:.3f} targets per step" if "throughput" in score else ""
     out.write(f"fast PPO, one policy for {args.robots} robot(s) reading local windows ({reads}{_crowd_note(args)}"
               f") on {where}: {episodes} episodes, greedy: success rate {score['success_rate']:.3f}, "
-              f"all reached {score['all_reached_rate']:.3f}, makespan {score['makespan']:.1f}\n")
+              f"all reached {score['all_reached_rate']:.3f}, makespan {score['makespan']:.1f}{lifelong}\n")
     figures.update({k: _round(v) for k, v in score.items()})
     figures.update(level=_name(level, args) if one_level else args.level, episodes=episodes)
     points = [(p.timesteps, p.train_return, p.score) for p in result.history]

@@ -27,6 +27,7 @@ TRAINED_ON = {"observe": "global", "obs_encoding": "multidiscrete"}
 # of the saved ``view_radius`` (training.ppo.window.WindowForm)
 GLOBAL_FORM = {**TRAINED_ON, "hint": False}
 LOCAL_FORM_KEYS = ("observe", "obs_encoding", "view_radius", "hint")
+ENV_SETTINGS = {"goals": "exit", "collisions": "block", "lifelong": False}  # a saved policy's env settings, defaults
 
 
 # ---------------------------------------------------------------------------- PPO's settings
@@ -93,7 +94,8 @@ def check_fields(data: dict[str, Any], version: int, config_type: type) -> None:
     """Each field of saved data but the weights as ``save_policy`` writes it (its ``ValueError`` names the
     field); ``config_type``: ``PPOConfig``, which checks the saved settings (``check_config``)."""
     expected = FIELDS + (("observation",) if version >= 3 else ())
-    missing, unknown = [k for k in expected if k not in data], [k for k in data if k not in expected]
+    optional = ("env",) if version >= 4 else ()  # the env settings trained under (own goals, collisions, lifelong)
+    missing, unknown = [k for k in expected if k not in data], [k for k in data if k not in expected + optional]
     if missing or unknown:
         raise ValueError(f"{'missing' if missing else 'unknown'} field {shown((missing or unknown)[0])}")
     w, h, n = (_int_field(data, k, 1, hi) for k, hi in (("width", MAX_LEVEL_CELLS), ("height", MAX_LEVEL_CELLS),
@@ -108,6 +110,7 @@ def check_fields(data: dict[str, Any], version: int, config_type: type) -> None:
         raise ValueError(f"observation: this version reads policies of {TRAINED_ON}, got {shown(data['observation'])}")
     if version >= 4:
         check_observation_form(data["observation"])
+        check_env_settings(data.get("env", {}))
     arch = data["net_arch"]
     if (not isinstance(arch, (list, tuple)) or len(arch) > MAX_LAYERS
             or not all(type(x) is int and 1 <= x <= MAX_LAYER_SIZE for x in arch)):
@@ -128,12 +131,27 @@ def check_observation_form(form: Any) -> None:
     """A version-4 file's ``observation``: the global rows (``GLOBAL_FORM``) or a local window with its
     ``view_radius`` and ``hint``."""
     ok = form == GLOBAL_FORM or (
-        isinstance(form, dict) and tuple(form) == LOCAL_FORM_KEYS and form["observe"] == "local"
+        isinstance(form, dict) and tuple(form) in (LOCAL_FORM_KEYS, LOCAL_FORM_KEYS + ("goals",))
+        and form.get("goals", "own") == "own" and form["observe"] == "local"
         and form["obs_encoding"] == "multidiscrete" and type(form["view_radius"]) is int and form["view_radius"] >= 0
         and isinstance(form["hint"], bool))
     if not ok:
         raise ValueError(f"observation: this version reads policies of {GLOBAL_FORM} or {{'observe': 'local', "
-                         f"'obs_encoding': 'multidiscrete', 'view_radius': R, 'hint': True/False}}, got {shown(form)}")
+                         f"'obs_encoding': 'multidiscrete', 'view_radius': R, 'hint': True/False[, 'goals': 'own']}}, "
+                         f"got {shown(form)}")
+
+
+def check_env_settings(env: Any) -> None:
+    """A version-4 file's ``env``: the goals mode, collision rule and lifelong flag it was trained under."""
+    from ..core.goals import GOAL_MODES
+    from ..core.rules import COLLISION_MODES
+
+    ok = isinstance(env, dict) and set(env) <= {"goals", "collisions", "lifelong"} and (
+        env.get("goals", "exit") in GOAL_MODES and env.get("collisions", "block") in COLLISION_MODES
+        and isinstance(env.get("lifelong", False), bool))
+    if not ok:
+        raise ValueError(f"env: the settings trained under, {{'goals': one of {GOAL_MODES}, 'collisions': one of "
+                         f"{COLLISION_MODES}, 'lifelong': True/False}}, got {shown(env)}")
 
 
 def _int_field(data: dict[str, Any], key: str, lo: int, hi: int | None) -> int:

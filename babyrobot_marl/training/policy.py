@@ -33,7 +33,7 @@ import numpy as np
 from ..core.checks import shown
 from ..core.table import Table
 from ..envs.encodings import Encoder
-from .checks import GLOBAL_FORM, check_fields, check_weights
+from .checks import ENV_SETTINGS, GLOBAL_FORM, check_fields, check_weights
 from .deps import torch_module, torch_threads
 from .ppo.config import PPOConfig
 from .ppo.inputs import Inputs, near_offsets
@@ -239,7 +239,8 @@ class WindowPolicy(TrainedPolicy):
     @property
     def observation(self) -> dict[str, Any]:
         """The env settings whose observations it reads (``race_v0.parallel_env(**policy.observation)``)."""
-        return {"observe": "local", "view_radius": self.form.radius, "hint": self.form.hint}
+        form = {"observe": "local", "view_radius": self.form.radius, "hint": self.form.hint}
+        return {**form, "goals": "own"} if self.form.own else form
 
     def for_env(self, env: Any) -> WindowPolicy:
         """This policy reading ``env``'s observations: a race env's of its own form, or a one-robot
@@ -249,6 +250,8 @@ class WindowPolicy(TrainedPolicy):
         encoder = getattr(e, "encoder", None)
         if encoder is None:
             raise TypeError(f"env: expected an env of babyrobot_marl (race_v0), got {type(env).__name__}")
+        if not hasattr(e, "possible_agents") and self.form.own:
+            raise ValueError("policy: trained with goals='own'; a one-robot env has its level's exits")
         if not hasattr(e, "possible_agents"):  # one robot, no race: its window read from the level
             bound = copy.copy(self)
             bound.encoder, bound.last, bound.hidden = SingleWindowRows(e, self.form), NO_ACTION, self._fresh()
@@ -262,6 +265,8 @@ class WindowPolicy(TrainedPolicy):
                 shown_env += f", view_radius={radius}, hint={hint}"
             raise ValueError(f"policy: trained on observe='local', view_radius={self.form.radius}, hint={self.form.hint}; "
                              f"this env has {shown_env}")
+        if getattr(e, "goals_mode", "exit") != self.form.goals:
+            raise ValueError(f"policy: trained with goals={self.form.goals!r}; this env has goals={e.goals_mode!r}")
         if self.form.near and radius < max(abs(dx) + abs(dy) for dx, dy in self.form.near):
             raise ValueError(f"policy: sees the robots near it within view_radius {radius}")
         bound = copy.copy(self)  # the same net, cache and generator; a memory of its own
@@ -347,6 +352,8 @@ def save_policy(result: Any, path: str | os.PathLike) -> str:
         "timesteps": result.timesteps,
         "state_dict": result.net.state_dict(),
     }
+    if getattr(result, "env", None) and result.env != ENV_SETTINGS:  # trained under other env settings: named
+        data["env"] = dict(result.env)
     with open(path, "wb") as f:  # an open file: torch writes exactly here, whatever the suffix
         torch.save(data, f)
     return str(path)
@@ -356,8 +363,10 @@ def observation_form(result: Any) -> dict[str, Any]:
     """What the policy of a ``TrainResult`` reads: the global rows, or (a level family) local windows."""
     if getattr(result, "family", None) is None:
         return dict(GLOBAL_FORM)
-    return {"observe": "local", "obs_encoding": "multidiscrete", "view_radius": result.config.view_radius,
+    form = {"observe": "local", "obs_encoding": "multidiscrete", "view_radius": result.config.view_radius,
             "hint": bool(result.config.hint)}
+    own = getattr(result, "goals", "exit") == "own"
+    return {**form, "goals": "own"} if own else form  # own goals: it also reads its target channel
 
 
 def load_checkpoint(path: str | os.PathLike) -> dict[str, Any]:
@@ -397,7 +406,8 @@ def inputs_of(data: dict[str, Any]) -> Inputs | WindowForm:
     near = near_offsets(data["config"]["near_radius"]) if data["n_robots"] > 1 else ()
     form = data.get("observation", GLOBAL_FORM)
     if form.get("observe") == "local":
-        return WindowForm(form["view_radius"], near, form["hint"], bool(data["config"].get("memory", False)))
+        memory = bool(data["config"].get("memory", False))
+        return WindowForm(form["view_radius"], near, form["hint"], memory, form.get("goals", "exit"))
     return Inputs(data["width"], data["height"], near)
 
 

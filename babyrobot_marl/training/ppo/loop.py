@@ -28,7 +28,7 @@ from .config import PPOConfig, known_settings
 from .inputs import make_inputs
 from .net import log_softmax, make_net
 from .recurrent import Recurrence, make_recurrent_net
-from .result import EvalPoint, TrainResult
+from .result import EvalPoint, TrainResult, trained_env
 from .sampler import PerKey, Sampler, distinct_rows
 from .update import Samples, clip_grad_norm, gae, grads_of, ppo_gradients
 from .window import NO_ACTION, Family
@@ -111,6 +111,9 @@ def train_ppo(
         if getattr(cfg, name) and family is None:
             raise ValueError(f"{name}: {what} is read by a level family's policy (level='maze:A..B'), "
                              f"got level {level if isinstance(level, str) else getattr(level, 'name', 'a Level')!r}")
+    if family is None and (env_kwargs or {}).get("goals", "exit") != "exit":
+        raise ValueError("goals: a policy of own goals reads its target in its local window: train it on a level "
+                         "family ('maze:A..B') or with the level's windows (the CLI's --observe local)")
     if family is None:
         level = resolve_level(level)
         batch = make_batch(level, n, cfg.n_envs, cfg.start, seed, **(env_kwargs or {}))
@@ -127,6 +130,10 @@ def train_ppo(
     # the robots' last actions (a family policy with memory reads them; NO_ACTION at an episode's start)
     last = np.full((E, n), NO_ACTION) if cfg.memory else None
     mem = () if last is None else (last,)
+    own = family is not None and family.goals == "own"
+
+    def keys_now() -> np.ndarray:  # every robot's key now (own goals: its target's part too)
+        return inputs.keys(batch.cells, batch.racing, *((last, batch.goals) if own else mem))
 
     with torch_threads(cfg.threads), _deterministic(seed):
         net = make_recurrent_net(inputs.n_in, cfg.net_arch, cfg.hidden) if cfg.recurrent else make_net(inputs.n_in, cfg.net_arch)
@@ -142,7 +149,8 @@ def train_ppo(
             net.load_state_dict(init.state_dict())
         params = list(net.parameters())
         optim = torch.optim.Adam(params, lr=cfg.learning_rate, eps=1e-5, fused=True)  # one kernel for all
-        result = TrainResult(net, level, n, cfg, seed, family=None if family is None else family.spec)
+        result = TrainResult(net, level, n, cfg, seed, family=None if family is None else family.spec,
+                             env=trained_env(env_kwargs))
         order_gen = torch.Generator().manual_seed(seed)  # minibatch order
 
         # rollout storage: (T, E, R) per robot-step; an observation is its key (Inputs)
@@ -191,7 +199,7 @@ def train_ppo(
             with torch.no_grad():
                 actor = Sampler(inputs, net) if rec is None else rec.start(inputs)  # weights fixed: once per distinct input
                 for t in range(T):
-                    keys = inputs.keys(batch.cells, batch.racing, *mem).reshape(-1)
+                    keys = keys_now().reshape(-1)
                     actions = actor.sample(keys, rng)
                     racing = batch.racing.copy()
                     rewards, finishing, blocked, _, over = batch.step(actions.reshape(E, n))
@@ -211,7 +219,7 @@ def train_ppo(
                     if np.count_nonzero(over):
                         envs = np.flatnonzero(over)
                         if np.count_nonzero(trunc_buf[t]):
-                            final_buf[t] = inputs.keys(batch.cells, batch.racing, *mem)
+                            final_buf[t] = keys_now()
                             if rec is not None:
                                 rec.truncated(final_buf[t], trunc_buf[t])
                         batch.reset_drawn(envs, reset_rng)
@@ -225,11 +233,11 @@ def train_ppo(
                     values = critic(key_buf)
                     if np.count_nonzero(trunc_buf):
                         rewards_b[trunc_buf] += cfg.gamma * critic(final_buf[trunc_buf])
-                    next_value = critic(inputs.keys(batch.cells, batch.racing, *mem))
+                    next_value = critic(keys_now())
                 else:
                     values = rec.value_buf.reshape(T, E, n)
                     rewards_b += cfg.gamma * rec.final_value.reshape(T, E, n) * trunc_buf
-                    next_value = rec.next_value(inputs.keys(batch.cells, batch.racing, *mem))
+                    next_value = rec.next_value(keys_now())
                 adv, returns = gae(rewards_b, values, next_value, done_buf, cfg.gamma, cfg.gae_lambda)
 
             # ---- update: n_epochs passes over the decisions of the rollout, in minibatches; the net

@@ -6,6 +6,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from ...core.level import Level
+from ..checks import ENV_SETTINGS
 from .config import PPOConfig
 from .inputs import make_inputs
 from .window import window_form
@@ -44,6 +45,11 @@ class TrainResult:
     history: list[EvalPoint] = field(default_factory=list)
     reached: tuple[int, float] | None = None
     family: str | None = None  # a level family's spec: the net reads local windows (window.WindowForm)
+    env: dict[str, Any] = field(default_factory=dict)  # the env settings trained under (``trained_env``)
+
+    @property
+    def goals(self) -> str:
+        return self.env.get("goals", "exit")
 
     @property
     def steps_per_second(self) -> float:
@@ -60,7 +66,8 @@ class TrainResult:
         from ..policy import TrainedPolicy, WindowPolicy
 
         if self.family is not None:
-            return WindowPolicy(self.net, window_form(self.config, self.n_robots), self.n_robots, deterministic, seed)
+            form = window_form(self.config, self.n_robots, self.goals)
+            return WindowPolicy(self.net, form, self.n_robots, deterministic, seed)
         inputs = make_inputs(self.level, self.n_robots, self.config.near_radius)
         return TrainedPolicy(self.net, inputs, self.n_robots, deterministic, seed)
 
@@ -69,3 +76,10 @@ class TrainResult:
         from ..policy import save_policy
 
         return save_policy(self, path)
+
+
+
+def trained_env(env_kwargs: dict[str, Any] | None) -> dict[str, Any]:
+    """The env settings a policy was trained under (goals, collisions, lifelong), each named with its default."""
+    kwargs = env_kwargs or {}
+    return {k: kwargs.get(k, default) for k, default in ENV_SETTINGS.items()}

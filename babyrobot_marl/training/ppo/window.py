@@ -30,10 +30,12 @@ import numpy as np
 from ...core.actions import N_ACTIONS
 from ...core.batch import BatchRace
 from ...core.checks import MAX_LEVEL_CELLS
+from ...core.goals import GoalColumns, own_goal_table
 from ...core.level import Level
 from ...core.observe import LOCAL_FEATURES, TERRAIN, local_observations, local_view
 from ...core.rules import Rules
 from ...core.table import Table, compile_level
+from .goal_inputs import HINT_VALUES, AtlasDistances, closed_edges, target_units
 
 _NVEC = (len(TERRAIN), 3, 3, 3, 3)  # terrain, then the edges north, east, south, west (LOCAL_FEATURES without robot)
 _COLUMNS = [i for i, f in enumerate(LOCAL_FEATURES) if f != "robot"]
@@ -55,6 +57,11 @@ class WindowForm:
     near: tuple[tuple[int, int], ...]
     hint: bool
     memory: bool = False
+    goals: str = "exit"  # "own": the target channel's unit and the hint toward its own target (goal_inputs)
+
+    @property
+    def own(self) -> bool:
+        return self.goals == "own"
 
     @property
     def side(self) -> int:
@@ -66,17 +73,38 @@ class WindowForm:
 
     @property
     def n_static(self) -> int:
-        """Units of the level's part: the window's terrain and edges, the hint."""
-        return self.n_window * _UNITS + (N_HINT if self.hint else 0)
+        """Units of the level's part: the window's terrain and edges, the hint (toward the exits)."""
+        return self.n_window * _UNITS + (N_HINT if self.hint and not self.own else 0)
+
+    @property
+    def n_goal(self) -> int:
+        """Units of the own target's part: the target channel's cell, the hint toward it."""
+        return self.n_window + (N_HINT if self.hint else 0) if self.own else 0
+
+    @property
+    def goal_values(self) -> int:
+        """Distinct values of the own target's part of a key (1: none)."""
+        return self.n_window * (HINT_VALUES if self.hint else 1) if self.own else 1
 
     @property
     def n_in(self) -> int:
-        return self.n_static + len(self.near) + (N_ACTIONS if self.memory else 0)
+        return self.n_static + self.n_goal + len(self.near) + (N_ACTIONS if self.memory else 0)
 
     def memory_rows(self, last: np.ndarray) -> np.ndarray:
         """``(N, 1)`` indices: the unit of each robot's last action (``NO_ACTION``: none, at an episode's start)."""
         last = np.asarray(last, dtype=np.int64).reshape(-1, 1)
-        return np.where(last < N_ACTIONS, self.n_static + len(self.near) + last, self.n_in)
+        return np.where(last < N_ACTIONS, self.n_static + self.n_goal + len(self.near) + last, self.n_in)
+
+    def goal_rows(self, values: np.ndarray) -> np.ndarray:
+        """``(N, 1 + 5?)`` indices from the own target's part of keys (``target unit * 32 + hint bits``)."""
+        values = np.asarray(values, dtype=np.int64).reshape(-1)
+        at = self.n_static
+        unit, bits = np.divmod(values, HINT_VALUES) if self.hint else (values, None)
+        parts = [(at + unit)[:, None]]
+        if self.hint:
+            on = (bits[:, None] >> np.arange(N_HINT)) & 1
+            parts.append(np.where(on > 0, at + self.n_window + np.arange(N_HINT), self.n_in))
+        return np.concatenate(parts, axis=1)
 
     @cached_property
     def window_at(self) -> np.ndarray:
@@ -85,21 +113,24 @@ class WindowForm:
 
     def static_rows(self, feats: np.ndarray, hint: np.ndarray | None) -> np.ndarray:
         """``(N, n_window * 5 + 5?)`` indices from window features ``(N, n_window, 6)`` and hint bits ``(N, 5)``."""
-        f = np.asarray(feats, dtype=np.int64)[:, :, _COLUMNS]  # (N, W, 5)
+        f = np.asarray(feats, dtype=np.int64)
+        if self.own:  # walls and blocked cells read alike (goal_inputs.closed_edges)
+            f = closed_edges(f, self.radius)
+        f = f[:, :, _COLUMNS]  # (N, W, 5)
         unit = np.arange(self.n_window)[:, None] * _UNITS + _OFFSETS + f - 1
         rows = np.where(f > 0, unit, self.n_in).reshape(f.shape[0], -1)
-        if self.hint:
+        if self.hint and not self.own:
             h = np.asarray(hint, dtype=np.int64)
             rows = np.concatenate([rows, np.where(h > 0, self.n_window * _UNITS + np.arange(N_HINT), self.n_in)], axis=1)
         return rows
 
     def robot_rows(self, bits: np.ndarray) -> np.ndarray:
         """``(N, m)`` indices from the near bits ``(N, m)`` (0/1)."""
-        return np.where(np.asarray(bits) > 0, self.n_static + np.arange(len(self.near)), self.n_in)
+        return np.where(np.asarray(bits) > 0, self.n_static + self.n_goal + np.arange(len(self.near)), self.n_in)
 
     def obs_size(self) -> int:
-        """Numbers of one env observation: ``[x, y]``, the window, the hint bits."""
-        return 2 + len(LOCAL_FEATURES) * self.n_window + (N_HINT if self.hint else 0)
+        """Numbers of one env observation: ``[x, y]``, the window, the target channel (own goals), the hint bits."""
+        return 2 + len(LOCAL_FEATURES) * self.n_window + (self.n_window if self.own else 0) + (N_HINT if self.hint else 0)
 
     def rows_of_observations(self, obs: np.ndarray, last: np.ndarray | None = None) -> np.ndarray:
         """The net's rows from ``race_v0``'s ``observe="local"`` rows ``(N, obs_size)`` (MultiDiscrete
@@ -109,7 +140,14 @@ class WindowForm:
         feats = o[:, 2 : 2 + len(LOCAL_FEATURES) * self.n_window].reshape(-1, self.n_window, len(LOCAL_FEATURES))
         hint = o[:, -N_HINT:] if self.hint else None
         bits = feats[:, self.window_at, _ROBOT]
-        parts = [self.static_rows(feats, hint), self.robot_rows(bits)]
+        parts = [self.static_rows(feats, hint)]
+        if self.own:  # the target channel's cell, then the hint's bits as one number
+            at = 2 + len(LOCAL_FEATURES) * self.n_window
+            value = o[:, at : at + self.n_window].argmax(axis=1)
+            if self.hint:
+                value = value * HINT_VALUES + hint @ (1 << np.arange(N_HINT))
+            parts.append(self.goal_rows(value))
+        parts.append(self.robot_rows(bits))
         if self.memory:
             parts.append(self.memory_rows(np.full(len(o), NO_ACTION) if last is None else last))
         return np.concatenate(parts, axis=1)
@@ -147,25 +185,28 @@ class Atlas:
     """``levels`` stacked into one compiled table (``stack_levels``) with each level's window patterns and
     start pools: ``batch(...)`` steps envs on all of them, ``keys``/``rows`` are the trainer's inputs."""
 
-    def __init__(self, levels: Sequence[Level], rules: Rules, form: WindowForm):
-        self.levels, self.form = list(levels), form
+    def __init__(self, levels: Sequence[Level], rules: Rules, form: WindowForm, lifelong: bool = False):
+        self.levels, self.form, self.lifelong = list(levels), form, lifelong
         self.level, tops = stack_levels(self.levels)
-        self.table: Table = compile_level(self.level, rules)
+        compiled = own_goal_table if form.own else (lambda t: t)  # own goals: the exits are floor
+        self.table: Table = compiled(compile_level(self.level, rules))
         w = self.level.width
         n = self.table.n_cells
-        static = np.full((n, form.n_window * len(_NVEC) + (N_HINT if form.hint else 0)), form.n_in, dtype=np.int64)
+        static = np.full((n, form.n_window * len(_NVEC) + (N_HINT if form.hint and not form.own else 0)), form.n_in,
+                         dtype=np.int64)
         free, pools = [], []
         for lv, top in zip(self.levels, tops.tolist()):
-            t = compile_level(lv, rules)
+            t = compiled(compile_level(lv, rules))
             ids = (top + np.arange(lv.n_cells) // lv.width) * w + np.arange(lv.n_cells) % lv.width
             cells = np.arange(lv.n_cells)
             feats = local_observations(local_view(t, form.radius), cells[:, None], np.zeros((lv.n_cells, 1), bool))
             feats = feats[:, 0, 2:].reshape(lv.n_cells, form.n_window, len(LOCAL_FEATURES))
-            hint = _hint(lv, rules) if form.hint else None
+            hint = _hint(lv, rules) if form.hint and not form.own else None
             static[ids] = form.static_rows(feats, hint)
             free.append(ids[list(t.free_cells)])
             pools.append(len(t.free_cells))
         self.free, self.pools = np.concatenate(free), pools
+        self.distances = AtlasDistances(self.table) if form.own and form.hint else None  # the hint toward own targets
         # the patterns: distinct level parts of a window; a cell's key starts with its pattern's number
         self.patterns, self.pattern_of = np.unique(static, axis=0, return_inverse=True)
         self.pattern_of = self.pattern_of.reshape(-1)
@@ -183,12 +224,16 @@ class Atlas:
 
     @property
     def n_keys(self) -> int:
-        return (len(self.patterns) << len(self.form.near)) * (N_ACTIONS + 1 if self.form.memory else 1)
+        f = self.form
+        return (len(self.patterns) << len(f.near)) * f.goal_values * (N_ACTIONS + 1 if f.memory else 1)
 
     def batch(self, n_envs: int, n_robots: int, max_steps: int, start: str = "random") -> BatchRace:
-        """``n_envs`` races of ``n_robots`` on the atlas (``finished="freeze"``), each episode on a level drawn at its reset."""
+        """``n_envs`` races of ``n_robots`` on the atlas (``finished="freeze"``), each episode on a level drawn at its
+        reset; own goals: each robot's target drawn after the starts, as ``race_v0`` draws them."""
+        own = GoalColumns(None, False, self.level.width, self.level.height) if self.form.own else None
         return BatchRace(self.table, n_envs, n_robots, max_steps, (), self.free, "single" if n_robots == 1 else start,
-                         self.table.rules.win_bonus if n_robots > 1 else 0.0, pools=self.pools)
+                         self.table.rules.win_bonus if n_robots > 1 else 0.0, pools=self.pools, goal_columns=own,
+                         lifelong=self.lifelong)
 
     def near_bits(self, cells: np.ndarray, racing: np.ndarray) -> np.ndarray:
         """``(E, R, m)``: a racing robot of the same env on each near cell of each robot."""
@@ -202,12 +247,19 @@ class Atlas:
         at = np.minimum(np.searchsorted(occupied, want), max(occupied.size - 1, 0))
         return (occupied.size > 0) & (occupied[at] == want) if occupied.size else np.zeros(want.shape, dtype=bool)
 
-    def keys(self, cells: np.ndarray, racing: np.ndarray, last: np.ndarray | None = None) -> np.ndarray:
-        """Every robot's key: its window pattern, then its near bits, then (``memory``) its ``last`` action."""
+    def keys(self, cells: np.ndarray, racing: np.ndarray, last: np.ndarray | None = None,
+             goals: np.ndarray | None = None) -> np.ndarray:
+        """Every robot's key: its window pattern, then its near bits, then (own goals) where its ``goals`` cell
+        lies and the hint toward it, then (``memory``) its ``last`` action."""
         m = len(self.form.near)
         key = self.pattern_of[cells]
         if m:
             key = (key << m) | self.near_bits(cells, racing).astype(np.int64) @ (1 << np.arange(m))
+        if self.form.own:
+            part = target_units(cells, goals, self.level.width, self.form.radius)
+            if self.distances is not None:
+                part = part * HINT_VALUES + self.distances.hint_values(cells, goals)
+            key = key * self.form.goal_values + part
         if self.form.memory:
             key = key * (N_ACTIONS + 1) + (np.full(np.shape(cells), NO_ACTION) if last is None else last)
         return key
@@ -219,8 +271,13 @@ class Atlas:
         if self.form.memory:
             keys, last = np.divmod(keys, N_ACTIONS + 1)
             parts.append(self.form.memory_rows(last))
+        if self.form.own:
+            keys, goal = np.divmod(keys, self.form.goal_values)
+            parts.insert(0, self.form.goal_rows(goal))
         m = len(self.form.near)
         bits = (keys[:, None] >> np.arange(m)) & 1
+        if self.form.own:  # the goal's units sit before the near bits'
+            return np.concatenate([self.patterns[keys >> m], parts[0], self.form.robot_rows(bits), *parts[1:]], axis=1)
         return np.concatenate([self.patterns[keys >> m], self.form.robot_rows(bits), *parts], axis=1)
 
 
@@ -245,10 +302,11 @@ class Family:
         w, h = getattr(source, "largest", (first.width, first.height))
         largest = Level(w, h, exits=[(0, 0)])  # the step limit of the family's envs: their largest level's
         self.max_steps = int(max_cycles) if max_cycles is not None else default_max_steps(largest)
+        self.goals, self.lifelong = probe.goals_mode, probe.lifelong
         if n_robots > 1 and cfg.near_radius > cfg.view_radius:
             raise ValueError(f"near_radius: a robot sees the robots within its window; near_radius {cfg.near_radius} "
                              f"exceeds view_radius {cfg.view_radius}")
-        self.form = window_form(cfg, n_robots)
+        self.form = window_form(cfg, n_robots, self.goals)
         self.spec = str(getattr(source, "family", None) or first.name or "a level family")
         self.first = first
 
@@ -260,7 +318,8 @@ class Family:
 
     def atlas(self, size: int) -> Atlas:
         """An atlas of ``size`` levels drawn from the family, at most ``atlas_capacity`` of them."""
-        return Atlas([self.source(self.rng) for _ in range(min(size, self.atlas_capacity))], self.rules, self.form)
+        levels = [self.source(self.rng) for _ in range(min(size, self.atlas_capacity))]
+        return Atlas(levels, self.rules, self.form, self.lifelong)
 
     def play(self, net: Any, episodes: int, mazes: int, rng: np.random.Generator, deterministic: bool = True) -> dict[str, float]:
         """``play_atlas`` over ``episodes`` episodes on ``mazes`` levels drawn from the family: in chunks of
@@ -281,7 +340,8 @@ def atlas_capacity(width: int, height: int) -> int:
 def play_atlas(net: Any, atlas: Atlas, n_robots: int, n_envs: int, max_steps: int, rng: np.random.Generator,
                deterministic: bool = True) -> dict[str, float]:
     """One episode in each of ``n_envs`` envs on ``atlas`` with the net's policy (greedy or sampled): the share
-    of robots that reached the exit (``success_rate``), of episodes where all did, and the mean makespan."""
+    of robots that reached the exit or their own target (``success_rate``), of episodes where all did, and the mean
+    makespan; lifelong (``atlas.lifelong``), also ``throughput``: targets reached per step."""
     from ..deps import torch_module, torch_threads
 
     with torch_threads(1):  # on a busy machine torch's own threads wait on each other
@@ -300,7 +360,7 @@ def _play(net: Any, atlas: Atlas, n_robots: int, n_envs: int, max_steps: int, rn
     done_at = np.full(n_envs, max_steps)
     last = np.full((n_envs, n_robots), NO_ACTION)
     while not batch.over.all():
-        p = probs(atlas.keys(batch.cells, batch.racing, last).reshape(-1))
+        p = probs(atlas.keys(batch.cells, batch.racing, last, batch.goals).reshape(-1))
         if recurrent:
             with torch.no_grad():
                 h = net.step(torch.from_numpy(p), h)
@@ -315,12 +375,15 @@ def _play(net: Any, atlas: Atlas, n_robots: int, n_envs: int, max_steps: int, rn
         ended = batch.over & ~was
         done_at[ended] = batch.t[ended]
     reached = batch.rank > 0
-    return {"success_rate": float(reached.mean()), "all_reached_rate": float(reached.all(axis=1).mean()),
-            "makespan": float(done_at.mean())}
+    score = {"success_rate": float(reached.mean()), "all_reached_rate": float(reached.all(axis=1).mean()),
+             "makespan": float(done_at.mean())}
+    if atlas.lifelong:
+        score["throughput"] = float((batch.reached.sum(axis=1) / done_at).mean())
+    return score
 
 
-def window_form(cfg: Any, n_robots: int) -> WindowForm:
-    """The input a family policy of these settings reads."""
+def window_form(cfg: Any, n_robots: int, goals: str = "exit") -> WindowForm:
+    """The input a family policy of these settings reads (``goals``: the env's goals mode)."""
     from .inputs import near_offsets
 
-    return WindowForm(cfg.view_radius, near_offsets(cfg.near_radius) if n_robots > 1 else (), cfg.hint, cfg.memory)
+    return WindowForm(cfg.view_radius, near_offsets(cfg.near_radius) if n_robots > 1 else (), cfg.hint, cfg.memory, goals)
