@@ -255,14 +255,14 @@ def test_a_diverging_run_raises_and_the_cli_saves_nothing(tmp_path, capsys):
 
 # ---------------------------------------------------------------------------- item 6 and 9: checked before training
 @pytest.mark.parametrize(("argv", "message"), [
-    (["--save", "/no/such/folder/p.pt"], "argument --save: no such folder '/no/such/folder'"),
-    (["--curve", "/no/such/folder/c.png"], "argument --curve: no such folder"),
+    (["--save", "/no/such/folder/p.pt"], "--save: no such folder '/no/such/folder'"),
+    (["--curve", "/no/such/folder/c.png"], "--curve: no such folder"),
     (["--level", "race-4", "--robots", "4", "--episodes", "70000"], "--episodes: a batch holds at most 65,536 envs"),
     (["--n-envs", "70000"], "--n-envs: a batch holds at most 65,536 envs"),
     (["--robots", "1", "--near-radius", "3"], "--near-radius: a lone robot (--robots 1) sees no other robot"),
-    (["--level", "race-4", "--robots", "4", "--near-radius", "5"], "argument --near-radius: must be an integer in 0..4"),
-    (["--lr", "nan"], "argument --lr: must be a number > 0"),
-    (["--ent-coef", "-1"], "argument --ent-coef: must be a number >= 0"),
+    (["--level", "race-4", "--robots", "4", "--near-radius", "5"], "--near-radius: must be an integer in 0..4"),
+    (["--lr", "nan"], "--lr: must be a number > 0"),
+    (["--ent-coef", "-1"], "--ent-coef: must be a number >= 0"),
 ])
 def test_bad_train_arguments_are_refused_by_flag_before_training(argv, message, tmp_path, capsys):
     assert run(["train", "--steps", "2048", *argv]) == 2

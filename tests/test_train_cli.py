@@ -69,14 +69,14 @@ def test_a_race_reports_win_and_tie_rates_and_its_policy_races(tmp_path, capsys)
 
 @pytest.mark.parametrize(("argv", "message"), [
     (["train", "--steps", "10", "--algo", "dqn"], "--algo dqn: only for one robot with --backend sb3"),
-    (["train", "--steps", "10", "--load", "nowhere.pt"], "argument --load: no such file 'nowhere.pt'"),
+    (["train", "--steps", "10", "--load", "nowhere.pt"], "--load: no such file 'nowhere.pt'"),
     (["train", "--steps", "10", "--backend", "sb3", "--load", __file__],
      "--load: starting from a saved policy needs --backend fast"),
     (["train", "--steps", "10", "--net-arch", "64,x"], "--net-arch: must be layer sizes"),
     (["train", "--steps", "10", "--gamma", "2"], "--gamma: must be a number in [0, 1]"),
     (["train", "--steps", "10", "--backend", "sb3", "--near-radius", "2"], "--near-radius: only the fast backend"),
     (["train", "--steps", "10", "--near-radius", "-1"], "--near-radius: "),
-    (["play", "--policy", "missing.pt"], "argument --policy: no such file 'missing.pt'"),
+    (["play", "--policy", "missing.pt"], "--policy: no such file 'missing.pt'"),
     (["train"], "--seconds: give either --steps N (timesteps) or --seconds SECONDS (a wall-clock budget), not neither"),
     (["train", "--steps", "10", "--seconds", "5"], "--seconds: give either --steps N (timesteps) or --seconds SECONDS"),
     (["train", "--seconds", "5", "--backend", "sb3"], "--seconds: only the fast backend has it"),
