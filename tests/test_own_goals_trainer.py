@@ -141,7 +141,11 @@ def test_a_short_own_goals_run_saves_its_settings_and_evaluates_with_own_goals(t
                 "--collisions", "soft"]) == 0
     figures = json.loads(capsys.readouterr().out.splitlines()[-1])
     assert 0 <= figures["policy"]["success_rate"] <= 1
-    assert run(["evaluate", str(path), "--level", "maze:8..10", "--robots", "4", "--episodes", "4"]) == 2
+    # without --goals, a saved policy is evaluated on the task it learnt
+    assert run(["evaluate", str(path), "--level", "maze:8..10", "--robots", "4", "--episodes", "4",
+                "--collisions", "soft"]) == 0
+    assert json.loads(capsys.readouterr().out.splitlines()[-1]) == figures  # the same episodes as with --goals own
+    assert run(["evaluate", str(path), "--level", "maze:8..10", "--robots", "4", "--episodes", "4", "--goals", "exit"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "goals" in err and "own" in err  # a policy of own goals in a race to the exits
 

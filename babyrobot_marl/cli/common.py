@@ -93,11 +93,13 @@ def add_level_arg(p: argparse.ArgumentParser, default: str = "default", family: 
     )
 
 
-def add_goal_args(p: argparse.ArgumentParser, what: str = "race") -> None:
-    """``--goals`` and ``--lifelong``; ``what`` names the command's run in their help (a race, an episode)."""
-    p.add_argument("--goals", choices=GOAL_MODES, default="exit",
-                   help=f"exit: the robots {what} to the level's exits (default); own: each robot has its own target cell "
-                   "(drawn from --seed, free, distinct, reachable; the exits are floor), POGEMA's task")
+def add_goal_args(p: argparse.ArgumentParser, what: str = "race", policy_default: bool = False) -> None:
+    """``--goals`` and ``--lifelong``; ``what`` names the command's run in their help (a race, an episode);
+    ``policy_default``: ``--goals`` left out is the saved policy's own task (None here; the command reads it)."""
+    default = "the task a saved policy was trained for, else exit" if policy_default else "default"
+    p.add_argument("--goals", choices=GOAL_MODES, default=None if policy_default else "exit",
+                   help=f"exit: the robots {what} to the level's exits ({default}); own: each robot has its own target "
+                   "cell (drawn from --seed, free, distinct, reachable; the exits are floor), POGEMA's task")
     p.add_argument("--lifelong", action="store_true",
                    help="with --goals own: a robot on its target gets a new one and keeps going until the step limit "
                    "(POGEMA's lifelong task: throughput, targets reached per step)")

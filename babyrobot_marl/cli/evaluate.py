@@ -18,6 +18,7 @@ from .checks import (
     output_path,
     positive_int,
     seed_int,
+    trained_goals,
 )
 from .common import add_goal_args, add_level_arg
 
@@ -43,7 +44,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                    help=f"episode i resets with seed N + i, {SEED_HELP} (default: 0)")
     p.add_argument("--collisions", choices=COLLISION_MODES, default="block",
                    help="collision rule; soft: POGEMA's (default: block)")
-    add_goal_args(p)
+    add_goal_args(p, policy_default=True)
     p.add_argument("--plot", type=output_path, default=None, metavar="PATH",
                    help="also draw the metrics with their intervals to this PNG image (matplotlib: the plot extra)")
     p.add_argument("--greedy", action="store_true",
@@ -55,6 +56,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace, out: TextIO) -> int:
     from ..experiments.evaluate import evaluate
 
+    if args.goals is None:  # a saved policy is evaluated on the task it learnt
+        args.goals = "exit" if args.policy in (*POLICY_NAMES, "keys") else trained_goals(args.policy)
     check_goal_flags(args.goals, args.lifelong)
     check_policy_goals([args.policy], args.goals, "POLICY")  # what a saved policy was trained for
     check_race_flags(args.level, args.robots, args.collisions, args.goals, args.lifelong)
