@@ -124,7 +124,8 @@ def test_the_cli_refuses_a_grid_map_without_exits_in_one_line_naming_the_flag(co
     extra = ["--robots", "2"] if command == "race" else []
     code = main([command, "--level", "....\n.#..", "--seed", "1", *extra])
     err = capsys.readouterr().err.strip()
-    assert code == 2 and err == f"babyrobot-marl: error: --{NO_EXIT}"  # the CLI names its flag
+    # the CLI names its flags: --level, --goals own
+    assert code == 2 and err == "babyrobot-marl: error: --level: has no exit; use --goals own"
 
 
 def test_a_grid_map_without_exits_races_with_own_goals():

@@ -368,6 +368,11 @@ class RaceEnv(RaceGoals, RaceReadouts, OverlayMethods, ParallelEnv):
         self._live_set = frozenset(self._live)
         self._live_goals: np.ndarray | None = None  # own goals: the racing robots' targets (_racing_goals)
 
+    def _racing_goals(self) -> np.ndarray:  # own goals: the racing robots' targets, kept until either changes
+        if self._live_goals is None:
+            self._live_goals = self._goal_arr if len(self._live) == self.n_robots else self._goal_arr[self._live]
+        return self._live_goals
+
     @property
     def _cells(self) -> list[int]:
         """Each robot's cell (a finished robot: the exit it took), in robot order."""

@@ -51,13 +51,6 @@ class OwnGoalShortest:
 class RaceGoals:
     """``RaceEnv``'s own-goal steps, stateless (the env holds the state): ``_cell_options``, ``_goals_for``, ...."""
 
-    def _racing_goals(self) -> np.ndarray:
-        """The racing robots' targets, in ``_live`` order (kept until the racing robots or their targets change)."""
-        if self._live_goals is None:
-            live = self._live
-            self._live_goals = self._goal_arr if len(live) == self.n_robots else self._goal_arr[live]
-        return self._live_goals
-
     def _goal_observations(self, here: np.ndarray | None = None) -> np.ndarray:
         """``_observations`` with own goals: each row, then its goal's columns (``core.goals.GoalColumns``;
         "local" and "nearest" observers write the goal's part in their own pass, the hint is added after).
