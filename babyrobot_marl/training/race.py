@@ -25,6 +25,7 @@ the reference path.
 from __future__ import annotations
 
 import os
+import warnings
 from dataclasses import dataclass
 from typing import Any
 
@@ -106,8 +107,10 @@ def make_race_vec_env(
     require_train("stable_baselines3")
     env = _truncation_info_wrapper()(RaceEnv(level=level, n_robots=n_robots, finished="freeze", **race_kwargs))
     vec = ss.pettingzoo_env_to_vec_env_v1(env)
-    vec = ss.concat_vec_envs_v1(vec, n_envs, num_cpus=0, base_class="stable_baselines3")
-    return _sb3_wrapper_class()(vec, seed)
+    with warnings.catch_warnings():  # SB3 asks SuperSuit's vector env for a render_mode it never had: not ours to set
+        warnings.filterwarnings("ignore", message="The `render_mode` attribute is not defined", category=UserWarning)
+        vec = ss.concat_vec_envs_v1(vec, n_envs, num_cpus=0, base_class="stable_baselines3")
+        return _sb3_wrapper_class()(vec, seed)
 
 
 def train_race(
