@@ -39,6 +39,7 @@ HEAVY_FILES = (
     "test_training_single.py", "test_train_cli.py", "test_examples.py", "test_policy_files.py", "test_cli_solve_train.py",
     "test_reliability_properties.py", "test_reliability_levels_fuzz.py", "test_reliability_render.py", "test_cli_fuzz.py",
     "test_docs_blocks.py", "test_clean_runs.py", "test_readme_pictures.py", "test_overlay.py",
+    "test_own_goals_trainer.py", "test_recurrent.py",
 )
 # Tests of the quick files that take seconds each (random crowds beside a reference, frames against
 # a fresh renderer, evaluations of saved policies): the full suite runs them, the quick loop does not
@@ -46,56 +47,98 @@ HEAVY_TESTS = frozenset({
     "test_batch.py::test_array_collisions_equal_the_scalar_rules_on_random_crowds",
     "test_batch.py::test_batch_with_own_goals_matches_separate_race_envs_step_by_step",
     "test_bench_pogema_mazes.py::test_a_policy_trained_for_the_exits_is_refused_before_any_episode",
+    "test_bench_pogema_mazes.py::test_the_table_shows_our_figures_with_intervals_beside_the_published_ones",
     "test_benchmark_floors.py::test_the_batch_benchmark_exits_1_below_make_vecs_25x_floor_and_reports_the_infos_cost",
+    "test_canvas.py::test_a_browser_redraw_after_a_replay_shows_the_replayed_scene_not_the_live_one",
+    "test_canvas.py::test_a_canvas_without_a_cell_size_fills_90_percent_of_the_column_with_the_pixels_for_it",
+    "test_canvas.py::test_a_layer_the_browser_may_show_empty_gets_its_level_as_rectangles",
+    "test_canvas.py::test_a_picture_past_the_rectangle_cap_goes_as_png_over_a_coarse_copy_drawn_first",
+    "test_canvas.py::test_after_an_episode_the_replay_bar_shows_its_scenes_on_the_same_canvas_without_stepping",
+    "test_canvas.py::test_an_env_with_a_canvas_still_pickles_and_the_copy_has_none",
+    "test_canvas.py::test_changing_only_the_panel_does_not_resend_the_level",
     "test_canvas.py::test_human_mode_in_jupyter_shows_a_canvas_and_a_still_of_its_frame_at_twice_its_css_size",
     "test_canvas.py::test_race_human_mode_draws_every_robot_with_the_legend_and_snapshots_the_final_ranks",
     "test_canvas.py::test_render_fps_is_the_env_own_and_reaches_the_canvas",
+    "test_canvas.py::test_the_bottom_layer_shows_exactly_the_rgb_array_pixels_at_twice_the_cell_size",
     "test_canvas.py::test_the_canvas_legend_stops_growing_past_eight_robots_and_an_oversized_panel_is_refused_before_drawing",
+    "test_canvas.py::test_the_level_and_overlay_go_under_the_robots_and_labels_and_panel_over_them",
+    "test_canvas.py::test_the_png_is_refreshed_when_an_episode_ends_and_when_the_env_closes",
+    "test_canvas.py::test_the_race_legend_changes_with_the_frame_that_shows_the_robots_where_they_end",
+    "test_cli.py::test_python_m_play_shortest_on_the_default_level_prints_4_steps_and_return_minus_3",
+    "test_cli.py::test_python_m_with_bad_input_prints_one_line_and_no_traceback",
+    "test_cli_hostile_input.py::test_a_fifo_as_level_is_refused_without_waiting_for_a_writer",
     "test_collisions_crowds.py::test_crowds_of_tens_of_robots_follow_the_reference_in_both_engines",
     "test_collisions_soft.py::test_crowds_of_hundreds_equal_pogemas_algorithm",
     "test_collisions_soft.py::test_every_engine_equals_pogemas_algorithm_on_random_boards",
+    "test_crowd_defaults.py::test_a_crowd_trains_with_the_crowd_defaults_and_says_so",
     "test_crowd_defaults.py::test_evaluate_shows_the_settings_a_policy_was_trained_with",
     "test_crowd_defaults.py::test_given_settings_and_pass_collisions_train_without_the_crowd_defaults",
     "test_ecosystem_suites.py::test_api_test",
+    "test_ecosystem_suites.py::test_api_tests_on_the_envs_pettingzoo_make_builds",
     "test_ecosystem_suites.py::test_performance_benchmark",
     "test_ecosystem_suites.py::test_seed_test",
+    "test_engine.py::test_uniform_and_uniform_array_are_bit_identical",
+    "test_evaluate.py::test_a_maze_family_by_size_is_evaluated_on_unseen_mazes_and_named_as_given",
     "test_evaluate.py::test_a_policy_file_of_format_1_or_2_is_evaluated_as_play_runs_it",
     "test_evaluate.py::test_a_saved_policy_is_evaluated_and_refused_by_name_on_levels_it_cannot_read",
+    "test_evaluate.py::test_a_saved_policy_row_is_named_by_its_file",
     "test_evaluate.py::test_a_saved_policy_samples_by_default_seeded_by_seed_and_takes_its_argmax_with_greedy",
     "test_evaluate.py::test_shortest_robots_all_reach_random_ones_are_bounded_and_every_crowd_plays_the_same_episodes",
     "test_evaluate.py::test_the_command_prints_a_table_and_the_json_last_line",
+    "test_evaluate.py::test_the_json_rounds_to_four_significant_digits",
+    "test_global_observations.py::test_batch_global_rows_equal_each_single_race",
     "test_legend.py::test_a_large_race_legend_is_compact_a_few_lines_of_entries",
     "test_legend.py::test_the_frame_limit_counts_the_legend_and_is_refused_by_cell_size_before_drawing",
     "test_legend.py::test_the_legend_of_a_1200_robot_race_fits_the_frame",
+    "test_level.py::test_random_levels_write_the_canonical_text_and_read_back_equal",
     "test_level_families.py::test_evaluation_mazes_are_never_training_mazes_by_content_on_small_families",
+    "test_level_families.py::test_the_env_is_sized_for_the_largest_level_and_races_on_each_drawn_size",
     "test_lifelong.py::test_the_batch_engine_plays_lifelong_races_as_the_env_does",
     "test_limits.py::test_a_single_race_with_a_global_view_past_the_step_limit_is_refused_before_its_index_is_built",
     "test_limits.py::test_global_observations_past_the_step_limit_are_refused_before_the_race_is_built",
     "test_limits.py::test_local_rows_of_many_robots_past_the_step_limit_are_refused_naming_view_radius",
+    "test_limits.py::test_the_core_dense_arrays_past_the_limit_are_refused_before_allocating",
     "test_limits.py::test_the_dense_model_past_its_limit_names_the_limit_and_the_sparse_alternative",
     "test_limits.py::test_the_largest_maze_is_within_the_level_size_limit",
+    "test_limits.py::test_the_longest_level_text_with_crlf_line_ends_and_an_indent_is_within_the_character_limit",
     "test_observe.py::test_local_rows_read_the_level_and_the_robots_cell_by_cell",
     "test_observe.py::test_nearest_rows_list_the_k_nearest_racing_robots_ties_to_the_lower_number",
     "test_picture.py::test_every_text_stays_inside_its_cell_at_every_cell_size",
     "test_planning.py::test_simulator_step_frequencies_match_the_model",
     "test_planning.py::test_the_frequency_check_catches_a_model_off_by_a_tenth",
+    "test_play_keys.py::test_the_notebook_module_imports_no_widget_library_until_it_is_used",
     "test_play_notebook.py::test_in_a_race_tab_switches_the_robot_you_drive_and_the_others_follow_their_policy",
+    "test_play_notebook.py::test_the_editor_builds_a_level_from_clicks_and_plays_it",
+    "test_play_notebook.py::test_the_editor_sends_a_new_canvas_its_picture_as_rectangles_and_edits_as_png",
+    "test_play_notebook.py::test_the_editor_starts_from_a_level_and_counts_race_starts",
+    "test_play_notebook.py::test_the_player_panel_says_where_the_robots_are_in_words_and_frames_the_driven_robot",
+    "test_play_notebook.py::test_the_player_takes_an_env_made_by_gymnasium_or_pettingzoo",
+    "test_play_notebook.py::test_the_player_under_the_editor_follows_every_edit",
+    "test_play_terminal.py::test_race_human_must_name_a_robot_of_the_race",
     "test_play_terminal.py::test_sigterm_and_hangup_restore_the_terminal",
+    "test_play_terminal.py::test_wasd_bump_restart_and_a_second_episode",
     "test_play_terminal.py::test_without_a_terminal_it_says_so_and_exits_2",
     "test_race_rules.py::test_resolve_collisions_agrees_with_a_brute_force_reading_of_the_rules",
     "test_race_rules.py::test_resolve_collisions_does_not_depend_on_the_order_of_the_robots",
+    "test_reliability_determinism.py::test_a_copy_taken_before_the_first_reset_behaves_like_a_fresh_env",
     "test_reliability_determinism.py::test_same_seed_gives_the_same_trajectories_in_fresh_processes_whatever_the_hash_seed",
     "test_render_crowd.py::test_only_a_frames_clashing_cells_are_drawn_the_general_way",
     "test_render_crowd.py::test_the_fast_path_gives_the_general_paths_pixels_on_random_crowds",
     "test_render_memory.py::test_a_crowd_s_frame_is_drawn_again_from_the_caches_without_rasterising",
     "test_render_rgb.py::test_a_cell_block_is_keyed_by_all_its_robots_and_the_burst_by_its_cells",
+    "test_render_rgb.py::test_a_race_legend_stops_growing_past_eight_robots_and_the_frame_limit_counts_it",
     "test_render_rgb.py::test_kept_blocks_and_legend_pieces_equal_a_fresh_renderers_frames",
     "test_render_rgb.py::test_the_kept_frame_redraws_changed_legend_rows_and_a_new_overlay",
+    "test_train_limits.py::test_a_maze_too_large_to_stack_by_the_hundred_trains_evaluates_and_saves",
     "test_train_limits.py::test_an_atlas_holds_as_many_mazes_as_the_level_limit_allows",
     "test_train_limits.py::test_the_command_the_gif_refusal_recommends_runs",
+    "test_train_limits.py::test_the_policy_is_saved_before_the_final_evaluation_which_may_still_fail",
     "test_video.py::test_a_gif_shows_in_nbconvert_html_not_as_its_python_repr",
+    "test_video.py::test_episode_frames_of_a_race_end_when_every_robot_has_finished",
+    "test_window_policy.py::test_play_runs_a_family_policy_on_one_robots_window",
     "test_window_policy.py::test_race_shows_a_family_policy_its_own_observations",
     "test_window_policy.py::test_the_action_cache_stays_bounded_over_a_long_evaluation",
+    "test_workers.py::test_a_spawn_worker_that_only_knows_the_id_string_makes_and_steps_the_env",
     "test_workers.py::test_async_vector_env_with_spawn_workers_from_the_module_id",
 })
 HEAVY_NAMES = ("learns",)  # a test that trains in a file of quick ones: its name says it learns
@@ -142,14 +185,18 @@ def _train_names(path: Path) -> frozenset[str] | None:
     text = path.read_text(encoding="utf-8")
     if not any(sign in text for sign in TRAIN_SIGNS):
         return frozenset()
-    tree = ast.parse(text)
+    tree, lines = ast.parse(text), text.splitlines()
+
+    def signed(node: ast.AST) -> bool:  # the node's own lines (ast.get_source_segment re-reads the whole text)
+        return any(sign in line for line in lines[node.lineno - 1 : node.end_lineno] for sign in TRAIN_SIGNS)
+
     functions: dict[str, ast.AST] = {}
     for node in tree.body:
         if isinstance(node, (ast.FunctionDef, ast.ClassDef)):
             functions[node.name] = node
-        elif any(sign in ast.get_source_segment(text, node) for sign in TRAIN_SIGNS):
+        elif signed(node):
             return None  # a module-level skip
-    needs = {name for name, node in functions.items() if any(s in ast.get_source_segment(text, node) for s in TRAIN_SIGNS)}
+    needs = {name for name, node in functions.items() if signed(node)}
     calls = {name: {n.id for n in ast.walk(node) if isinstance(n, ast.Name)} for name, node in functions.items()}
     grown = True
     while grown:  # a function that calls (or takes as a fixture) one that needs the extra needs it too
