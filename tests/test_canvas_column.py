@@ -24,6 +24,7 @@ def test_a_canvas_with_its_own_cell_size_scales_down_in_a_narrow_column(cs):
     c = live.LiveCanvas(RgbRenderer(levels.get("maze-8x8"), cs), fps=0)
     layout = c.widget.layout
     assert (layout.width, layout.max_width, layout.height) == (f"{8 * cs}px", "100%", "auto")
+    assert layout.align_self == "flex-start"  # in a row of widgets its height stays its own
     assert c.widget.width == 2 * 8 * cs  # the backing store keeps its resolution
     assert css_of(c.css) == {"width": f"{8 * cs}px", "max-width": "100%", "height": "auto"}
 
@@ -49,4 +50,5 @@ def test_the_editor_s_canvas_scales_down_in_a_narrow_column():
     e = notebook.edit("walls", cell_size=64)
     layout = e.canvas.layout
     assert (layout.width, layout.max_width, layout.height) == (f"{e.level.width * 64}px", "100%", "auto")
+    assert layout.align_self == "flex-start"  # beside the tools: not stretched to the row's height
     assert e.canvas.width == 2 * e.level.width * 64

@@ -398,5 +398,6 @@ class Editor:
                 c.width, c.height = w, h
             # the height follows the width: a narrow column shows the whole level scaled down
             c.layout.width, c.layout.max_width, c.layout.height = f"{w // self.ratio}px", NARROW_FIT, "auto"
+            c.layout.align_self = "flex-start"  # beside the editor's tools: its own height, not the row's
             put_picture(c, img, fresh=fresh or resized or not self._drawn)
         self._drawn = True

@@ -326,6 +326,7 @@ class LiveCanvas:
         self.widget.layout.width = f"{self.width}px" if not self.fit else FIT_SHARE
         self.widget.layout.max_width = self._max_width() if self.fit else NARROW_FIT
         self.widget.layout.height = "auto"
+        self.widget.layout.align_self = "flex-start"  # in a row of widgets: its own height, not the row's
 
     def _max_width(self) -> str:
         """A fitted canvas's widest: its backing store's (never blurred up) and, for a tall level,
