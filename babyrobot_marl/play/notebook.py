@@ -34,7 +34,7 @@ from ..envs.single import BabyRobotEnv
 from ..levels.resolve import resolve_level
 from ..render.canvas import LiveCanvas
 from ..render.rgb import RgbRenderer
-from ..render.still import Still
+from ..render.still import NARROW_FIT, Still
 from ..render.transfer import put_picture
 from . import editor as ed
 from .checks import check_keywords, check_robots
@@ -396,6 +396,8 @@ class Editor:
             resized = (c.width, c.height) != (w, h)  # resizing clears the browser's canvas
             if resized:
                 c.width, c.height = w, h
-            c.layout.width, c.layout.height = f"{w // self.ratio}px", f"{h // self.ratio}px"
+            # the height follows the width: a narrow column shows the whole level scaled down
+            c.layout.width, c.layout.max_width, c.layout.height = f"{w // self.ratio}px", NARROW_FIT, "auto"
+            c.layout.align_self = "flex-start"  # beside the editor's tools: its own height, not the row's
             put_picture(c, img, fresh=fresh or resized or not self._drawn)
         self._drawn = True

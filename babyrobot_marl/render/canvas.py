@@ -46,7 +46,7 @@ from .overlay import Overlay
 from .rgb import RgbRenderer
 from .scene import Scene, as_scene, glide, robot_sprites
 from .shapes import Fill, Op, Text
-from .still import Still, png_bytes  # noqa: F401  (png_bytes: read as canvas.png_bytes)
+from .still import NARROW_FIT, Still, png_bytes  # noqa: F401  (png_bytes: read as canvas.png_bytes)
 from .transfer import put_picture
 
 PIXEL_RATIO = 2
@@ -163,7 +163,7 @@ class LiveCanvas:
         """The CSS of the canvas's size (its still has the same)."""
         if self.fit:
             return f"width: {FIT_SHARE}; max-width: {self._max_width()}; height: auto"
-        return f"width: {self.width}px; height: {self.widget.height // self.ratio}px"
+        return f"width: {self.width}px; max-width: {NARROW_FIT}; height: auto"
 
     def show(self) -> None:
         """Display the canvas in the current notebook cell, with a still of its frame for saved notebooks
@@ -320,11 +320,13 @@ class LiveCanvas:
         return sum(sec.height for sec in panel_sections(r.width, r.cell_size, r.theme, (), (0.0, 1.0), scene.legend, self.ratio))
 
     def _set_height(self, height: int) -> None:
-        """The backing store's height (resizing clears every layer) and the CSS size with it."""
+        """The backing store's height (resizing clears every layer) and the CSS size with it: the
+        height follows the width, so a canvas in a narrow column scales down whole."""
         self.widget.height = height
         self.widget.layout.width = f"{self.width}px" if not self.fit else FIT_SHARE
-        self.widget.layout.max_width = self._max_width() if self.fit else None
-        self.widget.layout.height = "auto" if self.fit else f"{height // self.ratio}px"
+        self.widget.layout.max_width = self._max_width() if self.fit else NARROW_FIT
+        self.widget.layout.height = "auto"
+        self.widget.layout.align_self = "flex-start"  # in a row of widgets: its own height, not the row's
 
     def _max_width(self) -> str:
         """A fitted canvas's widest: its backing store's (never blurred up) and, for a tall level,

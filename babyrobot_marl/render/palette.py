@@ -90,7 +90,7 @@ THEMES: dict[str, Theme] = {
     "light": Theme(
         floor=(246, 243, 234), floor_line=(226, 220, 206), wall=(52, 58, 74),
         glass=(176, 226, 248), glass_frame=(24, 104, 160), blocked=(132, 128, 140),
-        small_puddle=(128, 184, 232), large_puddle=(52, 110, 192), exit=(150, 214, 140), exit_ink=(28, 96, 44),
+        small_puddle=(76, 142, 214), large_puddle=(52, 110, 192), exit=(150, 214, 140), exit_ink=(28, 96, 44),
         start=(250, 224, 140), start_ink=(120, 84, 0), label_bg=(36, 40, 52), label_text=(255, 255, 255),
         robot_ink=(30, 32, 44), visor=(30, 34, 50), eye=(150, 240, 255), value_box=(22, 24, 32),
         value_text=(255, 255, 255), arrow=(255, 255, 255), arrow_edge=(22, 24, 32), text=(30, 32, 40),
@@ -98,8 +98,8 @@ THEMES: dict[str, Theme] = {
     ),
     "dark": Theme(
         floor=(36, 40, 50), floor_line=(50, 55, 68), wall=(214, 218, 230),
-        glass=(40, 110, 160), glass_frame=(190, 236, 255), blocked=(96, 100, 116),
-        small_puddle=(38, 96, 150), large_puddle=(20, 56, 128), exit=(36, 116, 60), exit_ink=(180, 240, 190),
+        glass=(40, 110, 160), glass_frame=(190, 236, 255), blocked=(112, 116, 132),
+        small_puddle=(84, 152, 214), large_puddle=(54, 116, 200), exit=(36, 116, 60), exit_ink=(180, 240, 190),
         start=(116, 96, 36), start_ink=(255, 226, 140), label_bg=(236, 238, 244), label_text=(20, 22, 30),
         robot_ink=(232, 234, 242), visor=(22, 24, 34), eye=(150, 240, 255), value_box=(12, 14, 20),
         value_text=(255, 255, 255), arrow=(255, 255, 255), arrow_edge=(12, 14, 20), text=(236, 238, 244),
@@ -108,7 +108,7 @@ THEMES: dict[str, Theme] = {
     "mono": Theme(
         floor=(255, 255, 255), floor_line=(228, 228, 228), wall=(0, 0, 0),
         glass=(215, 215, 215), glass_frame=(70, 70, 70), blocked=(110, 110, 110),
-        small_puddle=(205, 205, 205), large_puddle=(150, 150, 150), exit=(185, 185, 185), exit_ink=(0, 0, 0),
+        small_puddle=(148, 148, 148), large_puddle=(100, 100, 100), exit=(185, 185, 185), exit_ink=(0, 0, 0),
         start=(222, 222, 222), start_ink=(0, 0, 0), label_bg=(0, 0, 0), label_text=(255, 255, 255),
         robot_ink=(0, 0, 0), visor=(20, 20, 20), eye=(255, 255, 255), value_box=(0, 0, 0),
         value_text=(255, 255, 255), arrow=(255, 255, 255), arrow_edge=(0, 0, 0), text=(0, 0, 0),
@@ -118,7 +118,7 @@ THEMES: dict[str, Theme] = {
     "high-contrast": Theme(
         floor=(255, 255, 255), floor_line=(200, 200, 200), wall=(0, 0, 0),
         glass=(120, 210, 255), glass_frame=(0, 40, 160), blocked=(60, 60, 60),
-        small_puddle=(140, 190, 255), large_puddle=(0, 70, 200), exit=(0, 160, 60), exit_ink=(255, 255, 255),
+        small_puddle=(76, 136, 228), large_puddle=(0, 70, 200), exit=(0, 160, 60), exit_ink=(255, 255, 255),
         start=(255, 210, 0), start_ink=(0, 0, 0), label_bg=(0, 0, 0), label_text=(255, 255, 255),
         robot_ink=(0, 0, 0), visor=(0, 0, 0), eye=(255, 255, 255), value_box=(0, 0, 0),
         value_text=(255, 255, 255), arrow=(255, 255, 255), arrow_edge=(0, 0, 0), text=(0, 0, 0),
@@ -142,6 +142,12 @@ def variant(theme: Theme, **colours: Colour) -> Theme:
 
 def robot_colour(theme: Theme, i: int) -> Colour:
     return theme.robots[i % len(theme.robots)]
+
+
+def tile_edge(theme: Theme, ink: Colour) -> Colour:
+    """The line round a START or EXIT tile: its icon's ``ink`` where that stands out on the floor
+    (3:1, as graphics need), else the robots' ink; pale tiles keep their shape on every floor."""
+    return ink if contrast_ratio(ink, theme.floor) >= 3.0 else theme.robot_ink
 
 
 def colour_map(values: np.ndarray, name: str, lo: float | None = None, hi: float | None = None) -> np.ndarray:

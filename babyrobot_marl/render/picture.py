@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from ..core.level import Cell, Level
 from .glyphs import cap_height, fit, text_width
-from .palette import Theme, robot_colour
+from .palette import Theme, robot_colour, tile_edge
 from .shapes import Colour, Fill, Op, Text, blob, ellipse, rect, round_rect, segment, shade
 
 
@@ -33,8 +33,10 @@ def floor_ops(level: Level, cs: int, theme: Theme) -> list[Op]:
         ops.append(Fill(rect(x * cs - line / 2, 0, x * cs + line / 2, h), theme.floor_line))
     for y in range(1, level.height):
         ops.append(Fill(rect(0, y * cs - line / 2, w, y * cs + line / 2), theme.floor_line))
-    for cell in (*level.starts, *level.exits):
-        ops.append(_tile(cell, cs, theme.start if cell in level.starts else theme.exit))
+    for cell in level.starts:
+        ops += _tile(cell, cs, theme.start, tile_edge(theme, theme.start_ink))
+    for cell in level.exits:
+        ops += _tile(cell, cs, theme.exit, tile_edge(theme, theme.exit_ink))
     return ops
 
 
@@ -137,9 +139,16 @@ def _block(cell: Cell, cs: int, theme: Theme) -> list[Op]:
     return ops
 
 
-def _tile(cell: Cell, cs: int, colour: Colour) -> Fill:
-    m = max(1.0, cs * 0.03)
-    return Fill(round_rect(cell[0] * cs + m, cell[1] * cs + m, (cell[0] + 1) * cs - m, (cell[1] + 1) * cs - m, cs * 0.08), colour)
+def tile_line(cs: int) -> float:
+    """The width of the line round a start or exit tile: whole pixels, so it stays crisp."""
+    return float(max(1, round(cs * 0.04)))
+
+
+def _tile(cell: Cell, cs: int, colour: Colour, edge: Colour) -> list[Op]:
+    """A start or exit tile, outlined in ``edge``: a pale tile still stands out from the floor."""
+    m, e, r = max(1.0, cs * 0.03), tile_line(cs), cs * 0.08
+    x0, y0, x1, y1 = cell[0] * cs + m, cell[1] * cs + m, (cell[0] + 1) * cs - m, (cell[1] + 1) * cs - m
+    return [Fill(round_rect(x0, y0, x1, y1, r), edge), Fill(round_rect(x0 + e, y0 + e, x1 - e, y1 - e, max(0.0, r - e)), colour)]
 
 
 def _icon_box(cell: Cell, cs: int, s: float) -> tuple[float, float, float]:

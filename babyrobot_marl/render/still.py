@@ -26,6 +26,7 @@ from typing import Any
 import numpy as np
 
 WIDGET_VIEW = "application/vnd.jupyter.widget-view+json"
+NARROW_FIT = "100%"  # a picture's widest in its column: a narrow column shows it scaled down whole
 _ids = itertools.count()
 
 
@@ -86,7 +87,7 @@ class Still:
         img = self.picture()
         h, w = img.shape[0] // self.ratio, img.shape[1] // self.ratio
         data = base64.b64encode(png_bytes(img)).decode("ascii")
-        css = self.css or f"width: {w}px; height: {h}px"
+        css = self.css or f"width: {w}px; max-width: {NARROW_FIT}; height: auto"
         tag = (f'<style>{still_style(self.uid)}</style><img class="babyrobot-still-{self.uid}" '
                f'src="data:image/png;base64,{data}" width="{w}" height="{h}" '
                f'style="{html.escape(css)}" alt="the last frame">')  # fmt: skip
