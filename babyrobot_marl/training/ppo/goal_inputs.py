@@ -21,7 +21,7 @@ from functools import lru_cache
 import numpy as np
 
 from ...core.actions import N_ACTIONS
-from ...core.goals import reach
+from ...core.goals import GoalDistances, reach
 from ...core.observe import EDGE, LOCAL_FEATURES, TERRAIN
 from ...core.table import Table
 
@@ -67,10 +67,10 @@ def target_units(cells: np.ndarray, goals: np.ndarray, width: int, radius: int) 
     return (dy + radius) * side + dx + radius
 
 
-class AtlasDistances:
+class AtlasDistances(GoalDistances):
     """Moves to a goal cell from the cells of its own part of a level (an atlas's maze), one breadth-first
     search per goal the first time it is asked for: rows as long as the largest part, not the atlas
-    (an atlas of 64 mazes has 64 times the cells of one)."""
+    (an atlas of 64 mazes has 64 times the cells of one; found rows are kept as ``GoalDistances`` keeps them)."""
 
     def __init__(self, table: Table):
         r = reach(table)
@@ -85,15 +85,6 @@ class AtlasDistances:
         self.local[-1] = size  # a column that is never a cell's: -1 there
         self.row_of = np.full(table.n_cells, -1, dtype=np.int64)
         self.rows = np.zeros((0, size + 1), dtype=np.int32)
-
-    def rows_for(self, goals: np.ndarray) -> np.ndarray:
-        rows = self.row_of[goals]
-        if np.count_nonzero(rows < 0):
-            new = np.unique(np.asarray(goals)[rows < 0]).tolist()
-            self.rows = np.concatenate([self.rows, np.array([self._search(g) for g in new], dtype=np.int32)])
-            self.row_of[new] = np.arange(len(self.rows) - len(new), len(self.rows))
-            rows = self.row_of[goals]
-        return rows
 
     def _search(self, goal: int) -> np.ndarray:
         dist = np.full(self.rows.shape[1], -1, dtype=np.int32)
