@@ -45,5 +45,4 @@ venv "$adir"
 .ci/locked "$adir/bin/pip" install -q "agilerl==2.58.0" peft pytest -e .
 "$adir/bin/python" -c "import torch, agilerl; assert '+cpu' in torch.__version__, torch.__version__"
 "$adir/bin/python" -m pytest -q -p no:cacheprovider tests_integrations/test_agilerl.py
-# RLlib's own PettingZoo wrapper on the one-hot race: in the venv .ci/rllib.sh builds (.ci/run runs it first)
 echo "integrations: $((SECONDS - start)) s in all"

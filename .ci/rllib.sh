@@ -16,4 +16,4 @@ python3 -m venv "$dir"
 "$dir/bin/python" -m pytest -q -p no:cacheprovider tests_rllib
 # the example end to end, as small as it goes: one iteration, one remote env runner
 "$dir/bin/python" examples/rllib_race.py --iterations 1 --num-env-runners 1 --quick
-"$dir/bin/python" -m pytest -q -p no:cacheprovider tests_integrations/test_rllib.py  # RLlib beside the other libraries
+"$dir/bin/python" -m pytest -q -p no:cacheprovider tests_integrations/test_rllib.py  # RLlib's own PettingZoo wrapper on the one-hot race
