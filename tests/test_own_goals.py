@@ -338,3 +338,22 @@ def test_the_trainers_reset_draws_valid_own_goals_for_every_env():
         assert len(set(goals)) == 5 and all(g not in t.blocked.nonzero()[0] for g in goals)
         assert all(g != c and part[g] == part[c] and t.move_prob[g] == 1.0 for c, g in zip(cells, goals))
     assert len({tuple(g) for g in batch.goals.tolist()}) > 50  # drawn per env, not copied
+
+
+def test_goal_distances_grow_their_store_by_doubling_and_keep_every_row():
+    """Goals met one at a time (lifelong races) cost linear time: the rows' store is reallocated a
+    logarithmic number of times, not once per new goal, and every row stays the search's."""
+    from babyrobot_marl.core.goals import GoalDistances
+    from babyrobot_marl.core.table import compile_level
+    from babyrobot_marl.levels import get
+
+    table = compile_level(get("maze-16x16"))
+    dist, fresh = GoalDistances(table), GoalDistances(table)
+    store, grown = dist._store, 0
+    for cell in range(100):
+        dist.rows_for(np.array([cell]))
+        grown += dist._store is not store
+        store = dist._store
+    assert grown <= 5  # 8, 16, 32, 64, 128 rows
+    all_at_once = fresh.rows_for(np.arange(100))
+    assert np.array_equal(dist.rows[dist.row_of[np.arange(100)]], fresh.rows[all_at_once])

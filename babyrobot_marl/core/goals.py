@@ -179,7 +179,7 @@ class GoalDistances:
     def __init__(self, table: Table):
         self.table = table
         self.row_of = np.full(table.n_cells, -1, dtype=np.int64)  # goal cell -> its row in ``rows``
-        self.rows = np.zeros((0, table.n_cells), dtype=np.int32)
+        self.rows = self._store = np.zeros((0, table.n_cells), dtype=np.int32)  # rows: the filled part of the store
         self._neighbours = reach(table).neighbours
 
     def rows_for(self, goals: np.ndarray) -> np.ndarray:
@@ -187,8 +187,14 @@ class GoalDistances:
         rows = self.row_of[goals]
         if np.count_nonzero(rows < 0):
             new = np.unique(np.asarray(goals)[rows < 0]).tolist()
-            self.rows = np.concatenate([self.rows, np.array([self._search(g) for g in new], dtype=np.int32)])
-            self.row_of[new] = np.arange(len(self.rows) - len(new), len(self.rows))
+            n, store = len(self.rows), self._store
+            if n + len(new) > len(store):  # grown by doubling: goals added a few at a time cost linear time, not quadratic
+                store = np.zeros((max(2 * len(store), n + len(new), 8), store.shape[1]), dtype=np.int32)
+                store[:n] = self.rows
+                self._store = store
+            store[n : n + len(new)] = [self._search(g) for g in new]
+            self.rows = store[: n + len(new)]
+            self.row_of[new] = np.arange(n, n + len(new))
             rows = self.row_of[goals]
         return rows
 

@@ -84,7 +84,7 @@ class AtlasDistances(GoalDistances):
             size = max(size, len(ids))
         self.local[-1] = size  # a column that is never a cell's: -1 there
         self.row_of = np.full(table.n_cells, -1, dtype=np.int64)
-        self.rows = np.zeros((0, size + 1), dtype=np.int32)
+        self.rows = self._store = np.zeros((0, size + 1), dtype=np.int32)
 
     def _search(self, goal: int) -> np.ndarray:
         dist = np.full(self.rows.shape[1], -1, dtype=np.int32)
