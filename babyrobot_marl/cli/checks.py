@@ -266,12 +266,15 @@ def check_goal_flags(goals: str, lifelong: bool) -> None:
 GOAL_TASKS = {"exit": "the race to the exits (--goals exit)", "own": "own targets (--goals own)"}
 
 
-def trained_goals(path: str) -> str:
-    """What the saved policy at ``path`` was trained for: ``"own"`` when its file records own goals (in the
-    observation form it reads, or the env settings it trained under), else ``"exit"``, the race to the exits."""
+def trained_goals(name: str) -> str | None:
+    """What the saved policy at ``name`` was trained for: ``"own"`` when its file records own goals (in the
+    observation form it reads, or the env settings it trained under), else ``"exit"``, the race to the exits;
+    None for a scripted policy or your keys (any task)."""
     from ..training.policy import load_checkpoint
 
-    data = load_checkpoint(path)
+    if name in (*policies.POLICY_NAMES, "keys"):
+        return None
+    data = load_checkpoint(name)
     for where in (data.get("observation"), data.get("env")):
         if isinstance(where, dict) and where.get("goals") in GOAL_TASKS:
             return where["goals"]
@@ -281,10 +284,8 @@ def trained_goals(path: str) -> str:
 def check_policy_goals(names: list[str], goals: str, flag: str) -> None:
     """Each saved policy among ``names`` was trained for ``goals`` (the robots' task changes what they read and do)."""
     for name in dict.fromkeys(names):
-        if name in (*policies.POLICY_NAMES, "keys"):  # scripted, or you: any task
-            continue
         trained = trained_goals(name)
-        if trained != goals:
+        if trained is not None and trained != goals:
             raise ValueError(f"{flag}: {name} was trained for {GOAL_TASKS[trained]}, not for {GOAL_TASKS[goals]}; "
                              f"pass --goals {trained}, or a policy trained with --goals {goals}")
 

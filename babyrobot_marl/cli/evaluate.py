@@ -56,10 +56,12 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace, out: TextIO) -> int:
     from ..experiments.evaluate import evaluate
 
-    if args.goals is None:  # a saved policy is evaluated on the task it learnt
-        args.goals = "exit" if args.policy in (*POLICY_NAMES, "keys") else trained_goals(args.policy)
+    given = args.goals is not None
+    if not given:  # a saved policy is evaluated on the task it learnt (its file read once for it)
+        args.goals = trained_goals(args.policy) or "exit"
     check_goal_flags(args.goals, args.lifelong)
-    check_policy_goals([args.policy], args.goals, "POLICY")  # what a saved policy was trained for
+    if given:
+        check_policy_goals([args.policy], args.goals, "POLICY")  # what a saved policy was trained for
     check_race_flags(args.level, args.robots, args.collisions, args.goals, args.lifelong)
     if args.plot:  # before the episodes: a missing matplotlib is known now
         _matplotlib()
