@@ -274,9 +274,12 @@ def policy_race(policy: Any, grid: str, starts: list[tuple[int, int]], goals: li
 def policy_episodes(policy: Any, mazes: list[dict], robots: tuple[int, ...], seed: int,
                     greedy: bool) -> dict[int, list[Episode]]:
     """The learnt crowd's episode on every maze, per robot count (one generator, seeded: same run, same figures)."""
+    from babyrobot_marl.training.deps import torch_threads
+
     rng = np.random.default_rng(seed)
-    return {n: [policy_race(policy, m["grid"], cells(m["scenarios"][str(n)]["starts"]),
-                            cells(m["scenarios"][str(n)]["goals"]), rng, greedy) for m in mazes] for n in robots}
+    with torch_threads(1):  # more threads stall on a busy machine, and a net this small gains nothing from them
+        return {n: [policy_race(policy, m["grid"], cells(m["scenarios"][str(n)]["starts"]),
+                                cells(m["scenarios"][str(n)]["goals"]), rng, greedy) for m in mazes] for n in robots}
 
 
 def counts(text: str) -> tuple[int, ...]:
