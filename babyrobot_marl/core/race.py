@@ -27,9 +27,10 @@ from __future__ import annotations
 
 import operator
 from collections.abc import Sequence
+from itertools import compress
 from operator import getitem
 
-from .engine import MOVED, SKIDDED, move
+from .engine import move
 from .rng import SLOT_PRIORITY, SLOTS, uniform
 from .table import TableLists
 
@@ -44,21 +45,17 @@ def resolve_collisions(
     (default ``len(cells)``): they address the uniform draws of "block". Returns ``desired``
     itself (not a copy) when no robot is stopped by another.
 
-    O(n) whatever the numbering. The rules only ever turn movers into stayers, so the result is
-    the smallest set of stayers closed under them: a mover in a swap or losing a contest stays
-    (both read off ``desired`` alone), and a mover heading for the cell of a robot that stays
-    stays too. So stopping spreads backwards along "heads for the cell of", visiting each robot
-    once, from the robots that do not move and the swaps and contest losers. Past
-    ``_ARRAYS_FROM`` racing robots the batch engine's numpy version runs instead (the same
-    closure, by sorting and pointer doubling: O(n log n) steps in C, faster than dicts there).
+    The rules only ever turn movers into stayers, so the result is the smallest set of stayers
+    closed under them: a mover in a swap or losing a contest stays (both read off ``desired``
+    alone), and a mover heading for the cell of a robot that stays stays too. So stopping
+    spreads backwards along "heads for the cell of" from the robots that do not move and the
+    swaps and contest losers. Only movers heading for a cell held now or contesting a cell can
+    be stopped at all: they are found by passes in C over every robot (sets of cells), and
+    looked at one by one; O(n) whatever the numbering. Past ``_ARRAYS_FROM`` racing robots the
+    batch engine's numpy version runs instead (the same closure, by sorting and pointer
+    doubling: O(n log n) steps in C, faster than Python there).
     """
     if mode == "pass":
-        return desired
-    m = len(cells)
-    # The common case, returned as is: no two robots head for one cell, and no robot heads for
-    # a cell occupied now. Then the cells now and the cells ahead together hold each robot's
-    # cell once and each mover's new cell once more.
-    if len({*cells, *desired}) == m + sum(map(operator.ne, cells, desired)):
         return desired
     return _stop_movers(mode, cells, desired, key, step, robots, n)
 
@@ -66,46 +63,61 @@ def resolve_collisions(
 def _stop_movers(
     mode: str, cells: Sequence[int], desired: Sequence[int], key: int, step: int, robots: Sequence[int] | None, n: int
 ) -> Sequence[int]:
-    """``resolve_collisions`` past its first test (``race_step`` makes that test itself)."""
+    """``resolve_collisions`` under an exclusive rule ("block", "bounce", "soft")."""
     m = len(cells)
     if m > _ARRAYS_FROM:
         return _resolve_with_arrays(mode, cells, desired, key, step, robots, n)
-    occupant = dict(zip(cells, range(m)))
-    heading: dict[int, list[int]] = {}  # cell -> the movers heading for it
-    stopped = [False] * m
-    todo = []  # robots that stay and whose stopping has not spread yet
-    for k in range(m):
-        if desired[k] == cells[k]:
-            stopped[k] = True
-            todo.append(k)
-        else:
-            heading.setdefault(desired[k], []).append(k)
-    seeds = []
+    ahead = list(compress(desired, map(operator.ne, cells, desired)))  # the movers' destinations
+    occupied = set(cells)
+    held = occupied.intersection(ahead)  # destinations a robot holds now
+    contested = len(set(ahead)) < len(ahead)
+    if not held and not contested:  # the common case: nobody in anybody's way
+        return desired
+    here, there = (cells, desired) if type(cells) in _SCANNED and type(desired) in _SCANNED else (list(cells), list(desired))
+    if contested:  # destinations two movers or more head for
+        seen: set[int] = set()
+        held.update(d for d in ahead if d in seen or seen.add(d))
+    # cell -> the movers heading for it, ascending: a few cells, each found by scans in C
+    heading = {d: _heading_for(d, here, there) for d in held}
+    stopped: set[int] = set()
     for d, group in heading.items():
-        j = occupant.get(d)
-        if j is not None:  # k and j would swap: k stays here, j where its own cell is the heading
-            seeds.extend(k for k in group if cells[k] == desired[j])
+        if d in occupied:
+            j = here.index(d)
+            if there[j] == d:  # its robot stays: nobody gets in
+                stopped.update(group)
+                continue
+            stopped.update(k for k in group if here[k] == there[j])  # k and j would swap
         if len(group) > 1:  # a contest: block lets the highest priority in, soft the lowest number, bounce nobody
             if mode == "bounce":
-                seeds.extend(group)
+                stopped.update(group)
             else:
                 keep = _contest_winner(mode, group, key, step, n or m, robots)
-                seeds.extend(k for k in group if k != keep)
-    n_stayers = len(todo)
-    for k in seeds:
-        if not stopped[k]:
-            stopped[k] = True
-            todo.append(k)
-    stops = len(todo) - n_stayers
-    while todo:
-        for k in heading.get(cells[todo.pop()], ()):
-            if not stopped[k]:
-                stopped[k] = True
-                todo.append(k)
-                stops += 1
-    if not stops:
+                stopped.update(k for k in group if k != keep)
+    if not stopped:
         return desired
-    return [c if s else d for c, d, s in zip(cells, desired, stopped)]
+    todo = list(stopped)  # a robot that stays stops the movers heading for its cell, and so on back
+    while todo:
+        for k in heading.get(here[todo.pop()], ()):
+            if k not in stopped:
+                stopped.add(k)
+                todo.append(k)
+    final = list(there)
+    for k in stopped:
+        final[k] = here[k]
+    return final
+
+
+_SCANNED = (list, tuple)  # sequences with index() and count() in C
+
+
+def _heading_for(d: int, cells: list[int] | tuple[int, ...], desired: list[int] | tuple[int, ...]) -> list[int]:
+    """The movers heading for cell ``d`` (their indices, ascending), by scans of ``desired``."""
+    group, k = [], -1
+    for _ in range(desired.count(d)):
+        k = desired.index(d, k + 1)
+        if cells[k] != d:  # not its robot staying there
+            group.append(k)
+    return group
 
 
 _LOOP_UP_TO = 8  # racing robots up to which race_step looks moves up in a plain loop
@@ -203,15 +215,7 @@ def race_step(
                 if moves[k] is None:
                     moves[k] = move(t, cells[k], actions[k], key, base + robots[k] * SLOTS)
         desired, outcome = zip(*moves)
-    if mode == "pass":
-        final = desired
-    # resolve_collisions' own first test, inlined; without skids the robots that move are the MOVED ones
-    elif len({*cells, *desired}) == m + (
-        outcome.count(MOVED) if SKIDDED not in outcome else sum(map(operator.ne, cells, desired))
-    ):
-        final = desired  # nobody in anybody's way
-    else:
-        final = _stop_movers(mode, cells, desired, key, step, robots, n)
+    final = desired if mode == "pass" else _stop_movers(mode, cells, desired, key, step, robots, n)
     blocked = [False] * m if final is desired else list(map(operator.ne, final, desired))
     finished = [False] * m if t.exits.isdisjoint(final) else list(map(t.is_exit.__getitem__, final))
     return final, outcome, blocked, finished
