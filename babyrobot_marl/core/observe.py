@@ -211,8 +211,6 @@ def local_observations(
     n_races = math.prod(lead)  # not np.prod: microseconds count every step
     cells2, racing2 = cells.reshape(n_races, n), racing.reshape(n_races, n)
     size = view.size + extra
-    at = view.padded.take(cells2)  # (R, n) each robot's cell in the padded grid
-    idx = at[:, :, None] + view.window  # (R, n, cells in a window): always inside the padded grid
     rows = level_rows(view, extra)
     if rows is not None:  # each robot's row as the level makes it, in one gather
         out = rows.take(cells2, axis=0).astype(np.int64, copy=False)
@@ -220,26 +218,30 @@ def local_observations(
         out = np.zeros((n_races, n, size), dtype=np.int64)
         out[:, :, :2] = view.xy.take(cells2, axis=0)
         feats = out[:, :, 2 : view.size].reshape(n_races, n, view.window.size, len(LOCAL_FEATURES))  # a view: rows split
-        feats[...] = view.static.take(idx, axis=0, mode="clip")  # "clip": no bounds checks (all inside)
+        feats[...] = view.static.take(_window_indices(view, cells2), axis=0, mode="clip")  # "clip": no bounds checks
     if n > 1:  # a lone robot sees no other: its robot column stays 0
-        _robots_seen(view, at, idx, racing2, out[:, :, 2 + _ROBOT : view.size : len(LOCAL_FEATURES)])
+        _robots_seen(view, cells2, racing2, out[:, :, 2 + _ROBOT : view.size : len(LOCAL_FEATURES)])
     if goals is not None:
         mark_targets(out, cells2, goals, view.width, view.height, view.radius, view.size)
     return out.reshape(*lead, n, size)
 
 
-def _robots_seen(view: LocalView, at: np.ndarray, idx: np.ndarray, racing: np.ndarray, robot: np.ndarray) -> None:
+def _window_indices(view: LocalView, cells: np.ndarray) -> np.ndarray:
+    """``(..., cells in a window)``: the cells of each robot's window in the padded grid (always inside it)."""
+    return view.padded.take(cells)[..., None] + view.window
+
+
+def _robots_seen(view: LocalView, cells: np.ndarray, racing: np.ndarray, robot: np.ndarray) -> None:
     """The robot feature of every window cell, ``robot`` ``(R, n, cells in a window)``: another racing robot there.
     The robots go on a scratch grid of a few races at a time (a bounded grid, O(n) work); only racing
     robots are on the board."""
-    n_races, n = at.shape
-    n_padded, centre = view.static.shape[0], view.window.size // 2
-    if n_races == 1:  # one race: no offsets per race
-        count = np.bincount(at.ravel() if np.count_nonzero(racing) == n else at[racing], minlength=n_padded)
-        seen = count.take(idx, mode="clip")
-        seen[:, :, centre] -= racing  # not the observer itself
-        robot[...] = seen > 0
+    n_races, n = cells.shape
+    around = window_cells(view)
+    if n_races == 1 and around is not None and _seen_alone(around, cells[0], racing[0], robot[0]):
         return
+    at = view.padded.take(cells)
+    idx = at[:, :, None] + view.window
+    n_padded, centre = view.static.shape[0], view.window.size // 2
     step = max(1, _SCRATCH // n_padded)
     for s in range(0, n_races, step):
         at_s, racing_s = at[s : s + step], racing[s : s + step]
@@ -250,20 +252,54 @@ def _robots_seen(view: LocalView, at: np.ndarray, idx: np.ndarray, racing: np.nd
         robot[s : s + step] = seen > 0
 
 
+def _seen_alone(around: np.ndarray, cells: np.ndarray, racing: np.ndarray, robot: np.ndarray) -> bool:
+    """``_robots_seen`` of one race whose racing robots each have a cell of their own (the rules but "pass"):
+    a grid of flags, read through each robot's window cells, and a robot's own cell holds nobody else.
+    False (nothing written) when two racing robots share a cell."""
+    on_board = cells if np.count_nonzero(racing) == len(cells) else cells[racing]
+    taken = np.zeros(len(around) + 1, dtype=bool)  # the last: off the grid
+    taken[on_board] = True
+    if np.count_nonzero(taken) < len(on_board):
+        return False
+    seen = taken.take(around.take(cells, axis=0))
+    centre = around.shape[1] // 2
+    if len(on_board) == len(cells):
+        seen[:, centre] = False
+    else:  # a finished robot's own cell: a racing robot there is another robot
+        seen[:, centre] &= ~racing
+    robot[...] = seen
+    return True
+
+
+@lru_cache(maxsize=8)
+def window_cells(view: LocalView) -> np.ndarray | None:
+    """``(cells, cells in a window)``: the cell of each cell's window cells, ``cells`` (one past the last) off the
+    grid; None when the table would pass ``_LEVEL_ROWS_BYTES`` (wide windows on large levels)."""
+    n_cells = view.padded.size
+    if n_cells * view.window.size * np.dtype(np.intp).itemsize > _LEVEL_ROWS_BYTES:
+        return None
+    cell_of = np.full(view.static.shape[0], n_cells, dtype=np.intp)  # padded grid -> cell
+    cell_of[view.padded] = np.arange(n_cells)
+    around = cell_of.take(view.padded[:, None] + view.window)
+    around.setflags(write=False)  # shared by every env on the level
+    return around
+
+
 _LEVEL_ROWS_BYTES = 8 << 20  # the largest table of level rows kept per view (else windows are gathered per step)
 
 
 @lru_cache(maxsize=8)
 def level_rows(view: LocalView, extra: int = 0) -> np.ndarray | None:
     """Every cell's "local" row as the level alone makes it: ``[x, y]``, the window's features with
-    the robot column 0, then ``extra`` zeros; small ints (int16 where they fit), one row per cell,
-    so that a step's rows are one gather of contiguous rows. None when the table would pass
-    ``_LEVEL_ROWS_BYTES`` (large levels with wide windows)."""
-    dtype = np.int16 if max(view.width, view.height) <= np.iinfo(np.int16).max else np.int32
+    the robot column 0, then ``extra`` zeros; one row per cell, so that a step's rows are one gather
+    of contiguous rows. int64 (the rows' own type: no conversion per step) when that fits in
+    ``_LEVEL_ROWS_BYTES``, else small ints (int16 where they fit); None when even those would not."""
     n_cells, size = view.padded.size, view.size + extra
-    if n_cells * size * np.dtype(dtype).itemsize > _LEVEL_ROWS_BYTES:
+    small = np.int16 if max(view.width, view.height) <= np.iinfo(np.int16).max else np.int32
+    fits = [t for t in (np.int64, small) if n_cells * size * np.dtype(t).itemsize <= _LEVEL_ROWS_BYTES]
+    if not fits:
         return None
-    rows = np.zeros((n_cells, size), dtype=dtype)
+    rows = np.zeros((n_cells, size), dtype=fits[0])
     rows[:, :2] = view.xy
     rows[:, 2 : view.size] = view.static.take(view.padded[:, None] + view.window, axis=0).reshape(n_cells, -1)
     rows.setflags(write=False)  # shared by every env on the level
