@@ -51,7 +51,8 @@ def resolve_collisions(
     spreads backwards along "heads for the cell of" from the robots that do not move and the
     swaps and contest losers. Only movers heading for a cell held now or contesting a cell can
     be stopped at all: they are found by passes in C over every robot (sets of cells), and
-    looked at one by one; O(n) whatever the numbering. Past ``_ARRAYS_FROM`` racing robots the
+    looked at one by one; O(n) whatever the numbering (O(n log n) in C when cells are contested:
+    a sort). Past ``_ARRAYS_FROM`` racing robots the
     batch engine's numpy version runs instead (the same closure, by sorting and pointer
     doubling: O(n log n) steps in C, faster than Python there).
     """
@@ -70,23 +71,30 @@ def _stop_movers(
     ahead = list(compress(desired, map(operator.ne, cells, desired)))  # the movers' destinations
     occupied = set(cells)
     held = occupied.intersection(ahead)  # destinations a robot holds now
-    contested = len(set(ahead)) < len(ahead)
-    if not held and not contested:  # the common case: nobody in anybody's way
+    n_ahead = len(set(ahead))
+    if not held and n_ahead == len(ahead):  # the common case: nobody in anybody's way
         return desired
-    here, there = (cells, desired) if type(cells) in _SCANNED and type(desired) in _SCANNED else (list(cells), list(desired))
-    if contested:  # destinations two movers or more head for
-        seen: set[int] = set()
-        held.update(d for d in ahead if d in seen or seen.add(d))
-    # cell -> the movers heading for it, ascending: a few cells, each found by scans in C
-    heading = {d: _heading_for(d, here, there) for d in held}
+    if n_ahead < len(ahead):  # and destinations two movers or more head for (equal neighbours once sorted)
+        ahead.sort()
+        held.update(compress(ahead, map(operator.eq, ahead, ahead[1:])))
+    # cell -> the movers heading for it, ascending: for those few cells only (their robots found in C)
+    heading: dict[int, list[int]] = {}
+    for k in compress(range(m), map(held.__contains__, desired)):
+        d = desired[k]
+        if cells[k] != d:  # not the robot staying there
+            heading.setdefault(d, []).append(k)
+    holder = {cells[j]: j for j in compress(range(m), map(held.__contains__, cells))}  # held cell -> its robot
     stopped: set[int] = set()
     for d, group in heading.items():
-        if d in occupied:
-            j = here.index(d)
-            if there[j] == d:  # its robot stays: nobody gets in
+        j = holder.get(d)
+        if j is not None:
+            dj = desired[j]
+            if dj == d:  # its robot stays: nobody gets in
                 stopped.update(group)
                 continue
-            stopped.update(k for k in group if here[k] == there[j])  # k and j would swap
+            for k in group:
+                if cells[k] == dj:  # k and j would swap
+                    stopped.add(k)
         if len(group) > 1:  # a contest: block lets the highest priority in, soft the lowest number, bounce nobody
             if mode == "bounce":
                 stopped.update(group)
@@ -97,27 +105,14 @@ def _stop_movers(
         return desired
     todo = list(stopped)  # a robot that stays stops the movers heading for its cell, and so on back
     while todo:
-        for k in heading.get(here[todo.pop()], ()):
+        for k in heading.get(cells[todo.pop()], ()):
             if k not in stopped:
                 stopped.add(k)
                 todo.append(k)
-    final = list(there)
+    final = list(desired)
     for k in stopped:
-        final[k] = here[k]
+        final[k] = cells[k]
     return final
-
-
-_SCANNED = (list, tuple)  # sequences with index() and count() in C
-
-
-def _heading_for(d: int, cells: list[int] | tuple[int, ...], desired: list[int] | tuple[int, ...]) -> list[int]:
-    """The movers heading for cell ``d`` (their indices, ascending), by scans of ``desired``."""
-    group, k = [], -1
-    for _ in range(desired.count(d)):
-        k = desired.index(d, k + 1)
-        if cells[k] != d:  # not its robot staying there
-            group.append(k)
-    return group
 
 
 _LOOP_UP_TO = 8  # racing robots up to which race_step looks moves up in a plain loop
