@@ -14,14 +14,13 @@ from pettingzoo import ParallelEnv
 from ..core.actions import N_ACTIONS
 from ..core.batch import BatchRace
 from ..core.checks import check_action, check_choice, check_count, check_global_view, check_seed, check_view_numbers
-from ..core.goals import GOAL_MODES, GoalColumns, own_goal_table
+from ..core.goals import GOAL_MODES, GoalColumns
 from ..core.level import Cell, Level
-from ..core.observe import Observer, global_gather, make_observer, observer_for, with_hint
+from ..core.observe import global_gather, make_observer, with_hint
 from ..core.outcomes import FINISHED, START
 from ..core.race import race_step
 from ..core.rng import new_key
 from ..core.rules import COLLISION_MODES, Rules, resolve_rules
-from ..core.table import Table, compile_level
 from ..levels.sources import LevelPicker
 from ..planning.hint import optimal_actions
 from ..render.checks import check_animation_frames, check_cell_size, check_fps, check_frame_size
@@ -37,9 +36,10 @@ from .checks import (
 from .drawing import EnvDrawing, OverlayMethods
 from .encodings import Encoder
 from .race_goals import RaceGoals, next_goals
+from .race_levels import RaceLevels
 from .race_readouts import RaceReadouts
 from .single import default_max_steps
-from .starts import draw_starts, new_generator, placement
+from .starts import new_generator
 
 START_MODES = ("level", "fill", "random")
 FINISHED_MODES = ("remove", "freeze")
@@ -52,7 +52,7 @@ _ARGS = (
 )
 
 
-class RaceEnv(RaceGoals, RaceReadouts, OverlayMethods, ParallelEnv):
+class RaceEnv(RaceGoals, RaceLevels, RaceReadouts, OverlayMethods, ParallelEnv):
     """Several Baby Robots race to the exit. See ``babyrobot_marl.race_v0`` for the full table."""
 
     metadata = {
@@ -145,13 +145,7 @@ class RaceEnv(RaceGoals, RaceReadouts, OverlayMethods, ParallelEnv):
             check_view_numbers(n, len(self._observer.nvec), "view_radius" if observe == "local" else "k")
         self._gather = global_gather(n if self._observer is None else 0)  # robot i sees i, i+1, ..., i-1: "global" only
         self._layouts: dict[tuple, np.ndarray] = {}  # _set_layout's gathers by robot numbers: races repeat finishing orders
-        self._lists = self.table.lists
-        self._xy = [self.table.cell_xy(c) for c in range(self.table.n_cells)]
-        self._xy_arrays = [np.array(xy, dtype=np.int64) for xy in self._xy]  # infos' "cell", copied per step
-        self._cell_xy = np.array(self._xy, dtype=np.int64).reshape(-1, 2)  # (cells, 2): the common step's infos' "cell"
-        self._reward_at = self._lists.reward  # by cell
-        # [x, y, finished] of a robot: row c racing in cell c, row n_cells + c finished there
-        self._xyf = np.array([(*xy, 0) for xy in self._xy] + [(*xy, 1) for xy in self._xy], dtype=np.int64)
+        self._cell_arrays()
         # The state: the racing robots (`_live`, robot numbers, ascending) and their cells, and the
         # finished ones (`_done`) with their `_xyf` rows (`_parked`). Steps work on the racing
         # robots only; observations gather from the rows of `_live_cells + _parked`.
@@ -462,37 +456,3 @@ class RaceEnv(RaceGoals, RaceReadouts, OverlayMethods, ParallelEnv):
     def _check_started(self, what: str) -> None:
         if not self._started:
             raise RuntimeError(f"{what}: the race has not started; call reset() first")
-
-    def _use_level(self, level: Level) -> None:
-        """Race on ``level`` (drawn at reset, the size of the last): everything that depends on it."""
-        self.level, self.table = level, self._compile(level)
-        self._lists = self.table.lists
-        self._reward_at = self._lists.reward  # by cell
-        self._observer = self._drawn_observer(self.table)
-        self._fixed_starts, self._free = self._placement(self.n_robots)
-        self.drawing.new_level(level)
-        # the cells' [x, y] (a family of sizes: each level has its own cells, inside the largest's space)
-        self._xy = [self.table.cell_xy(c) for c in range(self.table.n_cells)]
-        self._xy_arrays = [np.array(xy, dtype=np.int64) for xy in self._xy]
-        self._cell_xy = np.array(self._xy, dtype=np.int64).reshape(-1, 2)
-        self._xyf = np.array([(*xy, 0) for xy in self._xy] + [(*xy, 1) for xy in self._xy], dtype=np.int64)
-
-    def _drawn_observer(self, table: Table) -> Observer | None:
-        """The observer on a level drawn at reset: the first's mode and radius, sized for the largest level, the hint if asked."""
-        if self._first_observer is None:
-            return None
-        observer = observer_for(self._first_observer, table, *self.levels.largest)
-        own = self._goal_columns is not None  # own goals: the hint is among the goal's columns
-        return with_hint(observer, optimal_actions(table.level, self.rules)) if self.hint and not own else observer
-
-    def _placement(self, n: int) -> tuple[list[int], list[int]]:
-        return placement(self.table, self.start, n)
-
-    def _draw_starts(self, goals: list[int] | None = None) -> list[int]:
-        """Random starts (goals given: off those cells, so that no robot starts on its goal)."""
-        free = self._free if goals is None else [c for c in self._free if c not in set(goals)]
-        return draw_starts(self.np_random, self._fixed_starts, free, self.n_robots)
-
-    def _compile(self, level: Level) -> Table:
-        table = compile_level(level, self.rules)
-        return own_goal_table(table) if self.goals_mode == "own" else table
