@@ -159,7 +159,8 @@ class RaceEnv(RaceGoals, RaceLevels, RaceReadouts, OverlayMethods, ParallelEnv):
         self._rank: list[int] = []
         self._returns: list[float] = []  # of the finished robots; the racing ones' in _live_returns
         self._live_returns: list[float] = []
-        self._bumps: list[int] = []
+        self._bumps: list[int] = []  # of the finished robots; the racing ones' in _live_bumps
+        self._live_bumps: list[int] = []
         self._last_step: tuple | None = None  # what the last step did, for the pictures (drawing.py)
         self._t = 0
         self._key = 0
@@ -204,6 +205,7 @@ class RaceEnv(RaceGoals, RaceLevels, RaceReadouts, OverlayMethods, ParallelEnv):
         self._returns = [0.0] * n
         self._live_returns = [0.0] * n
         self._bumps = [0] * n
+        self._live_bumps = [0] * n
         self._last_step = None
         self._t = 0
         self._n_finished = 0
@@ -239,9 +241,9 @@ class RaceEnv(RaceGoals, RaceLevels, RaceReadouts, OverlayMethods, ParallelEnv):
         )
         reached = None
         # "local" and "nearest": the cells as an array, once (own goals, observations, infos)
-        here = None if self._observer is None else np.array(cells)
+        here = None if self._observer is None else np.fromiter(cells, np.int64, len(cells))
         if self._goal_of is not None:  # own goals: finished on its own target (the table has no exits)
-            on_goal = (np.array(cells) if here is None else here) == self._racing_goals()
+            on_goal = (np.fromiter(cells, np.int64, len(cells)) if here is None else here) == self._racing_goals()
             if np.count_nonzero(on_goal):  # faster than any() on short rows
                 finishing = on_goal.tolist()
                 for i, f in zip(live, finishing):
@@ -254,9 +256,7 @@ class RaceEnv(RaceGoals, RaceLevels, RaceReadouts, OverlayMethods, ParallelEnv):
         self._live_cells = cells
         self._t = t = t + 1
         if True in blocked:
-            bumps = self._bumps
-            for i, b in zip(live, blocked):
-                bumps[i] += b
+            self._live_bumps = list(map(operator.add, self._live_bumps, blocked))
         if True in finishing or t >= self.max_cycles or not self._reported_live or reached:
             rewards = list(map(self._reward_at.__getitem__, cells))
             if reached:  # lifelong: the target's step earns the exit reward
@@ -295,18 +295,20 @@ class RaceEnv(RaceGoals, RaceLevels, RaceReadouts, OverlayMethods, ParallelEnv):
                         rewards[k] += self.rules.win_bonus
         returns = list(map(operator.add, self._live_returns, rewards))
         if True in finishing:  # the finishers leave the board for their parking rows
-            racing, racing_cells, racing_returns = [], [], []
+            racing, racing_cells, racing_returns, racing_bumps = [], [], [], []
             done, parked, n_cells = list(self._done), list(self._parked), self.table.n_cells
-            for i, c, r, f in zip(live, cells, returns, finishing):
+            for i, c, r, b, f in zip(live, cells, returns, self._live_bumps, finishing):
                 if f:
-                    self._returns[i] = r
+                    self._returns[i], self._bumps[i] = r, b
                     done.append(i)
                     parked.append(n_cells + c)
                 else:
                     racing.append(i)
                     racing_cells.append(c)
                     racing_returns.append(r)
+                    racing_bumps.append(b)
             self._live, self._live_cells, returns, self._done, self._parked = racing, racing_cells, racing_returns, done, parked
+            self._live_bumps = racing_bumps
             self._set_layout()
         self._live_returns = returns
         racing_now = self._live_set
