@@ -237,7 +237,7 @@ class RaceEnv(RaceGoals, RaceLevels, RaceReadouts, OverlayMethods, ParallelEnv):
             acts = self._check_actions(actions)
         live, t = self._live, self._t
         cells, outcome, blocked, finishing = race_step(
-            self._lists, self.collisions, self._live_cells, acts, self._key, t, live, self.n_robots
+            self._lists, self.collisions, self._live_cells, acts, self._key, t, live, self.n_robots, self._sure_flat
         )
         reached = None
         # "local" and "nearest": the cells as an array, once (own goals, observations, infos)

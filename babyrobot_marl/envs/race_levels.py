@@ -29,6 +29,7 @@ class RaceLevels:
         """What steps read per cell: its rules' lists, its reward, its ``[x, y]`` (a family of sizes: each level
         has its own cells, inside the largest's space) as a tuple, an array and a row, and its state rows."""
         self._lists = self.table.lists
+        self._sure_flat = self.table.sure_flat  # the same as arrays, for crowds
         self._reward_at = self._lists.reward  # by cell
         self._xy = [self.table.cell_xy(c) for c in range(self.table.n_cells)]
         self._xy_arrays = [np.array(xy, dtype=np.int64) for xy in self._xy]  # infos' "cell", copied per step
