@@ -254,33 +254,32 @@ def _robots_seen(view: LocalView, cells: np.ndarray, racing: np.ndarray, robot: 
 
 def _seen_alone(around: np.ndarray, cells: np.ndarray, racing: np.ndarray, robot: np.ndarray) -> bool:
     """``_robots_seen`` of one race whose racing robots each have a cell of their own (the rules but "pass"):
-    a grid of flags, read through each robot's window cells, and a robot's own cell holds nobody else.
-    False (nothing written) when two racing robots share a cell."""
-    on_board = cells if np.count_nonzero(racing) == len(cells) else cells[racing]
+    a grid of flags read through each robot's window cells (``window_cells``: its own cell left out, as
+    it holds the robot itself). False (nothing written) when two racing robots share a cell."""
+    everyone = np.count_nonzero(racing) == len(cells)
+    on_board = cells if everyone else cells[racing]
     taken = np.zeros(len(around) + 1, dtype=bool)  # the last: off the grid
     taken[on_board] = True
     if np.count_nonzero(taken) < len(on_board):
         return False
-    seen = taken.take(around.take(cells, axis=0))
-    centre = around.shape[1] // 2
-    if len(on_board) == len(cells):
-        seen[:, centre] = False
-    else:  # a finished robot's own cell: a racing robot there is another robot
-        seen[:, centre] &= ~racing
-    robot[...] = seen
+    robot[...] = taken.take(around.take(cells, axis=0))
+    if not everyone:  # a finished robot's own cell: a racing robot there is another robot
+        robot[:, around.shape[1] // 2] = taken.take(cells) & ~racing
     return True
 
 
 @lru_cache(maxsize=8)
 def window_cells(view: LocalView) -> np.ndarray | None:
-    """``(cells, cells in a window)``: the cell of each cell's window cells, ``cells`` (one past the last) off the
-    grid; None when the table would pass ``_LEVEL_ROWS_BYTES`` (wide windows on large levels)."""
+    """``(cells, cells in a window)``: the cell of each cell's window cells, ``cells`` (one past the last) off
+    the grid and at the window's centre (the observer's own cell); None when the table would pass
+    ``_LEVEL_ROWS_BYTES`` (wide windows on large levels)."""
     n_cells = view.padded.size
     if n_cells * view.window.size * np.dtype(np.intp).itemsize > _LEVEL_ROWS_BYTES:
         return None
     cell_of = np.full(view.static.shape[0], n_cells, dtype=np.intp)  # padded grid -> cell
     cell_of[view.padded] = np.arange(n_cells)
     around = cell_of.take(view.padded[:, None] + view.window)
+    around[:, view.window.size // 2] = n_cells
     around.setflags(write=False)  # shared by every env on the level
     return around
 
