@@ -207,6 +207,8 @@ def local_observations(
     ``goals`` (own goals, each robot's target cell, ``(..., n)``): the extra columns begin with the
     target channel (``goals.target_channel``), written in this pass."""
     cells, racing = np.asarray(cells), np.asarray(racing, dtype=bool)
+    if cells.ndim == 1 and (out := _one_race(view, cells, racing, extra, goals)) is not None:
+        return out
     *lead, n = cells.shape
     n_races = math.prod(lead)  # not np.prod: microseconds count every step
     cells2, racing2 = cells.reshape(n_races, n), racing.reshape(n_races, n)
@@ -226,6 +228,22 @@ def local_observations(
     return out.reshape(*lead, n, size)
 
 
+def _one_race(view: LocalView, cells: np.ndarray, racing: np.ndarray, extra: int, goals: np.ndarray | None) -> np.ndarray | None:
+    """``local_observations`` of one race (``cells`` 1-d) from the level's tables, without reshaping; None
+    when the level has no tables (wide windows on large levels)."""
+    rows, around = level_rows(view, extra), window_cells(view)
+    if rows is None or around is None:
+        return None
+    out = rows.take(cells, axis=0).astype(np.int64, copy=False)
+    if len(cells) > 1:  # a lone robot sees no other: its robot column stays 0
+        robot = out[:, 2 + _ROBOT : view.size : len(LOCAL_FEATURES)]
+        if not _seen_alone(around, cells, racing, robot):  # robots sharing cells: counted
+            _robots_counted(view, cells[None], racing[None], robot[None])
+    if goals is not None:
+        mark_targets(out, cells, goals, view.width, view.height, view.radius, view.size)
+    return out
+
+
 def _window_indices(view: LocalView, cells: np.ndarray) -> np.ndarray:
     """``(..., cells in a window)``: the cells of each robot's window in the padded grid (always inside it)."""
     return view.padded.take(cells)[..., None] + view.window
@@ -235,15 +253,19 @@ def _robots_seen(view: LocalView, cells: np.ndarray, racing: np.ndarray, robot: 
     """The robot feature of every window cell, ``robot`` ``(R, n, cells in a window)``: another racing robot there.
     The robots go on a scratch grid of a few races at a time (a bounded grid, O(n) work); only racing
     robots are on the board."""
-    n_races, n = cells.shape
     around = window_cells(view)
-    if n_races == 1 and around is not None and _seen_alone(around, cells[0], racing[0], robot[0]):
+    if len(cells) == 1 and around is not None and _seen_alone(around, cells[0], racing[0], robot[0]):
         return
+    _robots_counted(view, cells, racing, robot)
+
+
+def _robots_counted(view: LocalView, cells: np.ndarray, racing: np.ndarray, robot: np.ndarray) -> None:
+    """``_robots_seen`` by counting the racing robots of each cell of a padded grid (robots may share cells)."""
     at = view.padded.take(cells)
     idx = at[:, :, None] + view.window
     n_padded, centre = view.static.shape[0], view.window.size // 2
     step = max(1, _SCRATCH // n_padded)
-    for s in range(0, n_races, step):
+    for s in range(0, len(cells), step):
         at_s, racing_s = at[s : s + step], racing[s : s + step]
         race_base = (np.arange(at_s.shape[0], dtype=np.int64) * n_padded)[:, None]
         count = np.bincount((at_s + race_base)[racing_s], minlength=at_s.shape[0] * n_padded)  # add.at's counts, faster
