@@ -312,15 +312,14 @@ _LEVEL_ROWS_BYTES = 8 << 20  # the largest table of level rows kept per view (el
 @lru_cache(maxsize=8)
 def level_rows(view: LocalView, extra: int = 0) -> np.ndarray | None:
     """Every cell's "local" row as the level alone makes it: ``[x, y]``, the window's features with
-    the robot column 0, then ``extra`` zeros; one row per cell, so that a step's rows are one gather
-    of contiguous rows. int64 (the rows' own type: no conversion per step) when that fits in
-    ``_LEVEL_ROWS_BYTES``, else small ints (int16 where they fit); None when even those would not."""
+    the robot column 0, then ``extra`` zeros; small ints (int16 where they fit), one row per cell,
+    so that a step's rows are one gather of contiguous rows. None when the table would pass
+    ``_LEVEL_ROWS_BYTES`` (large levels with wide windows)."""
+    dtype = np.int16 if max(view.width, view.height) <= np.iinfo(np.int16).max else np.int32
     n_cells, size = view.padded.size, view.size + extra
-    small = np.int16 if max(view.width, view.height) <= np.iinfo(np.int16).max else np.int32
-    fits = [t for t in (np.int64, small) if n_cells * size * np.dtype(t).itemsize <= _LEVEL_ROWS_BYTES]
-    if not fits:
+    if n_cells * size * np.dtype(dtype).itemsize > _LEVEL_ROWS_BYTES:
         return None
-    rows = np.zeros((n_cells, size), dtype=fits[0])
+    rows = np.zeros((n_cells, size), dtype=dtype)
     rows[:, :2] = view.xy
     rows[:, 2 : view.size] = view.static.take(view.padded[:, None] + view.window, axis=0).reshape(n_cells, -1)
     rows.setflags(write=False)  # shared by every env on the level

@@ -213,10 +213,9 @@ class RaceEnv(RaceGoals, RaceLevels, RaceReadouts, OverlayMethods, ParallelEnv):
         if self.render_mode == "human":
             self.render()
         obs = self._observations()
-        xy = self._xy_arrays
         infos = {
-            a: {"cell": xy[c].copy(), "outcome": START, "blocked": False, "finished": False, "rank": 0}
-            for a, c in zip(self.possible_agents, self._live_cells)
+            a: {"cell": xy, "outcome": START, "blocked": False, "finished": False, "rank": 0}
+            for a, xy in zip(self.possible_agents, self._cell_xy.take(self._live_cells, axis=0))
         }
         return dict(zip(self.possible_agents, obs)), infos
 
@@ -314,12 +313,13 @@ class RaceEnv(RaceGoals, RaceLevels, RaceReadouts, OverlayMethods, ParallelEnv):
         racing_now = self._live_set
         over = self._t >= self.max_cycles or not self._live
         reported, ids = self.agents, self._agent_ids
-        all_cells, xy, ranks = self._cells, self._xy_arrays, self._rank
+        all_cells, ranks = self._cells, self._rank
+        xy = self._cell_xy.take([all_cells[i] for i in ids], axis=0)  # infos' "cell": rows of one fresh array
         # parked robots (freeze) are terminated only when the race ends: PettingZoo expects a
         # terminated agent to leave `agents` in the same step
         parked_done = over or self.finished_mode == "remove"
         obs, rews, terms, truncs, infos = {}, {}, {}, {}, {}  # in one pass
-        for a, i, row in zip(reported, ids, self._observations()):
+        for a, i, row, cell in zip(reported, ids, self._observations(), xy):
             k = was_live.get(i)  # None: parked before this step (it earns nothing)
             racing = i in racing_now
             obs[a] = row
@@ -327,7 +327,7 @@ class RaceEnv(RaceGoals, RaceLevels, RaceReadouts, OverlayMethods, ParallelEnv):
             terms[a] = not racing and parked_done
             truncs[a] = over and racing
             infos[a] = {
-                "cell": xy[all_cells[i]].copy(),
+                "cell": cell,
                 "outcome": FINISHED if k is None else outcome[k],
                 "blocked": k is not None and blocked[k],
                 "finished": not racing,

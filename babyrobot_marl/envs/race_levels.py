@@ -27,13 +27,12 @@ class RaceLevels:
 
     def _cell_arrays(self) -> None:
         """What steps read per cell: its rules' lists, its reward, its ``[x, y]`` (a family of sizes: each level
-        has its own cells, inside the largest's space) as a tuple, an array and a row, and its state rows."""
+        has its own cells, inside the largest's space) as a tuple and a row, and its state rows."""
         self._lists = self.table.lists
         self._sure_flat = self.table.sure_flat  # the same as arrays, for crowds
         self._reward_at = self._lists.reward  # by cell
         self._xy = [self.table.cell_xy(c) for c in range(self.table.n_cells)]
-        self._xy_arrays = [np.array(xy, dtype=np.int64) for xy in self._xy]  # infos' "cell", copied per step
-        self._cell_xy = np.array(self._xy, dtype=np.int64).reshape(-1, 2)  # (cells, 2): the common step's infos' "cell"
+        self._cell_xy = np.array(self._xy, dtype=np.int64).reshape(-1, 2)  # (cells, 2): infos' "cell", rows of a gather
         # [x, y, finished] of a robot: row c racing in cell c, row n_cells + c finished there
         self._xyf = np.array([(*xy, 0) for xy in self._xy] + [(*xy, 1) for xy in self._xy], dtype=np.int64)
 
