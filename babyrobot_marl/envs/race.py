@@ -36,7 +36,7 @@ from .checks import (
 from .drawing import EnvDrawing, OverlayMethods
 from .encodings import Encoder
 from .race_goals import RaceGoals, next_goals
-from .race_levels import RaceLevels
+from .race_levels import RaceLevels, cell_arrays
 from .race_readouts import RaceReadouts
 from .single import default_max_steps
 from .starts import new_generator
@@ -145,7 +145,7 @@ class RaceEnv(RaceGoals, RaceLevels, RaceReadouts, OverlayMethods, ParallelEnv):
             check_view_numbers(n, len(self._observer.nvec), "view_radius" if observe == "local" else "k")
         self._gather = global_gather(n if self._observer is None else 0)  # robot i sees i, i+1, ..., i-1: "global" only
         self._layouts: dict[tuple, np.ndarray] = {}  # _set_layout's gathers by robot numbers: races repeat finishing orders
-        self._cell_arrays()
+        self._lists, self._sure_flat, self._reward_at, self._xy, self._cell_xy, self._xyf = cell_arrays(self.table)
         # The state: the racing robots (`_live`, robot numbers, ascending) and their cells, and the
         # finished ones (`_done`) with their `_xyf` rows (`_parked`). Steps work on the racing
         # robots only; observations gather from the rows of `_live_cells + _parked`.
@@ -456,6 +456,14 @@ class RaceEnv(RaceGoals, RaceLevels, RaceReadouts, OverlayMethods, ParallelEnv):
         rows = [*self._live_cells, *self._parked] if self._parked else self._live_cells
         obs = self._xyf.take(rows, axis=0).ravel()[self._gather_reported]
         return obs if self.encoder.identity else self.encoder(obs)
+
+    def _use_level(self, level: Level) -> None:
+        """Race on ``level`` (drawn at reset, the size of the last): everything that depends on it."""
+        self.level, self.table = level, self._compile(level)
+        self._observer = self._drawn_observer(self.table)
+        self._fixed_starts, self._free = self._placement(self.n_robots)
+        self.drawing.new_level(level)
+        self._lists, self._sure_flat, self._reward_at, self._xy, self._cell_xy, self._xyf = cell_arrays(self.table)
 
     def _check_started(self, what: str) -> None:
         if not self._started:

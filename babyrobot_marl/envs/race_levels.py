@@ -1,6 +1,6 @@
-"""The race env's level, as a part of ``RaceEnv`` (a mixin over the env's own fields): the compiled table,
-the observer and the starts on it, and the per-cell arrays the steps read; a level drawn at reset
-(``level=`` a family) replaces them all. ``race.py`` holds the steps."""
+"""The race env's level, as a part of ``RaceEnv`` (a mixin reading the env's own fields): the compiled table,
+the observer and the starts on it, and the per-cell arrays the steps read (``cell_arrays``); the env holds
+them and replaces them all for a level drawn at reset (``RaceEnv._use_level``). ``race.py`` holds the steps."""
 
 from __future__ import annotations
 
@@ -14,27 +14,19 @@ from ..planning.hint import optimal_actions
 from .starts import draw_starts, placement
 
 
+def cell_arrays(table: Table) -> tuple:
+    """What steps read per cell of ``table``: its rules' lists and flat look-ups, its reward, its ``[x, y]``
+    (a family of sizes: each level has its own cells, inside the largest's space) as a tuple and as a row
+    (infos' "cell", rows of a gather), and the state's ``[x, y, finished]`` rows: row c racing in cell c,
+    row n_cells + c finished there."""
+    lists = table.lists
+    xy = [table.cell_xy(c) for c in range(table.n_cells)]
+    xyf = np.array([(*c, 0) for c in xy] + [(*c, 1) for c in xy], dtype=np.int64)
+    return lists, table.sure_flat, lists.reward, xy, np.array(xy, dtype=np.int64).reshape(-1, 2), xyf
+
+
 class RaceLevels:
-    """``RaceEnv``'s level-dependent parts: ``_use_level``, ``_compile``, ``_cell_arrays``, ...."""
-
-    def _use_level(self, level: Level) -> None:
-        """Race on ``level`` (drawn at reset, the size of the last): everything that depends on it."""
-        self.level, self.table = level, self._compile(level)
-        self._observer = self._drawn_observer(self.table)
-        self._fixed_starts, self._free = self._placement(self.n_robots)
-        self.drawing.new_level(level)
-        self._cell_arrays()
-
-    def _cell_arrays(self) -> None:
-        """What steps read per cell: its rules' lists, its reward, its ``[x, y]`` (a family of sizes: each level
-        has its own cells, inside the largest's space) as a tuple and a row, and its state rows."""
-        self._lists = self.table.lists
-        self._sure_flat = self.table.sure_flat  # the same as arrays, for crowds
-        self._reward_at = self._lists.reward  # by cell
-        self._xy = [self.table.cell_xy(c) for c in range(self.table.n_cells)]
-        self._cell_xy = np.array(self._xy, dtype=np.int64).reshape(-1, 2)  # (cells, 2): infos' "cell", rows of a gather
-        # [x, y, finished] of a robot: row c racing in cell c, row n_cells + c finished there
-        self._xyf = np.array([(*xy, 0) for xy in self._xy] + [(*xy, 1) for xy in self._xy], dtype=np.int64)
+    """``RaceEnv``'s level-dependent parts, stateless (the env holds the state): ``_compile``, ``_placement``, ...."""
 
     def _drawn_observer(self, table: Table) -> Observer | None:
         """The observer on a level drawn at reset: the first's mode and radius, sized for the largest level, the hint if asked."""
