@@ -17,7 +17,7 @@ from babyrobot_marl.core import rng
 from babyrobot_marl.core.batch import resolve_collisions_array
 from babyrobot_marl.envs.race import RaceEnv
 from tests.strategies import resolve_all_robots
-from tests.test_race_rules import reference_resolve
+from tests.test_race_rules import configurations, reference_resolve
 
 EXCLUSIVE = ("block", "bounce", "soft")
 
@@ -34,6 +34,8 @@ def both_engines(mode, cells, desired, racing, key=12345, step=7):
     scalar = list(resolve_all_robots(mode, list(cells), list(desired), list(racing), key, step))
     with mock.patch.object(race_core, "_ARRAYS_FROM", 10**9):  # the dict-based path at any size
         dicts = list(resolve_all_robots(mode, list(cells), list(desired), list(racing), key, step))
+    for label, path in on_arrays(mode, cells, desired, racing, key, step).items():
+        assert path == expected, label
     array = resolve_collisions_array(
         mode,
         np.array([cells]),
@@ -46,6 +48,31 @@ def both_engines(mode, cells, desired, racing, key=12345, step=7):
     assert dicts == expected
     assert array == expected
     return expected
+
+
+def on_arrays(mode, cells, desired, racing, key, step) -> dict[str, list[int]]:
+    """The result through the array paths of the scalar rules at any size: the movers that can be stopped
+    found on arrays, then resolved one by one, or on arrays too."""
+    got = {}
+    for label, one_by_one in (("arrays, one by one", 10**9), ("arrays throughout", -1)):
+        with mock.patch.object(race_core, "_ARRAYS_FROM", 0), mock.patch.object(race_core, "_ONE_BY_ONE_UP_TO", one_by_one):
+            got[label] = list(resolve_all_robots(mode, list(cells), list(desired), list(racing), key, step))
+    return got
+
+
+@settings(max_examples=600, deadline=None)
+@given(configurations(), st.sampled_from(EXCLUSIVE))
+def test_the_array_paths_agree_with_the_reference_on_small_configurations(config, mode):
+    """Swaps, contests, chains and cycles of a few robots, some finished, through both array paths."""
+    cells, desired, racing, key, step = config
+    n = len(cells)
+
+    def priority(i):
+        return rng.uniform(key, (step * n + i) * rng.SLOTS + rng.SLOT_PRIORITY)
+
+    expected = reference_resolve(mode, cells, desired, racing, priority)
+    for label, got in on_arrays(mode, cells, desired, racing, key, step).items():
+        assert got == expected, label
 
 
 def queue(n: int, head_highest: bool, head: str):

@@ -118,3 +118,32 @@ def test_two_robots_step_as_the_general_collision_rules_say():
                         checked += 1
                         stopped += True in blocked
         assert checked > 9000 and (stopped > 0) == (mode != "pass")
+
+
+def test_crowds_step_on_arrays_as_robot_by_robot_on_puddles_glass_and_exits():
+    """A crowd takes the array path of a step (look-ups in the flat table, conflicts found on arrays):
+    every output equals the robot-by-robot path's, on puddles and glass walls (random draws) too,
+    in every collision mode, while robots finish and the crowd thins out below the array path's size."""
+    from unittest import mock
+
+    from babyrobot_marl.core import race as race_core
+    from babyrobot_marl.core.level import Level
+
+    w = h = 14
+    cells = [(x, y) for y in range(h) for x in range(w)]
+    exits, blocked = {(0, 0), (13, 13)}, set(cells[20:200:23])
+    small = set(cells[5:190:11]) - blocked - exits
+    large = set(cells[7:190:17]) - blocked - exits - small
+    level = Level(
+        width=w, height=h, exits=frozenset(exits), blocked=frozenset(blocked), small_puddles=frozenset(small),
+        large_puddles=frozenset(large), glass=frozenset(((x, y), (x + 1, y)) for x, y in cells[3:180:13] if x + 1 < w),
+    )
+    actions = np.random.default_rng(5).integers(0, 5, (150, 90))
+    skids = 0
+    for mode in ("block", "bounce", "soft", "pass"):
+        env = race_v0.parallel_env(level=level, n_robots=90, start="random", collisions=mode, max_cycles=150)
+        arrays = play(env, 3, actions)
+        skids += sum(i["outcome"] == 3 for step in arrays[1:] for i in step[4].values())
+        with mock.patch.object(race_core, "_ARRAYS_FROM", 10**9):
+            assert play(env, 3, actions) == arrays, mode
+    assert skids > 0

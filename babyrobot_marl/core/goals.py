@@ -251,7 +251,7 @@ def mark_targets(
     number per row (a local observer's pass). ``out``: C-contiguous rows ``(..., m)``."""
     key, where, _ = channel_tables(width, height, radius)
     at = where.take(key.take(goals) - key.take(cells))
-    at += _row_starts(at.shape, out.shape[-1], column)  # each row's flat index
+    at = _row_starts(at.shape, out.shape[-1], column) + at  # each row's flat index (int64: the tables are small ints)
     out.reshape(-1)[at] = 1
 
 
@@ -270,15 +270,20 @@ def channel_tables(w: int, h: int, radius: int) -> tuple[np.ndarray, np.ndarray,
     end); and one-hot rows."""
     side = 2 * radius + 1
     ids = np.arange(w * h, dtype=np.int64)
-    key = ids // w * (2 * w - 1) + ids % w
+    key = (ids // w * (2 * w - 1) + ids % w).astype(_small_int((2 * h - 1) * (2 * w - 1)))
     dx, dy = np.r_[0:w, -w + 1 : 0], np.r_[0:h, -h + 1 : 0]  # index k holds offset d (k - len for the tail)
     clamp_x, clamp_y = np.clip(dx, -radius, radius) + radius, np.clip(dy, -radius, radius) + radius
-    where = np.empty((2 * h - 1) * (2 * w - 1), dtype=np.int64)
+    where = np.empty((2 * h - 1) * (2 * w - 1), dtype=_small_int(side * side))  # small: read every step
     where[(dy[:, None] * (2 * w - 1) + dx[None, :]).ravel()] = (clamp_y[:, None] * side + clamp_x[None, :]).ravel()
     one_hot = np.eye(side * side, dtype=np.int64)
     for a in (key, where, one_hot):
         a.setflags(write=False)
     return key, where, one_hot
+
+
+def _small_int(n: int) -> type:
+    """The smallest signed int type holding ``-n .. n``."""
+    return next(t for t in (np.int16, np.int32, np.int64) if n <= np.iinfo(t).max)
 
 
 @dataclass(frozen=True, eq=False)

@@ -207,12 +207,12 @@ def local_observations(
     ``goals`` (own goals, each robot's target cell, ``(..., n)``): the extra columns begin with the
     target channel (``goals.target_channel``), written in this pass."""
     cells, racing = np.asarray(cells), np.asarray(racing, dtype=bool)
+    if cells.ndim == 1 and (out := _one_race(view, cells, racing, extra, goals)) is not None:
+        return out
     *lead, n = cells.shape
     n_races = math.prod(lead)  # not np.prod: microseconds count every step
     cells2, racing2 = cells.reshape(n_races, n), racing.reshape(n_races, n)
     size = view.size + extra
-    at = view.padded.take(cells2)  # (R, n) each robot's cell in the padded grid
-    idx = at[:, :, None] + view.window  # (R, n, cells in a window): always inside the padded grid
     rows = level_rows(view, extra)
     if rows is not None:  # each robot's row as the level makes it, in one gather
         out = rows.take(cells2, axis=0).astype(np.int64, copy=False)
@@ -220,34 +220,90 @@ def local_observations(
         out = np.zeros((n_races, n, size), dtype=np.int64)
         out[:, :, :2] = view.xy.take(cells2, axis=0)
         feats = out[:, :, 2 : view.size].reshape(n_races, n, view.window.size, len(LOCAL_FEATURES))  # a view: rows split
-        feats[...] = view.static.take(idx, axis=0, mode="clip")  # "clip": no bounds checks (all inside)
+        feats[...] = view.static.take(_window_indices(view, cells2), axis=0, mode="clip")  # "clip": no bounds checks
     if n > 1:  # a lone robot sees no other: its robot column stays 0
-        _robots_seen(view, at, idx, racing2, out[:, :, 2 + _ROBOT : view.size : len(LOCAL_FEATURES)])
+        _robots_seen(view, cells2, racing2, out[:, :, 2 + _ROBOT : view.size : len(LOCAL_FEATURES)])
     if goals is not None:
         mark_targets(out, cells2, goals, view.width, view.height, view.radius, view.size)
     return out.reshape(*lead, n, size)
 
 
-def _robots_seen(view: LocalView, at: np.ndarray, idx: np.ndarray, racing: np.ndarray, robot: np.ndarray) -> None:
+def _one_race(view: LocalView, cells: np.ndarray, racing: np.ndarray, extra: int, goals: np.ndarray | None) -> np.ndarray | None:
+    """``local_observations`` of one race (``cells`` 1-d) from the level's tables, without reshaping; None
+    when the level has no tables (wide windows on large levels)."""
+    rows, around = level_rows(view, extra), window_cells(view)
+    if rows is None or around is None:
+        return None
+    out = rows.take(cells, axis=0).astype(np.int64, copy=False)
+    if len(cells) > 1:  # a lone robot sees no other: its robot column stays 0
+        robot = out[:, 2 + _ROBOT : view.size : len(LOCAL_FEATURES)]
+        if not _seen_alone(around, cells, racing, robot):  # robots sharing cells: counted
+            _robots_counted(view, cells[None], racing[None], robot[None])
+    if goals is not None:
+        mark_targets(out, cells, goals, view.width, view.height, view.radius, view.size)
+    return out
+
+
+def _window_indices(view: LocalView, cells: np.ndarray) -> np.ndarray:
+    """``(..., cells in a window)``: the cells of each robot's window in the padded grid (always inside it)."""
+    return view.padded.take(cells)[..., None] + view.window
+
+
+def _robots_seen(view: LocalView, cells: np.ndarray, racing: np.ndarray, robot: np.ndarray) -> None:
     """The robot feature of every window cell, ``robot`` ``(R, n, cells in a window)``: another racing robot there.
     The robots go on a scratch grid of a few races at a time (a bounded grid, O(n) work); only racing
     robots are on the board."""
-    n_races, n = at.shape
-    n_padded, centre = view.static.shape[0], view.window.size // 2
-    if n_races == 1:  # one race: no offsets per race
-        count = np.bincount(at.ravel() if np.count_nonzero(racing) == n else at[racing], minlength=n_padded)
-        seen = count.take(idx, mode="clip")
-        seen[:, :, centre] -= racing  # not the observer itself
-        robot[...] = seen > 0
+    around = window_cells(view)
+    if len(cells) == 1 and around is not None and _seen_alone(around, cells[0], racing[0], robot[0]):
         return
+    _robots_counted(view, cells, racing, robot)
+
+
+def _robots_counted(view: LocalView, cells: np.ndarray, racing: np.ndarray, robot: np.ndarray) -> None:
+    """``_robots_seen`` by counting the racing robots of each cell of a padded grid (robots may share cells)."""
+    at = view.padded.take(cells)
+    idx = at[:, :, None] + view.window
+    n_padded, centre = view.static.shape[0], view.window.size // 2
     step = max(1, _SCRATCH // n_padded)
-    for s in range(0, n_races, step):
+    for s in range(0, len(cells), step):
         at_s, racing_s = at[s : s + step], racing[s : s + step]
         race_base = (np.arange(at_s.shape[0], dtype=np.int64) * n_padded)[:, None]
         count = np.bincount((at_s + race_base)[racing_s], minlength=at_s.shape[0] * n_padded)  # add.at's counts, faster
         seen = count.take(idx[s : s + step] + race_base[:, :, None], mode="clip")
         seen[:, :, centre] -= racing_s
         robot[s : s + step] = seen > 0
+
+
+def _seen_alone(around: np.ndarray, cells: np.ndarray, racing: np.ndarray, robot: np.ndarray) -> bool:
+    """``_robots_seen`` of one race whose racing robots each have a cell of their own (the rules but "pass"):
+    a grid of flags read through each robot's window cells (``window_cells``: its own cell left out, as
+    it holds the robot itself). False (nothing written) when two racing robots share a cell."""
+    everyone = np.count_nonzero(racing) == len(cells)
+    on_board = cells if everyone else cells[racing]
+    taken = np.zeros(len(around) + 1, dtype=bool)  # the last: off the grid
+    taken[on_board] = True
+    if np.count_nonzero(taken) < len(on_board):
+        return False
+    robot[...] = taken.take(around.take(cells, axis=0))
+    if not everyone:  # a finished robot's own cell: a racing robot there is another robot
+        robot[:, around.shape[1] // 2] = taken.take(cells) & ~racing
+    return True
+
+
+@lru_cache(maxsize=8)
+def window_cells(view: LocalView) -> np.ndarray | None:
+    """``(cells, cells in a window)``: the cell of each cell's window cells, ``cells`` (one past the last) off
+    the grid and at the window's centre (the observer's own cell); None when the table would pass
+    ``_LEVEL_ROWS_BYTES`` (wide windows on large levels)."""
+    n_cells = view.padded.size
+    if n_cells * view.window.size * np.dtype(np.intp).itemsize > _LEVEL_ROWS_BYTES:
+        return None
+    cell_of = np.full(view.static.shape[0], n_cells, dtype=np.intp)  # padded grid -> cell
+    cell_of[view.padded] = np.arange(n_cells)
+    around = cell_of.take(view.padded[:, None] + view.window)
+    around[:, view.window.size // 2] = n_cells
+    around.setflags(write=False)  # shared by every env on the level
+    return around
 
 
 _LEVEL_ROWS_BYTES = 8 << 20  # the largest table of level rows kept per view (else windows are gathered per step)

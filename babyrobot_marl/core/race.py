@@ -27,10 +27,14 @@ from __future__ import annotations
 
 import operator
 from collections.abc import Sequence
+from itertools import compress
 from operator import getitem
 
-from .engine import MOVED, SKIDDED, move
-from .rng import SLOT_PRIORITY, SLOTS, uniform
+import numpy as np
+
+from .actions import N_ACTIONS
+from .engine import move
+from .rng import SLOT_PRIORITY, SLOTS, uniform, uniform_array
 from .table import TableLists
 
 
@@ -44,21 +48,18 @@ def resolve_collisions(
     (default ``len(cells)``): they address the uniform draws of "block". Returns ``desired``
     itself (not a copy) when no robot is stopped by another.
 
-    O(n) whatever the numbering. The rules only ever turn movers into stayers, so the result is
-    the smallest set of stayers closed under them: a mover in a swap or losing a contest stays
-    (both read off ``desired`` alone), and a mover heading for the cell of a robot that stays
-    stays too. So stopping spreads backwards along "heads for the cell of", visiting each robot
-    once, from the robots that do not move and the swaps and contest losers. Past
-    ``_ARRAYS_FROM`` racing robots the batch engine's numpy version runs instead (the same
-    closure, by sorting and pointer doubling: O(n log n) steps in C, faster than dicts there).
+    The rules only ever turn movers into stayers, so the result is the smallest set of stayers
+    closed under them: a mover in a swap or losing a contest stays (both read off ``desired``
+    alone), and a mover heading for the cell of a robot that stays stays too. So stopping
+    spreads backwards along "heads for the cell of" from the robots that do not move and the
+    swaps and contest losers. Only movers heading for a cell held now or contesting a cell can
+    be stopped at all: they are found by passes in C over every robot (sets of cells), and
+    looked at one by one; O(n) whatever the numbering (O(n log n) in C when cells are contested:
+    a sort). From ``_ARRAYS_FROM`` racing robots on, those passes are numpy's, and past
+    ``_ONE_BY_ONE_UP_TO`` such movers the closure too, by pointer doubling as in the batch
+    engine (``_resolve_on_arrays``).
     """
     if mode == "pass":
-        return desired
-    m = len(cells)
-    # The common case, returned as is: no two robots head for one cell, and no robot heads for
-    # a cell occupied now. Then the cells now and the cells ahead together hold each robot's
-    # cell once and each mover's new cell once more.
-    if len({*cells, *desired}) == m + sum(map(operator.ne, cells, desired)):
         return desired
     return _stop_movers(mode, cells, desired, key, step, robots, n)
 
@@ -66,71 +67,191 @@ def resolve_collisions(
 def _stop_movers(
     mode: str, cells: Sequence[int], desired: Sequence[int], key: int, step: int, robots: Sequence[int] | None, n: int
 ) -> Sequence[int]:
-    """``resolve_collisions`` past its first test (``race_step`` makes that test itself)."""
+    """``resolve_collisions`` under an exclusive rule ("block", "bounce", "soft")."""
     m = len(cells)
-    if m > _ARRAYS_FROM:
-        return _resolve_with_arrays(mode, cells, desired, key, step, robots, n)
-    occupant = dict(zip(cells, range(m)))
-    heading: dict[int, list[int]] = {}  # cell -> the movers heading for it
-    stopped = [False] * m
-    todo = []  # robots that stay and whose stopping has not spread yet
-    for k in range(m):
-        if desired[k] == cells[k]:
-            stopped[k] = True
-            todo.append(k)
-        else:
-            heading.setdefault(desired[k], []).append(k)
-    seeds = []
+    if m and m >= _ARRAYS_FROM:
+        c, d = np.asarray(cells, dtype=np.int64), np.asarray(desired, dtype=np.int64)
+        final = _stop_movers_arrays(mode, cells, c, d, key, step, robots, n, int(max(c.max(), d.max())) + 1)
+        return desired if final is d else final.tolist()
+    ahead = list(compress(desired, map(operator.ne, cells, desired)))  # the movers' destinations
+    occupied = set(cells)
+    held = occupied.intersection(ahead)  # destinations a robot holds now
+    n_ahead = len(set(ahead))
+    if not held and n_ahead == len(ahead):  # the common case: nobody in anybody's way
+        return desired
+    if n_ahead < len(ahead):  # and destinations two movers or more head for (equal neighbours once sorted)
+        ahead.sort()
+        held.update(compress(ahead, map(operator.eq, ahead, ahead[1:])))
+    # cell -> the movers heading for it, ascending: for those few cells only (their robots found in C)
+    heading: dict[int, list[int]] = {}
+    for k in compress(range(m), map(held.__contains__, desired)):
+        d = desired[k]
+        if cells[k] != d:  # not the robot staying there
+            heading.setdefault(d, []).append(k)
+    holder = {cells[j]: j for j in compress(range(m), map(held.__contains__, cells))}  # held cell -> its robot
+    stopped: set[int] = set()
     for d, group in heading.items():
-        j = occupant.get(d)
-        if j is not None:  # k and j would swap: k stays here, j where its own cell is the heading
-            seeds.extend(k for k in group if cells[k] == desired[j])
+        j = holder.get(d)
+        if j is not None:
+            dj = desired[j]
+            if dj == d:  # its robot stays: nobody gets in
+                stopped.update(group)
+                continue
+            for k in group:
+                if cells[k] == dj:  # k and j would swap
+                    stopped.add(k)
         if len(group) > 1:  # a contest: block lets the highest priority in, soft the lowest number, bounce nobody
             if mode == "bounce":
-                seeds.extend(group)
+                stopped.update(group)
             else:
                 keep = _contest_winner(mode, group, key, step, n or m, robots)
-                seeds.extend(k for k in group if k != keep)
-    n_stayers = len(todo)
-    for k in seeds:
-        if not stopped[k]:
-            stopped[k] = True
-            todo.append(k)
-    stops = len(todo) - n_stayers
+                stopped.update(k for k in group if k != keep)
+    if not stopped:
+        return desired
+    todo = list(stopped)  # a robot that stays stops the movers heading for its cell, and so on back
     while todo:
         for k in heading.get(cells[todo.pop()], ()):
-            if not stopped[k]:
-                stopped[k] = True
+            if k not in stopped:
+                stopped.add(k)
                 todo.append(k)
-                stops += 1
-    if not stops:
-        return desired
-    return [c if s else d for c, d, s in zip(cells, desired, stopped)]
+    final = list(desired)
+    for k in stopped:
+        final[k] = cells[k]
+    return final
 
 
 _LOOP_UP_TO = 8  # racing robots up to which race_step looks moves up in a plain loop
-_ARRAYS_FROM = 512  # racing robots above which numpy (``batch.resolve_collisions_array``) beats Python dicts
-# (on random maps of density 0.3 the dicts were 1.1-1.4x faster at 64 and 256 robots, about even at 1,024)
+_ARRAYS_FROM = 128  # racing robots from which moves are looked up and conflicts found with numpy
+# (on random maps of density 0.3: Python 1.3x faster at 64 robots, even at about 128, numpy 1.2-1.5x
+# faster at 256 and 3.5x at 1,024)
 
 
-def _resolve_with_arrays(
-    mode: str, cells: Sequence[int], desired: Sequence[int], key: int, step: int, robots: Sequence[int] | None, n: int
-) -> Sequence[int]:
-    """``resolve_collisions`` through the batch engine's version: one race of ``n`` robots, the finished ones off the board."""
-    import numpy as np
+def _stop_movers_arrays(
+    mode: str, cells: Sequence[int], c: np.ndarray, d: np.ndarray, key: int, step: int, robots: Sequence[int] | None,
+    n: int, size: int,
+) -> np.ndarray:
+    """``_stop_movers`` on arrays: ``c``, ``d`` the racing robots' cells and destinations (``cells``: ``c`` as
+    a list), all below ``size``. The movers that can be stopped (heading for a held or contested cell)
+    are found by array passes; a few are then resolved one by one as ``_stop_movers`` does, many on
+    arrays (``_resolve_on_arrays``). Returns ``d`` itself when nobody is stopped, else a new array."""
+    m = len(c)
+    moving = d != c
+    holder = np.full(size, -1, dtype=np.int64)  # cell -> the robot on it
+    holder[c] = np.arange(m)
+    held_by = holder.take(d)  # the robot on each robot's destination (itself for a robot that stays), -1: free
+    hit = moving & (held_by >= 0)
+    rival = moving & (np.bincount(d[moving], minlength=size).take(d) > 1)  # contesting a cell
+    ks = np.flatnonzero(hit | rival)
+    if len(ks) > _ONE_BY_ONE_UP_TO:
+        return _resolve_on_arrays(mode, c, d, moving, held_by, hit, rival, key, step, robots, n)
+    if not len(ks):
+        return d
+    heading: dict[int, list[int]] = {}  # cell -> the movers heading for it, ascending
+    holder_of: dict[int, int] = {}
+    for k, dk, j in zip(ks.tolist(), d[ks].tolist(), held_by[ks].tolist()):
+        group = heading.get(dk)
+        if group is None:
+            heading[dk], holder_of[dk] = [k], j
+        else:
+            group.append(k)
+    stopped: set[int] = set()
+    for dk, group in heading.items():
+        j = holder_of[dk]
+        if j >= 0:
+            dj = int(d[j])
+            if dj == dk:  # its robot stays: nobody gets in
+                stopped.update(group)
+                continue
+            for k in group:
+                if cells[k] == dj:  # k and j would swap
+                    stopped.add(k)
+        if len(group) > 1:  # a contest: block lets the highest priority in, soft the lowest number, bounce nobody
+            if mode == "bounce":
+                stopped.update(group)
+            else:
+                keep = _contest_winner(mode, group, key, step, n or m, robots)
+                stopped.update(k for k in group if k != keep)
+    if not stopped:
+        return d
+    todo = list(stopped)  # a robot that stays stops the movers heading for its cell, and so on back
+    while todo:
+        for k in heading.get(cells[todo.pop()], ()):
+            if k not in stopped:
+                stopped.add(k)
+                todo.append(k)
+    final = d.copy()
+    back = np.fromiter(stopped, np.int64, len(stopped))
+    final[back] = c[back]
+    return final
 
-    from .batch import resolve_collisions_array  # the batch engine imports nothing from here
 
+_ONE_BY_ONE_UP_TO = 96  # movers that can be stopped up to which they are resolved in a Python loop
+
+
+def _resolve_on_arrays(
+    mode: str, c: np.ndarray, d: np.ndarray, moving: np.ndarray, held_by: np.ndarray, hit: np.ndarray,
+    rival: np.ndarray, key: int, step: int, robots: Sequence[int] | None, n: int,
+) -> np.ndarray:
+    """``_stop_movers_arrays`` past its passes, on arrays (as the batch engine's ``resolve_collisions_array``):
+    stayers, swaps and contest losers stop, then stopping spreads back along "heads for the cell of"
+    by pointer doubling (``log2`` of the robots passes at most)."""
+    m = len(c)
+    stopped = ~moving
+    k = np.flatnonzero(hit)
+    stopped[k[d.take(held_by.take(k)) == c.take(k)]] = True  # swaps (a robot that stays is stopped already)
+    r = np.flatnonzero(rival)
+    if len(r) and mode == "bounce":
+        stopped[r] = True
+    elif len(r):  # each cell's contenders in order, the winner first: all but the first stop
+        numbers = r if robots is None else np.fromiter(map(robots.__getitem__, r.tolist()), np.int64, len(r))
+        if mode == "soft":  # the lowest robot number
+            order = np.lexsort((numbers, d.take(r)))
+        else:  # the highest priority, the first contender on a tie (as max() picks)
+            counts = (np.uint64(step * (n or m)) + numbers.astype(np.uint64)) * np.uint64(SLOTS) + np.uint64(SLOT_PRIORITY)
+            order = np.lexsort((r, -uniform_array(np.uint64(key), counts), d.take(r)))
+        r = r.take(order)
+        dr = d.take(r)
+        stopped[r[1:][dr[1:] == dr[:-1]]] = True
+    open_ = np.flatnonzero(hit & ~stopped)  # followers: stopped if a stopped robot lies ahead on their chain
+    ahead = np.full(m + 1, m, dtype=np.int64)  # m: the end of a chain, never stopped
+    ahead[open_] = held_by.take(open_)
+    stop = np.append(stopped, False)
+    for _ in range(m.bit_length()):  # the chains double each pass; that many passes cover any cycle
+        if not len(open_):
+            break
+        nxt = ahead.take(open_)
+        stop[open_] |= stop.take(nxt)
+        ahead[open_] = ahead.take(nxt)
+        open_ = open_[~stop.take(open_) & (ahead.take(open_) != m)]  # the rest go round a cycle, or not yet known
+    back = stop[:m] & moving  # robots still open go round a cycle with nobody stopped: they move
+    if not back.any():
+        return d
+    final = d.copy()
+    final[back] = c[back]
+    return final
+
+
+def _step_arrays(
+    t: TableLists, flat: tuple[np.ndarray, np.ndarray], mode: str, cells: Sequence[int], actions: Sequence[int], key: int,
+    step: int, robots: Sequence[int] | None, n: int,
+) -> tuple[list[int], list[int], list[bool], list[bool]]:
+    """``race_step`` of many robots: the look-ups in ``flat`` (``Table.sure_flat``) and the collision rules on arrays."""
     m = len(cells)
-    n = n or m
-    where = np.arange(m) if robots is None else np.asarray(robots, dtype=np.int64)
-    c, d, racing = np.zeros((1, n), dtype=np.int64), np.zeros((1, n), dtype=np.int64), np.zeros((1, n), dtype=bool)
-    c[0, where], d[0, where], racing[0, where] = cells, desired, True
-    final = resolve_collisions_array(mode, c, d, racing, np.array([key], dtype=np.uint64), np.array([step], dtype=np.int64))
-    if final is d:
-        return desired
-    out = final[0, where]
-    return desired if np.array_equal(out, d[0, where]) else out.tolist()
+    nxt, code = flat
+    c = np.fromiter(cells, np.int64, m)
+    at = c * N_ACTIONS
+    at += np.fromiter(actions, np.int64, m)
+    d, o = nxt.take(at), code.take(at)
+    if d.min() < 0:  # puddles and glass walls: their draws, as move makes them
+        numbers = range(m) if robots is None else robots
+        base = step * (n or m) * SLOTS
+        for k in np.flatnonzero(d < 0).tolist():
+            d[k], o[k] = move(t, cells[k], actions[k], key, base + numbers[k] * SLOTS)
+    final = d if mode == "pass" else _stop_movers_arrays(mode, cells, c, d, key, step, robots, n, len(t.sure))
+    out = final.tolist()
+    blocked = [False] * m if final is d else (final != d).tolist()
+    finished = [False] * m if t.exits.isdisjoint(out) else list(map(t.is_exit.__getitem__, out))
+    return out, o.tolist(), blocked, finished
 
 
 def _contest_winner(mode: str, group: list[int], key: int, step: int, n: int, robots: Sequence[int] | None) -> int:
@@ -156,14 +277,18 @@ def race_step(
     step: int,
     robots: Sequence[int] | None = None,
     n: int = 0,
+    flat: tuple[np.ndarray, np.ndarray] | None = None,
 ) -> tuple[Sequence[int], Sequence[int], list[bool], list[bool]]:
     """One race step of the racing robots: ``(new cells, outcome codes, blocked by a robot, finished now)``.
 
     ``cells`` and ``actions`` list the racing robots only, ``robots`` their numbers and ``n``
     the robots in the race, as for ``resolve_collisions``. Rewards are the caller's: the cell
-    reward ``t.reward[new cell]`` of every robot, plus any finishing bonus.
+    reward ``t.reward[new cell]`` of every robot, plus any finishing bonus. ``flat``: the table's
+    ``sure_flat``, for crowds of ``_ARRAYS_FROM`` robots or more (their steps on arrays).
     """
     m = len(cells)
+    if m >= _ARRAYS_FROM and flat is not None:
+        return _step_arrays(t, flat, mode, cells, actions, key, step, robots, n)
     if m == 1:  # a lone robot (the last one racing) meets nobody: one look-up, no collision rules
         cell, action = cells[0], actions[0]
         sure = t.sure[cell][action]
@@ -203,15 +328,7 @@ def race_step(
                 if moves[k] is None:
                     moves[k] = move(t, cells[k], actions[k], key, base + robots[k] * SLOTS)
         desired, outcome = zip(*moves)
-    if mode == "pass":
-        final = desired
-    # resolve_collisions' own first test, inlined; without skids the robots that move are the MOVED ones
-    elif len({*cells, *desired}) == m + (
-        outcome.count(MOVED) if SKIDDED not in outcome else sum(map(operator.ne, cells, desired))
-    ):
-        final = desired  # nobody in anybody's way
-    else:
-        final = _stop_movers(mode, cells, desired, key, step, robots, n)
+    final = desired if mode == "pass" else _stop_movers(mode, cells, desired, key, step, robots, n)
     blocked = [False] * m if final is desired else list(map(operator.ne, final, desired))
     finished = [False] * m if t.exits.isdisjoint(final) else list(map(t.is_exit.__getitem__, final))
     return final, outcome, blocked, finished

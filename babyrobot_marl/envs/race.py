@@ -14,14 +14,13 @@ from pettingzoo import ParallelEnv
 from ..core.actions import N_ACTIONS
 from ..core.batch import BatchRace
 from ..core.checks import check_action, check_choice, check_count, check_global_view, check_seed, check_view_numbers
-from ..core.goals import GOAL_MODES, GoalColumns, own_goal_table
+from ..core.goals import GOAL_MODES, GoalColumns
 from ..core.level import Cell, Level
-from ..core.observe import Observer, global_gather, make_observer, observer_for, with_hint
+from ..core.observe import global_gather, make_observer, with_hint
 from ..core.outcomes import FINISHED, START
 from ..core.race import race_step
 from ..core.rng import new_key
 from ..core.rules import COLLISION_MODES, Rules, resolve_rules
-from ..core.table import Table, compile_level
 from ..levels.sources import LevelPicker
 from ..planning.hint import optimal_actions
 from ..render.checks import check_animation_frames, check_cell_size, check_fps, check_frame_size
@@ -37,9 +36,10 @@ from .checks import (
 from .drawing import EnvDrawing, OverlayMethods
 from .encodings import Encoder
 from .race_goals import RaceGoals, next_goals
+from .race_levels import RaceLevels, cell_arrays
 from .race_readouts import RaceReadouts
 from .single import default_max_steps
-from .starts import draw_starts, new_generator, placement
+from .starts import new_generator
 
 START_MODES = ("level", "fill", "random")
 FINISHED_MODES = ("remove", "freeze")
@@ -52,7 +52,7 @@ _ARGS = (
 )
 
 
-class RaceEnv(RaceGoals, RaceReadouts, OverlayMethods, ParallelEnv):
+class RaceEnv(RaceGoals, RaceLevels, RaceReadouts, OverlayMethods, ParallelEnv):
     """Several Baby Robots race to the exit. See ``babyrobot_marl.race_v0`` for the full table."""
 
     metadata = {
@@ -145,13 +145,7 @@ class RaceEnv(RaceGoals, RaceReadouts, OverlayMethods, ParallelEnv):
             check_view_numbers(n, len(self._observer.nvec), "view_radius" if observe == "local" else "k")
         self._gather = global_gather(n if self._observer is None else 0)  # robot i sees i, i+1, ..., i-1: "global" only
         self._layouts: dict[tuple, np.ndarray] = {}  # _set_layout's gathers by robot numbers: races repeat finishing orders
-        self._lists = self.table.lists
-        self._xy = [self.table.cell_xy(c) for c in range(self.table.n_cells)]
-        self._xy_arrays = [np.array(xy, dtype=np.int64) for xy in self._xy]  # infos' "cell", copied per step
-        self._cell_xy = np.array(self._xy, dtype=np.int64).reshape(-1, 2)  # (cells, 2): the common step's infos' "cell"
-        self._reward_at = self._lists.reward  # by cell
-        # [x, y, finished] of a robot: row c racing in cell c, row n_cells + c finished there
-        self._xyf = np.array([(*xy, 0) for xy in self._xy] + [(*xy, 1) for xy in self._xy], dtype=np.int64)
+        self._lists, self._sure_flat, self._reward_at, self._xy, self._cell_xy, self._xyf = cell_arrays(self.table)
         # The state: the racing robots (`_live`, robot numbers, ascending) and their cells, and the
         # finished ones (`_done`) with their `_xyf` rows (`_parked`). Steps work on the racing
         # robots only; observations gather from the rows of `_live_cells + _parked`.
@@ -165,7 +159,8 @@ class RaceEnv(RaceGoals, RaceReadouts, OverlayMethods, ParallelEnv):
         self._rank: list[int] = []
         self._returns: list[float] = []  # of the finished robots; the racing ones' in _live_returns
         self._live_returns: list[float] = []
-        self._bumps: list[int] = []
+        self._bumps: list[int] = []  # of the finished robots; the racing ones' in _live_bumps
+        self._live_bumps: list[int] = []
         self._last_step: tuple | None = None  # what the last step did, for the pictures (drawing.py)
         self._t = 0
         self._key = 0
@@ -210,6 +205,7 @@ class RaceEnv(RaceGoals, RaceReadouts, OverlayMethods, ParallelEnv):
         self._returns = [0.0] * n
         self._live_returns = [0.0] * n
         self._bumps = [0] * n
+        self._live_bumps = [0] * n
         self._last_step = None
         self._t = 0
         self._n_finished = 0
@@ -217,10 +213,9 @@ class RaceEnv(RaceGoals, RaceReadouts, OverlayMethods, ParallelEnv):
         if self.render_mode == "human":
             self.render()
         obs = self._observations()
-        xy = self._xy_arrays
         infos = {
-            a: {"cell": xy[c].copy(), "outcome": START, "blocked": False, "finished": False, "rank": 0}
-            for a, c in zip(self.possible_agents, self._live_cells)
+            a: {"cell": xy, "outcome": START, "blocked": False, "finished": False, "rank": 0}
+            for a, xy in zip(self.possible_agents, self._cell_xy.take(self._live_cells, axis=0))
         }
         return dict(zip(self.possible_agents, obs)), infos
 
@@ -241,13 +236,13 @@ class RaceEnv(RaceGoals, RaceReadouts, OverlayMethods, ParallelEnv):
             acts = self._check_actions(actions)
         live, t = self._live, self._t
         cells, outcome, blocked, finishing = race_step(
-            self._lists, self.collisions, self._live_cells, acts, self._key, t, live, self.n_robots
+            self._lists, self.collisions, self._live_cells, acts, self._key, t, live, self.n_robots, self._sure_flat
         )
         reached = None
         # "local" and "nearest": the cells as an array, once (own goals, observations, infos)
-        here = None if self._observer is None else np.array(cells)
+        here = None if self._observer is None else np.fromiter(cells, np.int64, len(cells))
         if self._goal_of is not None:  # own goals: finished on its own target (the table has no exits)
-            on_goal = (np.array(cells) if here is None else here) == self._racing_goals()
+            on_goal = (np.fromiter(cells, np.int64, len(cells)) if here is None else here) == self._racing_goals()
             if np.count_nonzero(on_goal):  # faster than any() on short rows
                 finishing = on_goal.tolist()
                 for i, f in zip(live, finishing):
@@ -260,9 +255,7 @@ class RaceEnv(RaceGoals, RaceReadouts, OverlayMethods, ParallelEnv):
         self._live_cells = cells
         self._t = t = t + 1
         if True in blocked:
-            bumps = self._bumps
-            for i, b in zip(live, blocked):
-                bumps[i] += b
+            self._live_bumps = list(map(operator.add, self._live_bumps, blocked))
         if True in finishing or t >= self.max_cycles or not self._reported_live or reached:
             rewards = list(map(self._reward_at.__getitem__, cells))
             if reached:  # lifelong: the target's step earns the exit reward
@@ -301,29 +294,32 @@ class RaceEnv(RaceGoals, RaceReadouts, OverlayMethods, ParallelEnv):
                         rewards[k] += self.rules.win_bonus
         returns = list(map(operator.add, self._live_returns, rewards))
         if True in finishing:  # the finishers leave the board for their parking rows
-            racing, racing_cells, racing_returns = [], [], []
+            racing, racing_cells, racing_returns, racing_bumps = [], [], [], []
             done, parked, n_cells = list(self._done), list(self._parked), self.table.n_cells
-            for i, c, r, f in zip(live, cells, returns, finishing):
+            for i, c, r, b, f in zip(live, cells, returns, self._live_bumps, finishing):
                 if f:
-                    self._returns[i] = r
+                    self._returns[i], self._bumps[i] = r, b
                     done.append(i)
                     parked.append(n_cells + c)
                 else:
                     racing.append(i)
                     racing_cells.append(c)
                     racing_returns.append(r)
+                    racing_bumps.append(b)
             self._live, self._live_cells, returns, self._done, self._parked = racing, racing_cells, racing_returns, done, parked
+            self._live_bumps = racing_bumps
             self._set_layout()
         self._live_returns = returns
         racing_now = self._live_set
         over = self._t >= self.max_cycles or not self._live
         reported, ids = self.agents, self._agent_ids
-        all_cells, xy, ranks = self._cells, self._xy_arrays, self._rank
+        all_cells, ranks = self._cells, self._rank
+        xy = self._cell_xy.take([all_cells[i] for i in ids], axis=0)  # infos' "cell": rows of one fresh array
         # parked robots (freeze) are terminated only when the race ends: PettingZoo expects a
         # terminated agent to leave `agents` in the same step
         parked_done = over or self.finished_mode == "remove"
         obs, rews, terms, truncs, infos = {}, {}, {}, {}, {}  # in one pass
-        for a, i, row in zip(reported, ids, self._observations()):
+        for a, i, row, cell in zip(reported, ids, self._observations(), xy):
             k = was_live.get(i)  # None: parked before this step (it earns nothing)
             racing = i in racing_now
             obs[a] = row
@@ -331,7 +327,7 @@ class RaceEnv(RaceGoals, RaceReadouts, OverlayMethods, ParallelEnv):
             terms[a] = not racing and parked_done
             truncs[a] = over and racing
             infos[a] = {
-                "cell": xy[all_cells[i]].copy(),
+                "cell": cell,
                 "outcome": FINISHED if k is None else outcome[k],
                 "blocked": k is not None and blocked[k],
                 "finished": not racing,
@@ -459,40 +455,14 @@ class RaceEnv(RaceGoals, RaceReadouts, OverlayMethods, ParallelEnv):
         obs = self._xyf.take(rows, axis=0).ravel()[self._gather_reported]
         return obs if self.encoder.identity else self.encoder(obs)
 
-    def _check_started(self, what: str) -> None:
-        if not self._started:
-            raise RuntimeError(f"{what}: the race has not started; call reset() first")
-
     def _use_level(self, level: Level) -> None:
         """Race on ``level`` (drawn at reset, the size of the last): everything that depends on it."""
         self.level, self.table = level, self._compile(level)
-        self._lists = self.table.lists
-        self._reward_at = self._lists.reward  # by cell
         self._observer = self._drawn_observer(self.table)
         self._fixed_starts, self._free = self._placement(self.n_robots)
         self.drawing.new_level(level)
-        # the cells' [x, y] (a family of sizes: each level has its own cells, inside the largest's space)
-        self._xy = [self.table.cell_xy(c) for c in range(self.table.n_cells)]
-        self._xy_arrays = [np.array(xy, dtype=np.int64) for xy in self._xy]
-        self._cell_xy = np.array(self._xy, dtype=np.int64).reshape(-1, 2)
-        self._xyf = np.array([(*xy, 0) for xy in self._xy] + [(*xy, 1) for xy in self._xy], dtype=np.int64)
+        self._lists, self._sure_flat, self._reward_at, self._xy, self._cell_xy, self._xyf = cell_arrays(self.table)
 
-    def _drawn_observer(self, table: Table) -> Observer | None:
-        """The observer on a level drawn at reset: the first's mode and radius, sized for the largest level, the hint if asked."""
-        if self._first_observer is None:
-            return None
-        observer = observer_for(self._first_observer, table, *self.levels.largest)
-        own = self._goal_columns is not None  # own goals: the hint is among the goal's columns
-        return with_hint(observer, optimal_actions(table.level, self.rules)) if self.hint and not own else observer
-
-    def _placement(self, n: int) -> tuple[list[int], list[int]]:
-        return placement(self.table, self.start, n)
-
-    def _draw_starts(self, goals: list[int] | None = None) -> list[int]:
-        """Random starts (goals given: off those cells, so that no robot starts on its goal)."""
-        free = self._free if goals is None else [c for c in self._free if c not in set(goals)]
-        return draw_starts(self.np_random, self._fixed_starts, free, self.n_robots)
-
-    def _compile(self, level: Level) -> Table:
-        table = compile_level(level, self.rules)
-        return own_goal_table(table) if self.goals_mode == "own" else table
+    def _check_started(self, what: str) -> None:
+        if not self._started:
+            raise RuntimeError(f"{what}: the race has not started; call reset() first")

@@ -69,7 +69,10 @@ class RaceReadouts:
     @property
     def collisions_count(self) -> list[int]:
         """How many steps each robot has been blocked by another robot this episode."""
-        return list(self._bumps)
+        bumps = list(self._bumps)
+        for i, b in zip(self._live, self._live_bumps):
+            bumps[i] = b
+        return bumps
 
     @property
     def goals(self) -> dict[str, Cell] | None:
