@@ -13,6 +13,10 @@ the first step of each of its episodes (and stays zero once it has finished and 
 the rollout's start is kept, and the update replays each robot's whole rollout segment from it with the
 same resets (truncated backpropagation through time over segments of ``n_steps``). Minibatches hold whole
 segments; a parked robot's steps are no decisions and are masked out of the loss.
+
+The actor and the critic share the cell, so the critic reads returns in units of ``1 / (1 - gamma)`` (the
+largest discounted return of a step cost of 1): in raw units (-100 in a large maze) the value loss's gradient
+drowns the policy's in the shared layers, and the clipped gradient leaves the policy almost unlearnt.
 """
 
 from __future__ import annotations
@@ -116,8 +120,11 @@ class Recurrence:
     and the update itself. In a rollout: ``start(inputs)``, then per step ``sample(keys, rng)`` (the actor:
     each robot's state advanced one step) and ``ended(done)`` (whose episode ended at that step)."""
 
-    def __init__(self, net: Any, n_seq: int, n_steps: int):
+    def __init__(self, net: Any, n_seq: int, n_steps: int, value_scale: float = 1.0):
         self.net, self.t = net, 0
+        # the critic head reads returns in units of ``value_scale``: its state is shared with the actor, and
+        # returns of -100 would make the value loss's gradient drown the policy's in the cell and input layers
+        self.value_scale = float(value_scale)
         self.h = net.initial_state(n_seq)
         self.keep = np.ones(n_seq, dtype=bool)  # False: the robot's next step starts an episode (state zeroed)
         self.keep_buf = np.zeros((n_steps, n_seq), dtype=bool)
@@ -150,7 +157,7 @@ class Recurrence:
         u = rng.random((keys.size, 1))
         actions = np.minimum((u >= np.cumsum(np.exp(logp), axis=1)).sum(axis=1), N_ACTIONS - 1)
         self.logp_buf[self.t] = logp[np.arange(keys.size), actions]
-        self.value_buf[self.t] = value.numpy()
+        self.value_buf[self.t] = value.numpy() * self.value_scale
         return actions
 
     def ended(self, done: np.ndarray) -> None:
@@ -162,13 +169,13 @@ class Recurrence:
         time limit ended at this step: their states carry on into that observation."""
         at = np.flatnonzero(which.reshape(-1))
         h = self._advance(keys.reshape(-1)[at], self.h[at])
-        self.final_value[self.t - 1, at] = self.net.heads(h)[1].numpy()
+        self.final_value[self.t - 1, at] = self.net.heads(h)[1].numpy() * self.value_scale
 
     def next_value(self, keys: np.ndarray) -> np.ndarray:
         """The critic's values of the observations after the rollout (for GAE's bootstrap)."""
         torch = torch_module()
         h = self._advance(keys.reshape(-1), self.h * torch.from_numpy(self.keep)[:, None])
-        return self.net.heads(h)[1].numpy().reshape(keys.shape)
+        return self.net.heads(h)[1].numpy().reshape(keys.shape) * self.value_scale
 
     def replay(self, rows: Any, inv: Any, seq: Any) -> tuple[Any, Any]:
         """The logits and values ``(T * B, ...)`` of the robots ``seq`` over the rollout, replayed from their
@@ -196,7 +203,8 @@ class Recurrence:
         inv = inv.view(T, S)
         old = torch.from_numpy(self.logp_buf)
         act = torch.from_numpy(actions.reshape(T, S))
-        b_adv, b_ret = torch.from_numpy(adv.reshape(T, S)), torch.from_numpy(returns.reshape(T, S).astype(np.float32))
+        b_adv = torch.from_numpy(adv.reshape(T, S))
+        b_ret = torch.from_numpy((returns.reshape(T, S) / self.value_scale).astype(np.float32))
         mask = torch.from_numpy(valid.reshape(T, S).astype(np.float32))
         per = max(1, cfg.batch_size // T)
         for _ in range(cfg.n_epochs):
