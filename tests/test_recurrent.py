@@ -214,3 +214,39 @@ def test_a_recurrent_robot_learns_a_t_maze_that_only_memory_solves():
     memoryless, last_action = _t_maze_success("memoryless"), _t_maze_success("memory")
     assert recurrent >= 0.85, recurrent
     assert memoryless <= 0.7 and last_action <= 0.7, (memoryless, last_action)
+
+
+def test_the_updates_gradient_through_time_is_autograds():
+    """The cell's backward pass through time, written out, gives autograd's gradient of the same loss over
+    segments with resets and parked steps, for every parameter."""
+    net = make_recurrent_net(6, (4,), 3)
+    T, n = 5, 4
+    rec = Recurrence(net, n, T)
+    rec.h = torch.randn(n, 3)
+    rec.start(_Flat(6))
+    rng = np.random.default_rng(2)
+    keys, actions = rng.integers(0, 6, (T, n)), np.zeros((T, n), dtype=np.int64)
+    with torch.no_grad():
+        for t in range(T):
+            actions[t] = rec.sample(keys[t], rng)
+            rec.ended(np.array([t == 1, False, t == 3, False]))
+    valid = np.ones((T, n), dtype=bool)
+    valid[3:, 2] = False  # a robot parked after finishing
+    adv, returns = rng.normal(size=(T, n)).astype(np.float32), rng.normal(size=(T, n)).astype(np.float32)
+    cfg = PPOConfig(n_epochs=1, batch_size=T * n)
+    rows, inv = distinct_rows(_Flat(6), keys.reshape(-1))
+    seq = torch.arange(n)
+    part = (torch.from_numpy(rec.logp_buf), torch.from_numpy(actions), torch.from_numpy(adv), torch.from_numpy(returns),
+            torch.from_numpy(valid.astype(np.float32)))
+    net.zero_grad()
+    Recurrence.loss(*rec.replay(rows, inv.view(T, n), seq), *part, cfg).backward()
+    expected = {name: p.grad.clone() for name, p in net.named_parameters()}
+    params = list(net.parameters())
+    for p in params:
+        p.grad = None
+    optim = torch.optim.SGD(params, lr=0.0)  # a step that changes nothing: only the gradients are compared
+    rec.update(_Flat(6), keys, actions, adv, returns, valid, cfg, optim, params, torch.Generator())
+    norm = float(torch.linalg.vector_norm(torch.stack([g.norm() for g in expected.values()])))
+    clip = min(1.0, cfg.max_grad_norm / (norm + 1e-6))  # the update clips the gradient's norm
+    for name, p in net.named_parameters():
+        assert torch.allclose(p.grad, expected[name] * clip, atol=1e-6), name
