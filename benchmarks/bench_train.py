@@ -20,6 +20,10 @@
    then against 3 shortest-path robots from random starts, beside the shortest-path robot in
    robot_0's seat (from race-4's own starts robot_0 is furthest from the exit: nobody wins or ties
    from there). SB3 trained for the same 60 s beside it.
+4. The recurrent trainer (``--recurrent``): 4 robots on ``maze:8..16`` as ``babyrobot-marl train`` runs a
+   crowd on a level family (256 envs, near_radius 2, blocked_cost 0.5), env steps per second of CPU time
+   (each of the 4 robots' steps counts once), beside the same run with ``--memory`` (feed-forward).
+   Target: 500,000 steps/s.
 
 Exits 1 when a target (not an aim) is missed. Torch runs on one thread in both trainers.
 """
@@ -42,6 +46,7 @@ from babyrobot_marl.training.single import cell_features_class, evaluate_single,
 SPEED_FLOOR, SPEED_AIM = 20.0, 50.0
 RACE_TARGET, RACE_SECONDS = 0.95, 60.0
 MAZE8_AIM = 5.0
+RECURRENT_TARGET = 500_000
 
 # The run both trainers make for the speed comparison (SB3's names).
 # The fast trainer's defaults (PPOConfig): many envs, short rollouts, big minibatches.
@@ -90,6 +95,17 @@ def speed(level: str, n_robots: int, timesteps: int, seed: int) -> dict:
     sb3_cpu, sb3_wall = time.process_time() - c0, time.perf_counter() - t0
     return {"fast": fast.timesteps / fast_cpu, "sb3": model.num_timesteps / sb3_cpu,
             "fast_wall": fast.timesteps / fast_wall, "sb3_wall": model.num_timesteps / sb3_wall}
+
+
+def family_speed(timesteps: int, seed: int, warm_up: bool = True, **memory) -> float:
+    """Steps per second of CPU time of the fast trainer on 4 robots in ``maze:8..16`` as ``train`` runs a crowd on a
+    level family, with ``memory`` (``recurrent=True`` or ``memory=True``)."""
+    cfg = PPOConfig(n_envs=256, eval_every=0, near_radius=2, blocked_cost=0.5, **memory)
+    if warm_up:  # imports, allocations
+        train_ppo("maze:8..16", 4, cfg.n_envs * cfg.n_steps * 4, seed, cfg)
+    c0 = time.process_time()
+    result = train_ppo("maze:8..16", 4, timesteps, seed, cfg)
+    return result.timesteps / (time.process_time() - c0)
 
 
 # ---------------------------------------------------------------------------- 2. time to 95%
@@ -201,7 +217,7 @@ def main() -> int:
     p.add_argument("--runs", type=int, default=1, help="repeat everything and report the median and range")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--skip-sb3-16", action="store_true", help="no SB3 run on maze-16x16 (minutes)")
-    p.add_argument("--only", choices=("speed", "late", "maze", "race"), default=None,
+    p.add_argument("--only", choices=("speed", "late", "maze", "race", "recurrent"), default=None,
                    help="one part only (no summary targets)")
     a = p.parse_args()
     torch.set_num_threads(1)
@@ -211,6 +227,7 @@ def main() -> int:
     budget8, budget16, every = (4096, 4096, 2048) if quick else (5_000_000, 30_000_000, 32768)
     sb3_budget8, sb3_budget16 = (2048, 2048) if quick else (200_000, 400_000)
     race_seconds, race_every, races = (2.0, 8192, 20) if quick else (RACE_SECONDS, 32768, 500)
+    family_steps = 2**14 if quick else 2**20
     rows: dict[str, list] = {}
 
     def add(key: str, value) -> None:
@@ -256,6 +273,12 @@ def main() -> int:
                   f"{rs['random'].win_rate:.3f}, vs shortest win {rs['shortest'].win_rate:.3f} tie {rs['shortest'].tie_rate:.3f}",
                   flush=True)
 
+        if a.only in (None, "recurrent"):
+            rates = {kind: family_speed(family_steps, seed, not quick, **{kind: True}) for kind in ("recurrent", "memory")}
+            print(f"  4 robots on maze:8..16: recurrent {rates['recurrent']:,.0f} steps/s, memory (feed-forward) "
+                  f"{rates['memory']:,.0f} steps/s of CPU time", flush=True)
+            add("recurrent", rates)
+
     print("\n== summary" + (f" over {a.runs} runs: median (min, max)" if a.runs > 1 else ""))
     failures = []
     for name in ("one robot, maze-8x8", "4-robot race, race-4") if "speed one robot, maze-8x8" in rows else ():
@@ -288,6 +311,12 @@ def main() -> int:
         print(text)
     if "race fast" in rows:
         race_summary(rows, failures)
+    if "recurrent" in rows:
+        rec = [r["recurrent"] for r in rows["recurrent"]]
+        print(f"recurrent, 4 robots on maze:8..16: {spread(rec, '{:,.0f}')} steps/s (CPU time; target "
+              f"{RECURRENT_TARGET:,}); memory {spread([r['memory'] for r in rows['recurrent']], '{:,.0f}')} steps/s")
+        if min(rec) < RECURRENT_TARGET:
+            failures.append(f"recurrent speed: {min(rec):,.0f} < {RECURRENT_TARGET:,} steps/s")
     if quick:
         print("\nquick mode: tiny budgets, figures meaningless, targets not checked")
         return 0

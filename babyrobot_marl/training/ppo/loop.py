@@ -138,7 +138,7 @@ def train_ppo(
     with torch_threads(cfg.threads), _deterministic(seed):
         net = make_recurrent_net(inputs.n_in, cfg.net_arch, cfg.hidden) if cfg.recurrent else make_net(inputs.n_in, cfg.net_arch)
         # a recurrent net's hidden states, one per robot beside the batch engine's cells (None: feed-forward)
-        rec = Recurrence(net, E * n, T) if cfg.recurrent else None
+        rec = Recurrence(net, E * n, T, 1.0 / (1.0 - cfg.gamma)) if cfg.recurrent else None
         if init is not None:
             if init.n_in != net.n_in or tuple(init.net_arch) != cfg.net_arch or _hidden(init) != _hidden(net):
                 raise ValueError(

@@ -13,6 +13,10 @@ the first step of each of its episodes (and stays zero once it has finished and 
 the rollout's start is kept, and the update replays each robot's whole rollout segment from it with the
 same resets (truncated backpropagation through time over segments of ``n_steps``). Minibatches hold whole
 segments; a parked robot's steps are no decisions and are masked out of the loss.
+
+The actor and the critic share the cell, so the critic reads returns in units of ``1 / (1 - gamma)`` (the
+largest discounted return of a step cost of 1): in raw units (-100 in a large maze) the value loss's gradient
+drowns the policy's in the shared layers, and the clipped gradient leaves the policy almost unlearnt.
 """
 
 from __future__ import annotations
@@ -116,8 +120,11 @@ class Recurrence:
     and the update itself. In a rollout: ``start(inputs)``, then per step ``sample(keys, rng)`` (the actor:
     each robot's state advanced one step) and ``ended(done)`` (whose episode ended at that step)."""
 
-    def __init__(self, net: Any, n_seq: int, n_steps: int):
+    def __init__(self, net: Any, n_seq: int, n_steps: int, value_scale: float = 1.0):
         self.net, self.t = net, 0
+        # the critic head reads returns in units of ``value_scale``: its state is shared with the actor, and
+        # returns of -100 would make the value loss's gradient drown the policy's in the cell and input layers
+        self.value_scale = float(value_scale)
         self.h = net.initial_state(n_seq)
         self.keep = np.ones(n_seq, dtype=bool)  # False: the robot's next step starts an episode (state zeroed)
         self.keep_buf = np.zeros((n_steps, n_seq), dtype=bool)
@@ -150,7 +157,7 @@ class Recurrence:
         u = rng.random((keys.size, 1))
         actions = np.minimum((u >= np.cumsum(np.exp(logp), axis=1)).sum(axis=1), N_ACTIONS - 1)
         self.logp_buf[self.t] = logp[np.arange(keys.size), actions]
-        self.value_buf[self.t] = value.numpy()
+        self.value_buf[self.t] = value.numpy() * self.value_scale
         return actions
 
     def ended(self, done: np.ndarray) -> None:
@@ -162,13 +169,13 @@ class Recurrence:
         time limit ended at this step: their states carry on into that observation."""
         at = np.flatnonzero(which.reshape(-1))
         h = self._advance(keys.reshape(-1)[at], self.h[at])
-        self.final_value[self.t - 1, at] = self.net.heads(h)[1].numpy()
+        self.final_value[self.t - 1, at] = self.net.heads(h)[1].numpy() * self.value_scale
 
     def next_value(self, keys: np.ndarray) -> np.ndarray:
         """The critic's values of the observations after the rollout (for GAE's bootstrap)."""
         torch = torch_module()
         h = self._advance(keys.reshape(-1), self.h * torch.from_numpy(self.keep)[:, None])
-        return self.net.heads(h)[1].numpy().reshape(keys.shape)
+        return self.net.heads(h)[1].numpy().reshape(keys.shape) * self.value_scale
 
     def replay(self, rows: Any, inv: Any, seq: Any) -> tuple[Any, Any]:
         """The logits and values ``(T * B, ...)`` of the robots ``seq`` over the rollout, replayed from their
@@ -184,6 +191,48 @@ class Recurrence:
             states.append(h)
         return self.net.heads(torch.cat(states))
 
+    def unroll(self, x: Any, keep: Any, h: Any) -> tuple[Any, tuple[Any, ...]]:
+        """The replay's cell without autograd: the states ``(T, B, H)`` from the gates' input parts ``x``
+        ``(T, B, 3H)``, the resets ``keep`` ``(T, B, 1)`` and the first state ``h``, and what ``unroll_backward``
+        reads (each step's reset state, gates and ``W_hn h``)."""
+        torch = torch_module()
+        gru, H = self.net.gru, self.net.hidden
+        T, B = x.shape[:2]
+        states, reset, gates, gh_n = (x.new_empty(T, B, k) for k in (H, H, 3 * H, H))
+        for t in range(T):
+            hm = reset[t] = h * keep[t]
+            gh = torch.addmm(gru.bias_hh, hm, gru.weight_hh.T)
+            rz = torch.sigmoid(x[t, :, : 2 * H] + gh[:, : 2 * H])
+            n = torch.tanh(torch.addcmul(x[t, :, 2 * H :], rz[:, :H], gh[:, 2 * H :]))
+            h = states[t] = n + rz[:, H:] * (hm - n)
+            gates[t] = torch.cat([rz, n], 1)
+            gh_n[t] = gh[:, 2 * H :]
+        return states, (reset, gates, gh_n)
+
+    def unroll_backward(self, d_states: Any, saved: tuple[Any, ...], keep: Any) -> Any:
+        """The loss's gradient at the gates' input parts ``(T, B, 3H)`` from its gradient at the states
+        ``d_states`` (``(T, B, H)``), through time; adds ``W_hh``'s and ``b_hh``'s to their ``.grad``.
+        Written out as ``net.py``'s MLP: autograd's graph of a step's dozen small operations cost more than them."""
+        torch = torch_module()
+        gru, H = self.net.gru, self.net.hidden
+        reset, gates, gh_n = saved
+        T, B = d_states.shape[:2]
+        d_gi, d_gh = d_states.new_empty(T, B, 3 * H), d_states.new_empty(T, B, 3 * H)
+        carry = d_states.new_zeros(B, H)
+        for t in reversed(range(T)):
+            dh = d_states[t] + carry
+            r, z, n = gates[t].split(H, 1)
+            d_n = dh * (1 - z) * (1 - n * n)  # through h = n + z (h_prev - n), then tanh
+            d_z = dh * (reset[t] - n) * z * (1 - z)  # through z's sigmoid
+            d_r = d_n * gh_n[t] * r * (1 - r)  # through r's sigmoid
+            d_gi[t] = torch.cat([d_r, d_z, d_n], 1)
+            d_gh[t] = gh = torch.cat([d_r, d_z, d_n * r], 1)
+            carry = torch.addmm(dh * z, gh, gru.weight_hh).mul_(keep[t])
+        flat = d_gh.view(-1, 3 * H)
+        for p, g in ((gru.weight_hh, flat.T @ reset.view(-1, H)), (gru.bias_hh, flat.sum(0))):
+            p.grad = g if p.grad is None else p.grad.add_(g)
+        return d_gi
+
     def update(self, inputs: Any, keys: np.ndarray, actions: np.ndarray, adv: np.ndarray, returns: np.ndarray,
                valid: np.ndarray, cfg: Any, optim: Any, params: list[Any], order: Any) -> None:
         """``n_epochs`` passes over the rollout's segments (``(T, S)`` arrays), minibatches of whole segments
@@ -194,32 +243,45 @@ class Recurrence:
         T, S = keys.shape[0], self.h0.shape[0]
         rows, inv = distinct_rows(inputs, keys.reshape(-1))
         inv = inv.view(T, S)
-        old = torch.from_numpy(self.logp_buf)
-        act = torch.from_numpy(actions.reshape(T, S))
-        b_adv, b_ret = torch.from_numpy(adv.reshape(T, S)), torch.from_numpy(returns.reshape(T, S).astype(np.float32))
-        mask = torch.from_numpy(valid.reshape(T, S).astype(np.float32))
+        keep = torch.from_numpy(self.keep_buf.astype(np.float32))[..., None]
         per = max(1, cfg.batch_size // T)
+        batch = (torch.from_numpy(self.logp_buf), torch.from_numpy(actions.reshape(T, S)),
+                 torch.from_numpy(adv.reshape(T, S)),
+                 torch.from_numpy((returns.reshape(T, S) / self.value_scale).astype(np.float32)),
+                 torch.from_numpy(valid.reshape(T, S).astype(np.float32)))
         for _ in range(cfg.n_epochs):
             perm = torch.randperm(S, generator=order) if per < S else torch.arange(S)
             for start in range(0, S, per):
                 seq = perm[start : start + per]
-                m = mask[:, seq]
-                n = m.sum()
-                if n == 0:
+                part = [b[:, seq] for b in batch]
+                if part[-1].sum() == 0:
                     continue
-                logits, value = self.replay(rows, inv[:, seq], seq)
-                logp = log_softmax(logits).view(T, len(seq), N_ACTIONS)
-                new = logp.gather(2, act[:, seq, None])[..., 0]
-                a = b_adv[:, seq]
-                if cfg.normalize_advantage and n > 1:
-                    mean = (a * m).sum() / n
-                    a = (a - mean) / (torch.sqrt((((a - mean) * m) ** 2).sum() / (n - 1)) + 1e-8)
-                ratio = torch.exp(new - old[:, seq])
-                pg = torch.maximum(-a * ratio, -a * torch.clamp(ratio, 1 - cfg.clip_range, 1 + cfg.clip_range))
-                entropy = -(torch.exp(logp) * logp).sum(2)
-                v_err = (value.view(T, -1) - b_ret[:, seq]) ** 2
-                loss = ((pg - cfg.ent_coef * entropy + cfg.vf_coef * v_err) * m).sum() / n
                 optim.zero_grad(set_to_none=False)
-                loss.backward()
+                present, local = torch.unique(inv[:, seq], return_inverse=True)
+                # the input layers once per distinct input; the cell through time by hand, the heads by autograd
+                x = self.net.gate_inputs(rows[present]).index_select(0, local.reshape(-1)).view(T, len(seq), -1)
+                with torch.no_grad():
+                    states, saved = self.unroll(x.detach(), keep[:, seq], self.h0[seq])
+                flat = states.view(T * len(seq), -1).requires_grad_()
+                self.loss(*self.net.heads(flat), *part, cfg).backward()
+                x.backward(self.unroll_backward(flat.grad.view_as(states), saved, keep[:, seq]))
                 clip_grad_norm(grads_of(params), cfg.max_grad_norm)
                 optim.step()
+
+    @staticmethod
+    def loss(logits: Any, value: Any, old: Any, act: Any, a: Any, ret: Any, m: Any, cfg: Any) -> Any:
+        """SB3's PPO loss over a minibatch of whole segments (``(T, B)`` arrays), the parked steps (``m`` 0)
+        left out; advantages normalised over the minibatch's decisions."""
+        torch = torch_module()
+        T = old.shape[0]
+        n = m.sum()
+        logp = log_softmax(logits).view(T, -1, N_ACTIONS)
+        new = logp.gather(2, act[..., None])[..., 0]
+        if cfg.normalize_advantage and n > 1:
+            mean = (a * m).sum() / n
+            a = (a - mean) / (torch.sqrt((((a - mean) * m) ** 2).sum() / (n - 1)) + 1e-8)
+        ratio = torch.exp(new - old)
+        pg = torch.maximum(-a * ratio, -a * torch.clamp(ratio, 1 - cfg.clip_range, 1 + cfg.clip_range))
+        entropy = -(torch.exp(logp) * logp).sum(2)
+        v_err = (value.view(T, -1) - ret) ** 2
+        return ((pg - cfg.ent_coef * entropy + cfg.vf_coef * v_err) * m).sum() / n
