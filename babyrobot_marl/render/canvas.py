@@ -66,9 +66,11 @@ def shown_canvases() -> list[LiveCanvas]:
 
 
 def _after_cell(*_: Any) -> None:
-    """IPython's ``post_run_cell``: each shown canvas's PNG brought up to its latest frame."""
+    """IPython's ``post_run_cell``: each shown canvas's PNG brought up to its latest frame, and
+    its replay bar offered for what it drew (an episode stopped before its end has one too)."""
     for c in list(_shown):
         c.snapshot(only_if_changed=True)
+        c.offer_replay()
 
 
 def _track(c: LiveCanvas) -> None:
@@ -194,6 +196,13 @@ class LiveCanvas:
         self._snapped = (self.scene, self.overlay)
         self._still.css = self.css
         self._still.refresh()
+
+    def offer_replay(self) -> None:
+        """The replay bar offered for the scenes drawn so far, if it is not already (a notebook
+        cell that ran a few steps of an episode, not to its end, then finished)."""
+        bar, n = self._replay, len(self.history)
+        if bar is not None and n >= 2 and (bar.widget.layout.display == "none" or bar.slider.max != n - 1):
+            bar.offer(n)
 
     def frame(self) -> np.ndarray:
         """The ``rgb_array`` frame of what the canvas shows."""
