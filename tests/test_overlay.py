@@ -331,7 +331,7 @@ def test_one_number_format_per_overlay_chosen_from_the_range():
 
 def test_the_colour_bar_has_ticks_and_the_overlays_own_label():
     env = env_with()
-    env.set_overlay(values=np.linspace(-17, 0, 64).reshape(8, 8))
+    env.set_overlay(values=np.round(np.linspace(-17, 0, 64)).reshape(8, 8))  # whole numbers: ticks without decimals
     from babyrobot_marl.render.panel import _colour_bar
 
     ops = _colour_bar(512, 40, 13, env.unwrapped.overlay.scale, LIGHT)

@@ -127,3 +127,30 @@ def test_bad_cells_and_edges_are_refused():
         ed.cycle_cell(d, (2, 0))
     with pytest.raises(ValueError, match="not neighbours"):
         ed.cycle_edge(d, (0, 0), (1, 1))
+
+
+def test_a_second_start_says_that_it_moved_the_first():
+    d = ed.blank(3, 2)  # its start at (0, 0)
+    moved = ed.set_cell(d, (1, 1), "start")
+    assert ed.cell_char(moved, (0, 0)) == " " and ed.cell_char(moved, (1, 1)) == "S"
+    said = ed.moved_start(d, moved)
+    assert "moved" in said and "column 0, row 0" in said and "column 1, row 1" in said
+    assert ed.moved_start(d, ed.set_cell(d, (1, 1), "p")) == ""  # no start placed: nothing to say
+    race = ed.with_race(d, True)
+    assert ed.moved_start(race, ed.set_cell(race, (1, 1), "start")) == ""  # a race keeps both starts
+
+
+def test_the_editor_says_what_is_wrong_once():
+    """The verdict says what is missing; the place of the player under it does not say it again."""
+    pytest.importorskip("ipywidgets")
+    from babyrobot_marl.play import notebook
+
+    e = notebook.edit((3, 2))  # start (0, 0), exit (2, 1)
+    e.play()
+    e.click_cell((2, 1))  # the exit turns to floor: no exit
+    assert "needs an exit" in e.verdict.value
+    (note,) = e.player_box.children
+    assert "player comes back" in note.value and "needs an exit" not in note.value
+    for _ in range(4):  # floor -> p -> P -> # -> start: the start moves here, and the verdict says so
+        e.click_cell((1, 1))
+    assert "the start moved here" in e.verdict.value

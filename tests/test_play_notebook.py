@@ -168,8 +168,8 @@ def test_the_player_under_the_editor_follows_every_edit():
     first = e.play(seed=0)
     e.click_cell((1, 0))  # a small puddle: a new level, a new player of it
     assert e.player is not first and e.player.level == e.level and e.player_box.children == (e.player.widget,)
-    e.click_cell((2, 1))  # no exit: no player, and why
-    assert e.player is None and "needs an exit" in e.player_box.children[0].value
+    e.click_cell((2, 1))  # no exit: no player, and why (said once, in the verdict above it)
+    assert e.player is None and "comes back" in e.player_box.children[0].value and "needs an exit" in e.verdict.value
     e.press("e")
     assert e.player is not None and e.player.level.exits == frozenset({(2, 1)})
 

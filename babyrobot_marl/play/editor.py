@@ -231,6 +231,19 @@ def advice(draft: Draft) -> tuple[str, Cell | None]:
     return re.sub(r"^line \d+, column \d+: ", "", message), error_cell(message)
 
 
+def moved_start(before: Draft, after: Draft) -> str:
+    """What a learner reads when placing a start took the only one from another cell (a
+    single-robot draft has one start), else ""."""
+    if is_race(after):
+        return ""
+    was, now = [c for _, c in _starts(before)], [c for _, c in _starts(after)]
+    if len(was) != 1 or len(now) != 1 or was == now:
+        return ""
+    (x, y), (nx, ny) = was[0], now[0]
+    return (f"the start moved here (column {nx}, row {ny}) from column {x}, row {y}: a level has one "
+            "start (tick race for more)")  # fmt: skip
+
+
 class Sketch(Level):
     """A draft as drawn, without the checks a level to play must pass (an exit, every start
     reaching one): what the editor shows while a level is being made."""

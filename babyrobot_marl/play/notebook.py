@@ -341,7 +341,7 @@ class Editor:
     def _set(self, draft: ed.Draft) -> None:
         from ipywidgets import HTML
 
-        self.draft = draft
+        before, self.draft = self.draft, draft
         w, h = ed.size(draft)
         self._syncing = True  # the boxes show the draft's size without resizing it again
         try:
@@ -349,9 +349,11 @@ class Editor:
         finally:
             self._syncing = False
         level = ed.verdict(draft)[0]
+        moved = ed.moved_start(before, draft)  # said, not done silently
         message, self._bad_cell = ed.advice(draft)
         colour = OK if level is not None else ERROR
-        self.verdict.value = f"<pre style='margin:0;color:{colour}'>" + html.escape(message) + "</pre>"
+        shown = f"{moved}\n{message}" if moved else message
+        self.verdict.value = f"<pre style='margin:0;color:{colour}'>" + html.escape(shown) + "</pre>"
         self.text_view.value = "<pre style='margin:0 0 0 12px'>" + html.escape(self.text) + "</pre>"
         self.play_button.disabled = level is None
         self._image = None
@@ -361,8 +363,7 @@ class Editor:
                 self.play(**self._play_args)
             else:
                 self.player = None
-                why = html.escape(message)
-                self.player_box.children = (HTML(f"<small>the player comes back when the level is ready: {why}</small>"),)
+                self.player_box.children = (HTML("<small>the player comes back when the level is ready (see above)</small>"),)
         self.still.refresh()
 
     def picture(self) -> Any:

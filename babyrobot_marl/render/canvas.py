@@ -47,7 +47,7 @@ from .rgb import RgbRenderer
 from .scene import Scene, as_scene, glide, robot_sprites
 from .shapes import Fill, Op, Text
 from .still import NARROW_FIT, Still, png_bytes  # noqa: F401  (png_bytes: read as canvas.png_bytes)
-from .transfer import put_picture
+from .transfer import picture_calls, put_picture
 
 PIXEL_RATIO = 2
 REDRAW_AFTER = 1.0  # seconds after a browser (re)connects: everything drawn once more
@@ -66,9 +66,11 @@ def shown_canvases() -> list[LiveCanvas]:
 
 
 def _after_cell(*_: Any) -> None:
-    """IPython's ``post_run_cell``: each shown canvas's PNG brought up to its latest frame."""
+    """IPython's ``post_run_cell``: each shown canvas's PNG brought up to its latest frame, and
+    its replay bar offered for what it drew (an episode stopped before its end has one too)."""
     for c in list(_shown):
         c.snapshot(only_if_changed=True)
+        c.offer_replay()
 
 
 def _track(c: LiveCanvas) -> None:
@@ -153,6 +155,7 @@ class LiveCanvas:
         for k, layer in enumerate(self.widget._canvases):
             layer.on_client_ready(lambda *_, k=k: self._on_ready(lambda: self._show(*self._shown(), layer=k)))
         self._redraw_due = False
+        self._batched = False  # inside ``_resize``: every layer's commands in its one batch
         self._set_height(self.hi.grid_height + self._reserved(self.scene))
         self._draw_static(fresh=True)
         self._draw_top()
@@ -193,6 +196,13 @@ class LiveCanvas:
         self._snapped = (self.scene, self.overlay)
         self._still.css = self.css
         self._still.refresh()
+
+    def offer_replay(self) -> None:
+        """The replay bar offered for the scenes drawn so far, if it is not already (a notebook
+        cell that ran a few steps of an episode, not to its end, then finished)."""
+        bar, n = self._replay, len(self.history)
+        if bar is not None and n >= 2 and (bar.widget.layout.display == "none" or bar.slider.max != n - 1):
+            bar.offer(n)
 
     def frame(self) -> np.ndarray:
         """The ``rgb_array`` frame of what the canvas shows."""
@@ -342,8 +352,13 @@ class LiveCanvas:
         self._due = now + interval
 
     def _hold(self) -> Any:
+        """One batch of canvas commands (one message); inside ``_resize``'s batch, that one."""
+        from contextlib import nullcontext
+
         from ipycanvas import hold_canvas
 
+        if self._batched:
+            return nullcontext()
         self.frames_sent += 1
         return hold_canvas()
 
@@ -383,11 +398,10 @@ class LiveCanvas:
         sections = panel_sections(r.width, r.cell_size, r.theme, self.overlay.panel, value_range(self.overlay),
                                   scene.legend, self.ratio)  # fmt: skip
         height = max(r.grid_height + sum(sec.height for sec in sections), self.widget.height)
-        drawn = self._drawn if not force and height == self.widget.height else None
         if height != self.widget.height:
-            self._set_height(height)
-            self._draw_static(fresh=True)
-            self._draw_robots(self.scene)
+            self._resize(height, lambda: self._draw_top(scene, force=True))
+            return
+        drawn = self._drawn if not force else None
         if force or drawn is None:
             self._styles.reset()
         ops: list[Op] = [] if drawn is not None else [Fill(_rect(0, r.grid_height, r.width, height), r.theme.panel), *r.labels]
@@ -414,6 +428,24 @@ class LiveCanvas:
             if drawn is None:
                 layer.clear()
             _send(layer, ops, self._styles)
+
+    def _resize(self, height: int, draw_top: Any) -> None:
+        """A taller backing store, which the browser clears: the resize, then every layer in one
+        message right after it (the level's rectangles computed before), as a new canvas's first
+        picture is sent: no frame shows the canvas without the level, nor a layer without the
+        others. ``draw_top``: the labels and panel, drawn at the new height."""
+        img = self.hi.static(self.overlay, self._goals)
+        put = picture_calls(img, fresh=True)
+        with self._hold():
+            self._batched = True
+            try:
+                self._set_height(height)
+                put(self.widget[0])
+                self._static = img
+                self._draw_robots(self.scene)
+                draw_top()
+            finally:
+                self._batched = False
 
     def _draw_robots(self, scene: Scene, at: dict[int, tuple[float, float]] | None = None,
                      poses: dict[int, str] | None = None) -> None:  # fmt: skip

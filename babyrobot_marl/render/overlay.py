@@ -16,7 +16,8 @@ their overlay, ``None`` clears one. Both ``rgb_array`` and the live canvas draw 
 
 The colour bar of the values is drawn in the panel whenever values or action values are shown,
 with ticks and the overlay's label. All numbers of one overlay share one format, chosen from
-its range (``Scale.format``): whole numbers from 10 up, else one decimal, two below 1.
+its range (``Scale.format``): whole numbers from 10 up, else one decimal, two below 1; and with
+state values one decimal where two values that differ would otherwise print alike.
 """
 
 from __future__ import annotations
@@ -55,7 +56,7 @@ class Overlay:
         finite = [a[np.isfinite(a)] for a in parts]
         for arr, name in zip(finite, ("value", "action value") if self.values is not None else ("action value",)):
             if arr.size:
-                digits = decimals(np.concatenate(finite))
+                digits = decimals(np.concatenate(finite), distinct=self.values is not None)
                 return Scale(float(arr.min()), float(arr.max()), self.label or name, digits)
         return None
 
@@ -225,13 +226,23 @@ class Scale(NamedTuple):
         return format_value(v, self.digits)
 
 
-def decimals(values: np.ndarray) -> int:
-    """One format for all of an overlay's numbers, from their range: whole numbers when they all
-    are or the largest is 10 or more, else one decimal, two when all are below 1."""
+MAX_DIGITS = 1  # values that agree to this many decimals count as equal in a picture (as numpy prints them)
+
+
+def decimals(values: np.ndarray, distinct: bool = True) -> int:
+    """One format for all of an overlay's numbers: whole numbers when they all are or the largest
+    is 10 or more, else one decimal, two when all are below 1; then, if ``distinct`` (a picture
+    of state values, one number a cell), one decimal (``MAX_DIGITS``) if two values that differ
+    would otherwise print as the same text (-8.8 and -9 as ``-9``). Action values alone keep
+    the range's format: four share a cell, and wider numbers would not fit it."""
     big = float(np.abs(values).max()) if values.size else 0.0
-    if big >= 10 or np.all(values == np.round(values)):
-        return 0
-    return 1 if big >= 1 else 2
+    digits = 0 if big >= 10 or np.all(values == np.round(values)) else 1 if big >= 1 else 2
+    if not distinct or big >= 1e15:  # (no decimal shows at this size)
+        return digits
+    apart = np.unique(np.round(values, MAX_DIGITS))
+    while digits < MAX_DIGITS and len({format_value(float(v), digits) for v in apart}) < len(apart):
+        digits += 1
+    return digits
 
 
 def format_value(v: float, digits: int = 0) -> str:

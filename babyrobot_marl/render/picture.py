@@ -8,6 +8,8 @@ icon (a flag for a start, a door for an exit). Positions are pixels at ``cs`` pi
 
 from __future__ import annotations
 
+import numpy as np
+
 from ..core.level import Cell, Level
 from .glyphs import cap_height, fit, text_width
 from .palette import Theme, robot_colour, tile_edge
@@ -17,6 +19,31 @@ from .shapes import Colour, Fill, Op, Text, blob, ellipse, rect, round_rect, seg
 def wall_width(cs: int) -> float:
     """Walls are an even number of pixels thick, centred on the cell edges: crisp at every size."""
     return float(max(2, 2 * round(cs * 0.045)))
+
+
+def pane_width(cs: int) -> float:
+    """Glass panes are wider than walls, whole pixels: the frame stays crisp."""
+    return float(max(6, 2 * round(cs * 0.08)))
+
+
+def border_depths(grid: tuple[int, int], cs: int) -> np.ndarray:
+    """``edge_depths`` of a ``(height, width)`` grid with its border only."""
+    depths = np.zeros((*grid, 4))
+    depths[:, 0, 0] = depths[0, :, 1] = depths[:, -1, 2] = depths[-1, :, 3] = wall_width(cs)
+    return depths
+
+
+def edge_depths(level: Level, cs: int) -> np.ndarray:
+    """``float64[H, W, 4]``: how far into each cell a wall reaches from its left, top, right and
+    bottom edges, in pixels: the grid's border a whole wall width (it lies inside the image), an
+    inner wall half its width, a glass pane half its own; 0 where the edge is open."""
+    depths = border_depths((level.height, level.width), cs)
+    for edges, depth in ((level.walls, wall_width(cs) / 2), (level.glass, pane_width(cs) / 2)):
+        for a, b in edges:
+            (x0, y0), (x1, y1) = sorted((a, b))
+            sides = (2, 0) if y0 == y1 else (3, 1)  # the first cell's right (bottom) edge, the second's left (top)
+            depths[y0, x0, sides[0]] = depths[y1, x1, sides[1]] = depth
+    return depths
 
 
 def level_ops(level: Level, cs: int, theme: Theme) -> list[Op]:
@@ -86,7 +113,7 @@ def _edge_rect(a: Cell, b: Cell, cs: int, thickness: float, overhang: float):
 
 def _pane(a: Cell, b: Cell, cs: int, theme: Theme) -> list[Op]:
     """A glass pane: a pale strip wider than a wall, framed, with a glint; it stops short of the corners."""
-    t = float(max(6, 2 * round(cs * 0.08)))  # wider than a wall, whole pixels: the frame stays crisp
+    t = pane_width(cs)
     frame = float(max(1, round(cs / 32)))
     inset = -wall_width(cs) / 2 - max(1.0, cs * 0.06)
     ops: list[Op] = [Fill(_edge_rect(a, b, cs, t, inset), theme.glass_frame)]
@@ -157,6 +184,13 @@ def _icon_box(cell: Cell, cs: int, s: float) -> tuple[float, float, float]:
         return cell[0] * cs, cell[1] * cs, float(cs)
     m = wall_width(cs) / 2
     return (cell[0] + 1) * cs - m - s, (cell[1] + 1) * cs - m - s, s
+
+
+def corner_icon_bounds(cell: Cell, cs: int) -> tuple[float, float, float, float]:
+    """The pixels ``(x0, y0, x1, y1)`` a start's flag or an exit's door covers in its cell's
+    corner (under an overlay): what an arrow must keep clear of."""
+    x, y, s = _icon_box(cell, cs, ICON_CORNER * cs)
+    return x + 0.32 * s, y + 0.3 * s, x + 0.68 * s, y + 0.88 * s
 
 
 def _flag(x: float, y: float, cs: float, theme: Theme, colour: Colour | None) -> list[Op]:

@@ -38,7 +38,7 @@ from .overlay import Overlay
 from .paint import Patch, blend, paint, patch, to_uint8
 from .palette import THEMES, Theme, resolve_theme, robot_colour
 from .panel import LEGEND_ROWS, legend_row_section, metrics, panel_sections
-from .picture import feature_ops, floor_ops, label_band, label_ops, level_ops
+from .picture import edge_depths, feature_ops, floor_ops, label_band, label_ops, level_ops
 from .scene import (
     BURST,
     RobotView,
@@ -73,6 +73,8 @@ class RgbRenderer(CellBlocks):
         self.labels: list[Op] = label_ops(level, cs, self.theme)
         self.labelled = frozenset((int(op.x // cs), int(op.y // cs)) for op in self.labels if isinstance(op, Text))
         self.exits = frozenset(level.exits)
+        self.starts = frozenset(level.starts)  # their flags: in the corner under an overlay
+        self.depths = edge_depths(level, cs)  # how far walls reach into cells: numbers keep clear
         self.label_top = label_band(cs)[1] / cs  # robots sharing a labelled cell stand below this
         self._lone_size = {(c, lab): round(cs * lone_placement(RobotView(0, (0, 0)), c, self.label_top * lab).scale, 2)
                            for c in (False, True) for lab in (False, True)}  # a lone robot's size, by corner and label
@@ -274,7 +276,8 @@ class RgbRenderer(CellBlocks):
             lv = self.level
             img = self._draw([*floor_ops(lv, cs, th), *annotate.tint_ops(overlay, cs, th, self.exits),
                               *feature_ops(lv, cs, th, corner=True),
-                              *annotate.ink_ops(overlay, cs, th, self.labelled, self.exits), *self.labels])  # fmt: skip
+                              *annotate.ink_ops(overlay, cs, th, self.labelled, self.exits, self.starts, self.depths),
+                              *self.labels])  # fmt: skip
             self._static = (overlay, img)
         return self._static[1]
 

@@ -23,7 +23,7 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["COARSE_RECTS", "MAX_RECTS", "coarse_rectangles", "put_picture", "rectangles"]
+__all__ = ["COARSE_RECTS", "MAX_RECTS", "coarse_rectangles", "picture_calls", "put_picture", "rectangles"]
 
 MAX_RECTS = 300_000  # a picture sent as rectangles: at most this many
 COARSE_RECTS = 20_000  # the coarse copy under a PNG: at most this many
@@ -76,12 +76,23 @@ def put_picture(layer: Any, img: np.ndarray, fresh: bool) -> None:
     nothing yet) gets ``rectangles`` instead, drawn as they arrive: a canvas put on the page while
     a PNG still decodes would show nothing, for a frame or more; past ``MAX_RECTS`` rectangles,
     a coarse copy as rectangles and the PNG over it."""
-    layer.clear()
-    if fresh:
-        rects = rectangles(img)
-        if len(rects[0]) <= MAX_RECTS:
+    picture_calls(img, fresh)(layer)
+
+
+def picture_calls(img: np.ndarray, fresh: bool) -> Any:
+    """``put_picture`` in two halves: the work done now (the rectangles), the sending in the
+    function returned (``layer`` -> None), so a canvas cleared by a resize waits for no computing."""
+    rects = rectangles(img) if fresh else None
+    coarse = coarse_rectangles(img) if rects is not None and len(rects[0]) > MAX_RECTS else None
+
+    def put(layer: Any) -> None:
+        layer.clear()
+        if rects is not None and coarse is None:
             layer.fill_styled_rects(*rects)
             return
-        layer.fill_styled_rects(*coarse_rectangles(img))  # on screen until the PNG is decoded
-    # RGBA: sent as lossless PNG
-    layer.put_image_data(np.concatenate([img, np.full(img.shape[:2] + (1,), 255, dtype=np.uint8)], axis=2), 0, 0)
+        if coarse is not None:
+            layer.fill_styled_rects(*coarse)  # on screen until the PNG is decoded
+        # RGBA: sent as lossless PNG
+        layer.put_image_data(np.concatenate([img, np.full(img.shape[:2] + (1,), 255, dtype=np.uint8)], axis=2), 0, 0)
+
+    return put

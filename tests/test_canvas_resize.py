@@ -1,0 +1,50 @@
+"""A canvas that grows (its panel gains a line mid-episode) is cleared by the browser: the resize
+is followed by one message that draws every layer again, the level's picture included, so no
+frame shows the canvas without the level. Recorded on the Python side (see test_canvas.py)."""
+
+from __future__ import annotations
+
+import pytest
+
+pytest.importorskip("ipycanvas")
+
+import ipycanvas.canvas as ipc  # noqa: E402
+
+from babyrobot_marl import levels  # noqa: E402
+from babyrobot_marl.render import canvas as live  # noqa: E402
+from babyrobot_marl.render.overlay import Overlay, update_overlay  # noqa: E402
+from babyrobot_marl.render.rgb import RgbRenderer  # noqa: E402
+from tests.test_canvas import NAMES  # noqa: E402
+
+
+def test_a_resize_is_followed_by_one_message_drawing_every_layer(monkeypatch):
+    level = levels.get("mixed-8x8")
+    c = live.LiveCanvas(RgbRenderer(level, 32), animation_frames=2, fps=1e6)
+    layers = {f"IPY_MODEL_{layer.model_id}": i for i, layer in enumerate(c.widget._canvases)}
+    events: list = []
+
+    def record(command, buffers=()):
+        current, touched = None, set()
+        for cmd in command if command and isinstance(command[0], list) else [command]:
+            if NAMES[cmd[0]] == "switchCanvas":
+                current = layers.get(cmd[1][0])
+            elif NAMES[cmd[0]] in ("fillStyledRects", "putImageData"):
+                touched.add((current, "picture"))
+            else:
+                touched.add((current, "draw"))
+        events.append(("message", touched))
+
+    monkeypatch.setattr(ipc._CANVAS_MANAGER, "_send_custom", record)
+    c.widget._canvases[0].observe(lambda change: events.append(("resize", change["new"])), names="height")
+    c.draw([(0, 0)])
+    c.draw([(1, 0)], update_overlay(Overlay(), level, panel=["step 1  return -1"]))
+    before = c.widget.height
+    c.draw([(2, 0)], update_overlay(Overlay(), level, panel=["step 2  return -2", "moved", "a third line"]))
+    assert c.widget.height > before  # the panel grew: the canvas did
+    at = [k for k, e in enumerate(events) if e[0] == "resize"]
+    assert len(at) == 1
+    after = events[at[0] + 1 :]
+    first = after[0]
+    assert first[0] == "message"
+    assert (0, "picture") in first[1] and any(layer == 1 for layer, _ in first[1]) and any(layer == 2 for layer, _ in first[1])
+    assert not any(e[0] == "resize" for e in after)
