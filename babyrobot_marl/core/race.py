@@ -89,6 +89,21 @@ def _stop_movers(
         if cells[k] != d:  # not the robot staying there
             heading.setdefault(d, []).append(k)
     holder = {cells[j]: j for j in compress(range(m), map(held.__contains__, cells))}  # held cell -> its robot
+    stopped = _stopped_movers(mode, heading, holder, cells, desired, key, step, robots, n or m)
+    if not stopped:
+        return desired
+    final = list(desired)
+    for k in stopped:
+        final[k] = cells[k]
+    return final
+
+
+def _stopped_movers(
+    mode: str, heading: dict[int, list[int]], holder: dict[int, int], cells: Sequence[int], desired: Sequence[int],
+    key: int, step: int, robots: Sequence[int] | None, n: int,
+) -> set[int]:
+    """The movers that stay: ``heading`` maps each cell that can stop a mover to its movers (ascending),
+    ``holder`` the held ones among them to the robot holding it."""
     stopped: set[int] = set()
     for d, group in heading.items():
         j = holder.get(d)
@@ -104,20 +119,15 @@ def _stop_movers(
             if mode == "bounce":
                 stopped.update(group)
             else:
-                keep = _contest_winner(mode, group, key, step, n or m, robots)
+                keep = _contest_winner(mode, group, key, step, n, robots)
                 stopped.update(k for k in group if k != keep)
-    if not stopped:
-        return desired
     todo = list(stopped)  # a robot that stays stops the movers heading for its cell, and so on back
     while todo:
         for k in heading.get(cells[todo.pop()], ()):
             if k not in stopped:
                 stopped.add(k)
                 todo.append(k)
-    final = list(desired)
-    for k in stopped:
-        final[k] = cells[k]
-    return final
+    return stopped
 
 
 _LOOP_UP_TO = 8  # racing robots up to which race_step looks moves up in a plain loop
@@ -147,38 +157,18 @@ def _stop_movers_arrays(
     if not len(ks):
         return d
     heading: dict[int, list[int]] = {}  # cell -> the movers heading for it, ascending
-    holder_of: dict[int, int] = {}
+    holder: dict[int, int] = {}  # a held destination -> its robot
     for k, dk, j in zip(ks.tolist(), d[ks].tolist(), held_by[ks].tolist()):
         group = heading.get(dk)
         if group is None:
-            heading[dk], holder_of[dk] = [k], j
+            heading[dk] = [k]
+            if j >= 0:
+                holder[dk] = j
         else:
             group.append(k)
-    stopped: set[int] = set()
-    for dk, group in heading.items():
-        j = holder_of[dk]
-        if j >= 0:
-            dj = int(d[j])
-            if dj == dk:  # its robot stays: nobody gets in
-                stopped.update(group)
-                continue
-            for k in group:
-                if cells[k] == dj:  # k and j would swap
-                    stopped.add(k)
-        if len(group) > 1:  # a contest: block lets the highest priority in, soft the lowest number, bounce nobody
-            if mode == "bounce":
-                stopped.update(group)
-            else:
-                keep = _contest_winner(mode, group, key, step, n or m, robots)
-                stopped.update(k for k in group if k != keep)
+    stopped = _stopped_movers(mode, heading, holder, cells, d, key, step, robots, n or m)
     if not stopped:
         return d
-    todo = list(stopped)  # a robot that stays stops the movers heading for its cell, and so on back
-    while todo:
-        for k in heading.get(cells[todo.pop()], ()):
-            if k not in stopped:
-                stopped.add(k)
-                todo.append(k)
     final = d.copy()
     back = np.fromiter(stopped, np.int64, len(stopped))
     final[back] = c[back]
