@@ -44,6 +44,9 @@ AGILERL_NAN = "AgileRL feeds NaN placeholder observations of agents that have le
 @pytest.mark.xfail(raises=AssertionError, strict=True, reason=AGILERL_NAN)
 def test_agilerl_ippo_on_the_removing_race_fails_inside_agilerl(tmp_path):
     src = (SNIPPETS / "agilerl_snippet.py").read_text().replace('finished="freeze"', 'finished="remove"')
+    # AgileRL's nets and samples draw from the global generators: seeded, the run is the same every time
+    # (unseeded, a run whose sampled actions never fed a left agent's placeholder passed now and then)
+    src = "import random, numpy, torch\nrandom.seed(0); numpy.random.seed(0); torch.manual_seed(0)\n" + src
     (tmp_path / "agilerl_remove.py").write_text(src)
     proc = subprocess.run([sys.executable, "agilerl_remove.py"], cwd=tmp_path, capture_output=True, text=True, timeout=600)
     assert proc.returncode == 0, proc.stderr[-2000:]
