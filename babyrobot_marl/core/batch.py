@@ -23,6 +23,7 @@ from .checks import check_batch, check_int
 from .engine import move_array, move_drawn
 from .goals import GoalColumns, draw_goals, next_goal
 from .observe import Observer, Recycler, global_observations
+from .race import spread_stops
 from .rng import SLOT_PRIORITY, SLOTS, uniform_array
 from .table import Table
 
@@ -66,7 +67,6 @@ def resolve_collisions_array(
         return desired
     c, d = cells[todo].ravel(), desired[todo].ravel()
     live, mv = racing[todo].ravel(), moving[todo].ravel()
-    size = c.size
     # one key space for all envs: env row * stride + cell
     stride = int(max(c.max(), d.max())) + 1
     row_base = np.repeat(np.arange(todo.size, dtype=np.int64) * stride, n)
@@ -101,24 +101,11 @@ def resolve_collisions_array(
             stopped[rivals[1:][dk[rivals[1:]] == dk[rivals[:-1]]]] = True  # all but the first of each cell
     elif not hit.any():
         return desired  # nobody heads for an occupied cell, no two for one cell
-    # the rest follow their occupant: stopped if a stopped robot lies ahead on the chain
-    follows = hit & ~stopped
-    sink = size  # the end of every chain that reaches no further robot; never stopped
-    open_ = np.flatnonzero(follows)
-    ahead = np.full(size + 1, sink, dtype=np.int64)
-    ahead[open_] = occupant[open_]
-    stop = np.append(stopped, False)  # stop[i]: a stopped robot among i .. ahead[i] (exclusive)
-    for _ in range(n.bit_length()):  # the chains double each pass; n passes' worth covers any cycle
-        if open_.size == 0:
-            break
-        nxt = ahead[open_]
-        stop[open_] |= stop[nxt]
-        ahead[open_] = ahead[nxt]
-        open_ = open_[~stop[open_] & (ahead[open_] != sink)]  # the rest go round a cycle, or not yet known
-    # rows of movers still open after those passes go round a cycle with nobody stopped: they move
+    # the rest follow their occupant: stopped if a stopped robot lies ahead on the chain (chains stay in their env)
+    back = spread_stops(stopped, hit & ~stopped, occupant, n.bit_length()) & mv
     final = desired.copy()
     f = final[todo].ravel()
-    f[stop[:size] & mv] = c[stop[:size] & mv]
+    f[back] = c[back]
     final[todo] = f.reshape(todo.size, n)
     return final
 

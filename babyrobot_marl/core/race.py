@@ -202,23 +202,32 @@ def _resolve_on_arrays(
         r = r.take(order)
         dr = d.take(r)
         stopped[r[1:][dr[1:] == dr[:-1]]] = True
-    open_ = np.flatnonzero(hit & ~stopped)  # followers: stopped if a stopped robot lies ahead on their chain
-    ahead = np.full(m + 1, m, dtype=np.int64)  # m: the end of a chain, never stopped
-    ahead[open_] = held_by.take(open_)
-    stop = np.append(stopped, False)
-    for _ in range(m.bit_length()):  # the chains double each pass; that many passes cover any cycle
-        if not len(open_):
-            break
-        nxt = ahead.take(open_)
-        stop[open_] |= stop.take(nxt)
-        ahead[open_] = ahead.take(nxt)
-        open_ = open_[~stop.take(open_) & (ahead.take(open_) != m)]  # the rest go round a cycle, or not yet known
-    back = stop[:m] & moving  # robots still open go round a cycle with nobody stopped: they move
+    back = spread_stops(stopped, hit & ~stopped, held_by, m.bit_length()) & moving
     if not back.any():
         return d
     final = d.copy()
     final[back] = c[back]
     return final
+
+
+def spread_stops(stopped: np.ndarray, follows: np.ndarray, occupant: np.ndarray, passes: int) -> np.ndarray:
+    """Every robot that stays: the ``stopped`` ones, and each follower (``follows``: heading for the cell
+    of robot ``occupant[i]``) with a stopped robot ahead on its chain, by pointer doubling in ``passes``
+    passes (the chains double each pass: ``log2`` of the longest chain covers any cycle). Followers still
+    open after them go round a cycle with nobody stopped: they move."""
+    size = len(stopped)
+    open_ = np.flatnonzero(follows)
+    ahead = np.full(size + 1, size, dtype=np.int64)  # size: the end of a chain, never stopped
+    ahead[open_] = occupant.take(open_)
+    stop = np.append(stopped, False)
+    for _ in range(passes):
+        if not len(open_):
+            break
+        nxt = ahead.take(open_)
+        stop[open_] |= stop.take(nxt)
+        ahead[open_] = ahead.take(nxt)
+        open_ = open_[~stop.take(open_) & (ahead.take(open_) != size)]  # the rest go round a cycle, or not yet known
+    return stop[:size]
 
 
 def _step_arrays(
