@@ -84,15 +84,17 @@ def picture_calls(img: np.ndarray, fresh: bool) -> Any:
     function returned (``layer`` -> None), so a canvas cleared by a resize waits for no computing."""
     rects = rectangles(img) if fresh else None
     coarse = coarse_rectangles(img) if rects is not None and len(rects[0]) > MAX_RECTS else None
+    # RGBA, sent as lossless PNG: made now too
+    rgba = None if rects is not None and coarse is None else np.concatenate(
+        [img, np.full(img.shape[:2] + (1,), 255, dtype=np.uint8)], axis=2)
 
     def put(layer: Any) -> None:
         layer.clear()
-        if rects is not None and coarse is None:
+        if rgba is None:
             layer.fill_styled_rects(*rects)
             return
         if coarse is not None:
             layer.fill_styled_rects(*coarse)  # on screen until the PNG is decoded
-        # RGBA: sent as lossless PNG
-        layer.put_image_data(np.concatenate([img, np.full(img.shape[:2] + (1,), 255, dtype=np.uint8)], axis=2), 0, 0)
+        layer.put_image_data(rgba, 0, 0)
 
     return put

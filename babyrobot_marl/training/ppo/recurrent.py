@@ -179,7 +179,8 @@ class Recurrence:
 
     def replay(self, rows: Any, inv: Any, seq: Any) -> tuple[Any, Any]:
         """The logits and values ``(T * B, ...)`` of the robots ``seq`` over the rollout, replayed from their
-        states at its start with the rollout's resets; ``rows[inv]`` (``(T, B)``): their inputs."""
+        states at its start with the rollout's resets; ``rows[inv]`` (``(T, B)``): their inputs. By autograd
+        through ``net.step``: the reference the update's written-out pass (``unroll``) is held to."""
         torch = torch_module()
         present, local = torch.unique(inv, return_inverse=True)
         # (T * B, 3H): the input layers once per distinct input (index_select: its gradient is one index_add)
