@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..core.actions import Action
+from .cellgroups import overlap
 from .palette import Theme
 from .shapes import Fill, Op, Points
 
@@ -212,7 +213,7 @@ def _shorten(lane: Lane, region: Box, keep_out: list[Box], kx: float, ky: float,
         shaft, head = arrow_boxes(*at(n))
         if not (_within(shaft, region) and _within(head, region)):
             return False
-        return not any(_overlap(shaft, k) or _overlap(head, k) for k in keep_out)
+        return not any(overlap(shaft, k) or overlap(head, k) for k in keep_out)
 
     if length < 6.0 or not fits(6.0):
         return None
@@ -231,7 +232,3 @@ def grow(b: Box, by: float) -> Box:
 
 def _within(a: Box, b: Box) -> bool:
     return b[0] - 0.01 <= a[0] and a[2] <= b[2] + 0.01 and b[1] - 0.01 <= a[1] and a[3] <= b[3] + 0.01
-
-
-def _overlap(a: Box, b: Box) -> bool:
-    return a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]

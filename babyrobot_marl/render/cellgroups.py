@@ -101,5 +101,6 @@ def any_overlap(rects: Sequence[Rect]) -> bool:
     return False
 
 
-def overlap(a: Rect, b: Rect) -> bool:
+def overlap(a: tuple[float, float, float, float], b: tuple[float, float, float, float]) -> bool:
+    """Whether two boxes ``(x0, y0, x1, y1)`` (pixels, ends excluded) share any area."""
     return a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]

@@ -217,7 +217,7 @@ class RgbRenderer(CellBlocks):
         """The labels' patches ``(y, x, patch)`` that overlap any of ``boxes`` (x0, y0, x1, y1 in pixels):
         drawn again over the sprites there."""
         return [(ly, lx, label) for ly, lx, label in self._label_patches
-                if any(_overlap((lx, ly, lx + label.rgb.shape[1], ly + label.rgb.shape[0]), box) for box in boxes)]
+                if any(overlap((lx, ly, lx + label.rgb.shape[1], ly + label.rgb.shape[0]), box) for box in boxes)]
 
     def _block(self, static: np.ndarray, rect: tuple[int, int, int, int], items: list[tuple]) -> np.ndarray:
         """The cells ``rect`` (x0, y0, x1, y1, in cells) of ``static`` with the sprites ``items``
@@ -411,10 +411,6 @@ def _box(p: Patch, cx: float, cy: float) -> tuple[int, int, int, int]:
     """The pixels a patch centred on ``(cx, cy)`` covers: (x0, y0, x1, y1), x1 and y1 exclusive."""
     x0, y0 = int(math.floor(cx + 1e-9)) + p.dx, int(math.floor(cy + 1e-9)) + p.dy
     return x0, y0, x0 + p.rgb.shape[1], y0 + p.rgb.shape[0]
-
-
-def _overlap(a: tuple[int, int, int, int], b: tuple[int, int, int, int]) -> bool:
-    return a[0] < b[2] and b[0] < a[2] and a[1] < b[3] and b[1] < a[3]
 
 
 def _same_cells(a: Overlay | None, b: Overlay) -> bool:
