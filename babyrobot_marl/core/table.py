@@ -105,12 +105,10 @@ class Table:
     def sure_flat(self) -> tuple[np.ndarray, np.ndarray]:
         """``lists.sure`` as two flat arrays indexed by ``c * 5 + a``: the next cell (-1 where the
         step needs a random draw) and the outcome code (-1 there too). One ``take`` steps a batch."""
-        nxt = np.full(self.n_cells * N_ACTIONS, -1, dtype=np.int64)
-        code = np.full(self.n_cells * N_ACTIONS, -1, dtype=np.int64)
-        for c, row in enumerate(self.lists.sure):
-            for a, sure in enumerate(row):
-                if sure is not None:
-                    nxt[c * N_ACTIONS + a], code[c * N_ACTIONS + a] = sure
+        f = self.flat
+        actions = np.tile(np.arange(N_ACTIONS), self.n_cells)
+        drawn = (actions > 0) & ((f.move_prob < 1.0) | f.glass)  # a skid or a glass wall: drawn at step time
+        nxt, code = np.where(drawn, -1, f.target), np.where(drawn, -1, f.code).astype(np.int64)
         nxt.setflags(write=False)
         code.setflags(write=False)
         return nxt, code
@@ -188,27 +186,42 @@ def _compile(level: Level, rules: Rules) -> Table:
     for cell, r in level.rewards:
         reward[cid(cell)] = r
 
-    for y in range(level.height):
-        for x in range(w):
-            c = cid((x, y))
-            if blocked[c]:
-                continue
-            neighbours = dict(level.neighbours((x, y)))  # open cell -> behind glass?
-            open_dirs = []
-            for a in range(1, N_ACTIONS):
-                nxt = (x + DELTAS[a][0], y + DELTAS[a][1])
-                if nxt in neighbours:
-                    target[c, a] = cid(nxt)
-                    glass[c, a] = neighbours[nxt]
-                    if not neighbours[nxt]:
-                        open_dirs.append(a)
-            for a in range(1, N_ACTIONS):
-                others = [cid((x + DELTAS[d][0], y + DELTAS[d][1])) for d in open_dirs if d != a]
-                n_skid[c, a] = len(others)
-                skid[c, a, : len(others)] = others
+    _moves(level, blocked, target, glass, skid, n_skid)
     for arr in (target, glass, move_prob, skid, n_skid, reward, is_exit, blocked):
         arr.setflags(write=False)
     return Table(level, rules, target, glass, move_prob, skid, n_skid, reward, is_exit, blocked)
+
+
+def _moves(level: Level, blocked: np.ndarray, target: np.ndarray, glass: np.ndarray, skid: np.ndarray,
+           n_skid: np.ndarray) -> None:
+    """Fill each open cell's move targets, glass flags and skid cells (the open, glassless directions other than
+    the intended one, in action order), as arrays: a Python loop per cell took most of an atlas's building."""
+    w, h, n = level.width, level.height, level.n_cells
+    direction = {d: a for a, d in enumerate(DELTAS) if a}
+    walled = np.zeros((n, N_ACTIONS), dtype=bool)
+    behind_glass = np.zeros((n, N_ACTIONS), dtype=bool)
+    for edges, mark in ((level.walls, walled), (level.glass, behind_glass)):
+        for a, b in edges:
+            d = (b[0] - a[0], b[1] - a[1])
+            mark[a[1] * w + a[0], direction[d]] = mark[b[1] * w + b[0], direction[(-d[0], -d[1])]] = True
+    cells = np.arange(n)
+    xs, ys = cells % w, cells // w
+    open_ = np.zeros((n, N_ACTIONS), dtype=bool)
+    for a in range(1, N_ACTIONS):
+        x, y = xs + DELTAS[a][0], ys + DELTAS[a][1]
+        inside = (x >= 0) & (x < w) & (y >= 0) & (y < h)
+        nxt = np.where(inside, y * w + x, cells)
+        open_[:, a] = inside & ~blocked[nxt] & ~walled[:, a] & ~blocked
+        target[:, a] = np.where(open_[:, a], nxt, cells)
+        glass[:, a] = open_[:, a] & behind_glass[:, a]
+    clear = open_ & ~glass  # where a skid may lead
+    for a in range(1, N_ACTIONS):
+        others = clear[:, 1:].copy()
+        others[:, a - 1] = False
+        order = np.argsort(~others, axis=1, kind="stable")  # the open directions first, in action order
+        n_skid[:, a] = others.sum(1)
+        picked = np.take_along_axis(np.where(others, target[:, 1:], cells[:, None]), order, 1)[:, :MAX_SKIDS]
+        skid[:, a] = picked
 
 
 def _sure_outcomes(t: Table) -> list[list[tuple[int, int] | None]]:
