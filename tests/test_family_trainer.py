@@ -14,7 +14,14 @@ from babyrobot_marl.levels import builtin  # noqa: E402
 from babyrobot_marl.training.policy import WindowPolicy, load_checkpoint, load_policy  # noqa: E402
 from babyrobot_marl.training.ppo import PPOConfig, train_ppo  # noqa: E402
 from babyrobot_marl.training.ppo.inputs import near_offsets  # noqa: E402
-from babyrobot_marl.training.ppo.window import NO_ACTION, Atlas, WindowForm, play_atlas, stack_levels  # noqa: E402
+from babyrobot_marl.training.ppo.window import (  # noqa: E402
+    NO_ACTION,
+    Atlas,
+    WindowForm,
+    play_atlas,
+    stack_levels,
+    unique_rows,
+)
 
 SMALL = PPOConfig(n_envs=32, n_steps=8, batch_size=1024, atlas_size=4, atlas_every=2, eval_every=0)
 
@@ -33,6 +40,15 @@ def test_stacked_levels_compile_to_each_levels_moves():
         ids = (top + np.arange(lv.n_cells) // lv.width) * stacked.width + np.arange(lv.n_cells) % lv.width
         assert (table.target[ids] == ids[t.target]).all()  # every move stays inside its own maze
         assert (table.is_exit[ids] == t.is_exit).all()
+
+
+def test_window_patterns_are_numbered_as_numpys_unique_rows():
+    rng = np.random.default_rng(0)
+    for rows in (rng.integers(0, 4, (500, 7)), rng.integers(0, 70_000, (50, 3)), rng.integers(-2, 3, (40, 2)),
+                 np.zeros((0, 4), dtype=np.int64), np.array([[300, 1], [2, 299], [300, 1], [2, 256]])):
+        want, want_inv = np.unique(rows, axis=0, return_inverse=True)
+        got, got_inv = unique_rows(rows)
+        assert np.array_equal(got, want) and np.array_equal(got_inv, want_inv.reshape(-1))
 
 
 def test_atlas_resets_put_each_env_on_one_maze():
