@@ -190,7 +190,8 @@ race_v0.parallel_env(level="race-2", n_robots=2, collisions="block", max_cycles=
 * `level`: a built-in name (`babyrobot_marl.levels.names()`), a level text, a grid map (rows of
   `.` and `#`, or a MovingAI `.map` file's path: `Level.from_grid`; a level needs an exit) or a `Level`; or
   levels drawn at every reset from the env's seeded generator: `"maze:A..B"` (square mazes, the
-  side drawn from `A..B`, e.g. `"maze:8..16"`; one size: `"maze:16..16"`), a maze family
+  side drawn from `A..B`, e.g. `"maze:8..16"`; one size: `"maze:16..16"`), `"gridmaze:A..B"` (grid
+  mazes of blocked cells with loops and no exit, for `goals="own"`), a maze family
   `"maze-WxH-*"`, `babyrobot_marl.levels.sources.maze_family(W, H, seeds=...)` or
   `maze_range_family(A, B, seeds=...)`, or a callable `f(np_random) -> Level | name | text` (one
   size for all); not for the batch and vector envs. With `"maze:A..B"` the env is built on a

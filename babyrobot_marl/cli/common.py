@@ -89,7 +89,8 @@ def add_level_arg(p: argparse.ArgumentParser, default: str = "default", family: 
         type=level_spec,
         metavar="NAME|FILE|maze:A..B",
         help=f"a built-in level (see '{PROG} levels'), maze-WxH[-sSEED], the path of a level text file or of a "
-        f"MovingAI .map file, a grid map (rows of '.' and '#'; it has no exit), or maze:A..B: {family} (default: {default})",
+        f"MovingAI .map file, a grid map (rows of '.' and '#'; it has no exit), or maze:A..B: {family}; gridmaze:A..B "
+        f"the same with grid mazes (blocked cells, loops, no exit: --goals own) (default: {default})",
     )
 
 

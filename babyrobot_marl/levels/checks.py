@@ -20,12 +20,13 @@ def check_maze_size(value: object, name: str) -> int:
 
 
 FAMILY_FORM = (
-    "'maze:A..B' (square mazes, the side drawn from A..B, 2 <= A <= B <= 256; e.g. 'maze:8..16', one size 'maze:16..16')"
+    "'maze:A..B' (square mazes, the side drawn from A..B, 2 <= A <= B <= 256; e.g. 'maze:8..16', one size 'maze:16..16') "
+    "or 'gridmaze:A..B' (grid mazes with loops and no exit, for own goals; e.g. 'gridmaze:17..21')"
 )
 
 
 def check_family_sides(low: object, high: object) -> tuple[int, int]:
-    """The sides of a family of square mazes ``maze:A..B``: integers with ``2 <= A <= B <= MAX_MAZE_SIDE``
+    """The sides of a family of square mazes ``maze:A..B`` or ``gridmaze:A..B``: integers with ``2 <= A <= B <= MAX_MAZE_SIDE``
     (a 1x1 maze has no room for a start and an exit)."""
     try:
         a = check_int(low, "level", 2, MAX_MAZE_SIDE)

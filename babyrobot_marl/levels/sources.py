@@ -34,11 +34,12 @@ import numpy as np
 from ..core.level import Level
 from . import builtin, mazes
 from .checks import bad_family, check_family_sides
+from .gridmazes import grid_maze
 from .resolve import resolve_level
 
 LevelSource = Callable[[np.random.Generator], Level]
 _FAMILY = re.compile(r"maze-(\d+)x(\d+)-\*")
-_RANGE = re.compile(r"maze:(\d{1,9})\.\.(\d{1,9})")  # "maze:A..B"
+_RANGE = re.compile(r"(grid)?maze:(\d{1,9})\.\.(\d{1,9})")  # "maze:A..B", "gridmaze:A..B"
 FAMILY_SEEDS = 2**31  # "maze-WxH-*" and "maze:A..B" draw their maze seed from 0 .. FAMILY_SEEDS - 1
 TRAIN_MAZE_SEEDS = range(0, 2**30)  # the fast trainer's mazes
 EVAL_MAZE_SEEDS = range(2**30, 2**31)  # evaluation's mazes: never trained on
@@ -100,15 +101,35 @@ def maze_range_family(low: int, high: int, seeds: Sequence[int] | range | None =
     return draw
 
 
+def grid_maze_family(low: int, high: int, seeds: Sequence[int] | range | None = None) -> LevelSource:
+    """Square grid mazes (``gridmaze``: blocked cells, loops, no exit) of side ``low..high``
+    (``"gridmaze:A..B"``): each draw takes the side, then the maze seed from ``seeds``, both from the
+    generator it is given. Its attributes are ``maze_range_family``'s."""
+    low, high = check_family_sides(low, high)
+    pool = range(FAMILY_SEEDS) if seeds is None else seeds
+    if len(pool) == 0:
+        raise ValueError("seeds: an empty set of maze seeds")
+
+    def draw(rng: np.random.Generator) -> Level:
+        side = int(rng.integers(low, high + 1))
+        return grid_maze(side, int(pool[int(rng.integers(len(pool)))]))
+
+    draw.family = f"gridmaze:{low}..{high}"  # type: ignore[attr-defined]
+    draw.largest = (high, high)  # type: ignore[attr-defined]
+    draw.first = lambda: grid_maze(high, int(pool[0]))  # type: ignore[attr-defined]
+    return draw
+
+
 def parse_level_family(spec: str, seeds: Sequence[int] | range | None = None) -> LevelSource | None:
-    """The family of ``spec`` if it is ``"maze:A..B"`` (``None`` if ``spec`` is not a family spec);
-    a ``ValueError`` naming ``level`` and the allowed form for a malformed ``"maze:..."``."""
-    if not isinstance(spec, str) or not spec.startswith("maze:"):
+    """The family of ``spec`` if it is ``"maze:A..B"`` or ``"gridmaze:A..B"`` (``None`` if ``spec`` is
+    not a family spec); a ``ValueError`` naming ``level`` and the allowed forms for a malformed one."""
+    if not isinstance(spec, str) or not spec.startswith(("maze:", "gridmaze:")):
         return None
     m = _RANGE.fullmatch(spec)
     if m is None:
         raise ValueError(bad_family(spec))
-    return maze_range_family(int(m[1]), int(m[2]), seeds)
+    family = grid_maze_family if m[1] else maze_range_family
+    return family(int(m[2]), int(m[3]), seeds)
 
 
 def family_of(spec: str, seeds: Sequence[int] | range | None = None) -> LevelSource | None:
