@@ -249,10 +249,37 @@ def mark_targets(
 ) -> None:
     """``target_channel`` written into rows whose channel columns (``column`` on) are 0 already: one
     number per row (a local observer's pass). ``out``: C-contiguous rows ``(..., m)``."""
-    key, where, _ = channel_tables(width, height, radius)
-    at = where.take(key.take(goals) - key.take(cells))
-    at = _row_starts(at.shape, out.shape[-1], column) + at  # each row's flat index (int64: the tables are small ints)
-    out.reshape(-1)[at] = 1
+    key = cell_keys(width, height)
+    mark_offsets(out, key.take(goals) - key.take(cells), width, height, radius, column)
+
+
+def goal_offsets(width: int, height: int, cells: np.ndarray, goal_keys: np.ndarray) -> np.ndarray:
+    """Each goal's offset from its robot's cell on a ``width x height`` grid, as a key difference
+    (``goal_keys``: ``cell_keys`` of the goals, kept while they stay): 0 exactly where a robot stands on
+    its goal, and what ``mark_offsets`` reads the target channel from."""
+    return goal_keys - cell_keys(width, height).take(cells)
+
+
+def mark_offsets(out: np.ndarray, offsets: np.ndarray, width: int, height: int, radius: int, column: int) -> None:
+    """``mark_targets`` from the goals' offsets (``goal_offsets``), when the caller has them already."""
+    at = _flat_where(width, height, radius).take(offsets)
+    at += _row_starts(at.shape, out.shape[-1], column)  # each row's flat index
+    out.put(at, 1)
+
+
+@lru_cache(maxsize=COMPILED_CACHE)
+def cell_keys(w: int, h: int) -> np.ndarray:
+    """Each cell's key ``y * (2W - 1) + x`` on a ``w x h`` grid (``channel_tables``'s): goal minus cell
+    is one number per offset, 0 only on the goal itself."""
+    return channel_tables(w, h, 0)[0]
+
+
+@lru_cache(maxsize=COMPILED_CACHE)
+def _flat_where(w: int, h: int, radius: int) -> np.ndarray:
+    """``channel_tables``'s channel cell of each key difference as ``intp``: flat indices add to it without a cast."""
+    where = channel_tables(w, h, radius)[1].astype(np.intp)
+    where.setflags(write=False)
+    return where
 
 
 @lru_cache(maxsize=16)

@@ -35,7 +35,7 @@ from .checks import (
 )
 from .drawing import EnvDrawing, OverlayMethods
 from .encodings import Encoder
-from .race_goals import RaceGoals, next_goals
+from .race_goals import RaceGoals
 from .race_levels import RaceLevels, cell_arrays
 from .race_readouts import RaceReadouts
 from .single import default_max_steps
@@ -238,19 +238,11 @@ class RaceEnv(RaceGoals, RaceLevels, RaceReadouts, OverlayMethods, ParallelEnv):
         cells, outcome, blocked, finishing = race_step(
             self._lists, self.collisions, self._live_cells, acts, self._key, t, live, self.n_robots, self._sure_flat
         )
-        reached = None
+        reached = offsets = None
         # "local" and "nearest": the cells as an array, once (own goals, observations, infos)
         here = None if self._observer is None else np.fromiter(cells, np.int64, len(cells))
         if self._goal_of is not None:  # own goals: finished on its own target (the table has no exits)
-            on_goal = (np.fromiter(cells, np.int64, len(cells)) if here is None else here) == self._racing_goals()
-            if np.count_nonzero(on_goal):  # faster than any() on short rows
-                finishing = on_goal.tolist()
-                for i, f in zip(live, finishing):
-                    self._reached[i] += f
-                if self.lifelong:  # a new target instead, and the robot keeps going
-                    reached, finishing = finishing, [False] * len(finishing)
-                    self._goal_arr = next_goals(self.np_random, self.table, self._goal_of, live, cells, reached)
-                    self._live_goals = None
+            finishing, reached, offsets = self._own_goals_step(live, cells, here, finishing)
         self._last_step = (live, self._live_cells, acts, outcome, blocked, finishing, t)
         self._live_cells = cells
         self._t = t = t + 1
@@ -270,7 +262,7 @@ class RaceEnv(RaceGoals, RaceLevels, RaceReadouts, OverlayMethods, ParallelEnv):
                 for a, xy, o, b in zip(reported, self._cell_xy.take(cells if here is None else here, axis=0), outcome, blocked)
             }
             no = self._none_done
-            out = dict(zip(reported, self._observations(here))), rewards, no.copy(), no.copy(), infos
+            out = dict(zip(reported, self._observations(here, offsets))), rewards, no.copy(), no.copy(), infos
         if self.render_mode == "human":
             self.render()
         return out
@@ -362,12 +354,7 @@ class RaceEnv(RaceGoals, RaceLevels, RaceReadouts, OverlayMethods, ParallelEnv):
         self._gather_reported = g
         self._reported_live = self._agent_ids == self._live
         self._live_set = frozenset(self._live)
-        self._live_goals: np.ndarray | None = None  # own goals: the racing robots' targets (_racing_goals)
-
-    def _racing_goals(self) -> np.ndarray:  # own goals: the racing robots' targets, kept until either changes
-        if self._live_goals is None:
-            self._live_goals = self._goal_arr if len(self._live) == self.n_robots else self._goal_arr[self._live]
-        return self._live_goals
+        self._live_goals = self._live_goal_keys = None  # own goals: the racing robots' targets (_racing_goals)
 
     @property
     def _cells(self) -> list[int]:
@@ -441,11 +428,11 @@ class RaceEnv(RaceGoals, RaceLevels, RaceReadouts, OverlayMethods, ParallelEnv):
             )
         return [given[i] for i in self._live]
 
-    def _observations(self, here: np.ndarray | None = None) -> np.ndarray:
+    def _observations(self, here: np.ndarray | None = None, offsets: np.ndarray | None = None) -> np.ndarray:
         """One row per reported agent, in ``agents`` order (a fresh array per step, rows never shared);
-        ``here``: the racing robots' cells as an array, if the step made one."""
+        ``here``: the racing robots' cells as an array, if the step made one (own goals: ``offsets`` too)."""
         if self._goal_columns is not None:
-            return self._goal_observations(here)
+            return self._goal_observations(here, offsets)
         if self._observer is not None:
             if self._reported_live:  # the racing robots' rows alone: finished robots are in nobody's view
                 here = np.array(self._live_cells) if here is None else here
