@@ -121,7 +121,7 @@ class Player:
             self.game.labels = lambda i: f"#{i}"  # the canvas numbers its robots 0, 1, ...
         self.level: Level = self.game.env.level
         renderer = RgbRenderer(self.level, cell_size, theme)
-        self.canvas = LiveCanvas(renderer, animation_frames=0, fps=0, fit=cell_size is None)
+        self.canvas = LiveCanvas(renderer, animation_frames=0, fps=0, fit=cell_size is None, reserve_values=False)
         self.canvas.widget.on_key_down(self._on_key)
         self.canvas.widget.add_class("babyrobot-keys")
         buttons = []
