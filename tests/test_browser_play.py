@@ -85,6 +85,7 @@ def test_player_buttons_and_keys_move_the_robot_where_the_game_predicts(page, sc
     outline = p.evaluate("""() => { const k = document.querySelector('.babyrobot-player .babyrobot-keys');
       return [k, k.querySelector('canvas')].filter(e => e).map(e => getComputedStyle(e).outlineStyle); }""")
     assert "solid" in outline, f"no focus frame on the canvas with the keys: {outline}"  # issue 26: a visible focus
+    assert_framed_on_four_sides(p, canvas)
     for k, key in enumerate(["ArrowDown", "s", "x", " "]):
         p.keyboard.press(key)
         wait_panel(page, "that key does nothing" if key == "x" else f"step {3 + k - (key == ' ')}/")
@@ -164,3 +165,27 @@ def test_editor_builds_a_level_by_clicks_and_plays_it(page, screenshots):
     p.locator(".babyrobot-play-it").first.click()
     wait_panel(page, "Baby Robot is at column 0, row 0")
     shot(page, screenshots, "edit_level")
+
+
+def assert_framed_on_four_sides(p, element) -> None:
+    """The focus frame is seen on all four sides of ``element`` (on the page, as painted: an outline
+    outside the element is cut off where a parent clips its content)."""
+    import io
+
+    from PIL import Image
+
+    from babyrobot_marl.play.notebook import FOCUS
+
+    box = element.bounding_box()
+    pad = 8
+    clip = {"x": max(0, box["x"] - pad), "y": max(0, box["y"] - pad), "width": box["width"] + 2 * pad,
+            "height": box["height"] + 2 * pad}  # fmt: skip
+    img = np.asarray(Image.open(io.BytesIO(p.screenshot(clip=clip))).convert("RGB")).astype(int)
+    rgb = np.array([int(FOCUS[k : k + 2], 16) for k in (1, 3, 5)])
+    blue = (np.abs(img - rgb).sum(axis=2) < 30)
+    h, w = blue.shape
+    rows, cols = blue.any(axis=1), blue.any(axis=0)
+    sides = {"top": blue[: h // 4].any(axis=0).mean(), "bottom": blue[3 * h // 4 :].any(axis=0).mean(),
+             "left": blue[:, : w // 4].any(axis=1).mean(), "right": blue[:, 3 * w // 4 :].any(axis=1).mean()}  # fmt: skip
+    assert rows.any() and cols.any(), "no focus frame seen"
+    assert all(share > 0.8 for share in sides.values()), f"the focus frame's sides (share of their length seen): {sides}"

@@ -4,6 +4,7 @@ frame shows the canvas without the level. Recorded on the Python side (see test_
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 pytest.importorskip("ipycanvas")
@@ -48,3 +49,47 @@ def test_a_resize_is_followed_by_one_message_drawing_every_layer(monkeypatch):
     assert first[0] == "message"
     assert (0, "picture") in first[1] and any(layer == 1 for layer, _ in first[1]) and any(layer == 2 for layer, _ in first[1])
     assert not any(e[0] == "resize" for e in after)
+
+
+def test_the_shown_canvas_is_resized_after_its_layers_are_drawn_at_the_new_height_and_composed_again(monkeypatch):
+    """The page shows the ``MultiCanvas``'s own canvas: it is resized (and cleared by the browser)
+    only once every layer has its picture at the new height, and a batch of commands follows at
+    once (the browser composes the layers into it after each batch)."""
+    level = levels.get("mixed-8x8")
+    c = live.LiveCanvas(RgbRenderer(level, 32), animation_frames=0, fps=0)
+    events: list = []
+    monkeypatch.setattr(ipc._CANVAS_MANAGER, "_send_custom", lambda command, buffers=(): events.append("message"))
+    c.widget.observe(lambda change: events.append("shown resized"), names="height")
+    for k, layer in enumerate(c.widget._canvases):
+        layer.observe(lambda change, k=k: events.append(f"layer {k} resized"), names="height")
+    c.draw([(0, 0)])
+    c.draw([(1, 0)], update_overlay(Overlay(), level, panel=["one", "two", "three", "four", "five"]))
+    assert events.count("shown resized") == 1
+    at = events.index("shown resized")
+    assert {"layer 0 resized", "layer 1 resized", "layer 2 resized"} <= set(events[:at])
+    assert events[at - 1] == "message"  # the layers drawn at the new height before
+    assert events[at + 1 : at + 2] == ["message"]  # and composed again right after
+
+
+def test_an_episode_whose_panel_shows_two_lines_after_its_first_step_keeps_its_height():
+    """Quickstart's loop: a step's line and its outcome from the first step on. The panel has room
+    for them from the start: the canvas does not grow mid-episode."""
+    level = levels.get("mixed-8x8")
+    c = live.LiveCanvas(RgbRenderer(level, 32), animation_frames=0, fps=0)
+    c.draw([(0, 0)])
+    h = c.widget.height
+    for t, cell in enumerate([(1, 0), (2, 0), (2, 1)], start=1):
+        c.draw([cell], update_overlay(c.overlay, level, panel=[f"step {t}  return {-t}", "moved"]))
+        assert c.widget.height == h
+
+
+def test_an_episode_that_starts_with_panel_lines_has_room_for_values_under_them_too():
+    level = levels.get("mixed-8x8")
+    c = live.LiveCanvas(RgbRenderer(level, 32), animation_frames=0, fps=0)
+    c.draw([(0, 0)])
+    c.draw([(1, 0)], update_overlay(c.overlay, level, panel=["a", "b", "c", "d"]))
+    c.new_episode()  # the overlay's four lines stay: the episode starts with them
+    c.draw([(0, 0)], animate=False)
+    h = c.widget.height
+    c.draw([(1, 0)], update_overlay(c.overlay, level, values=np.arange(64.0).reshape(8, 8)))
+    assert c.widget.height == h

@@ -154,3 +154,21 @@ def test_the_editor_says_what_is_wrong_once():
     for _ in range(4):  # floor -> p -> P -> # -> start: the start moves here, and the verdict says so
         e.click_cell((1, 1))
     assert "the start moved here" in e.verdict.value
+
+
+def test_the_editors_canvas_fills_the_column_as_the_games_canvas_does():
+    """Without a cell size the editor's canvas is 90% of the column wide (never wider than its
+    pixels), as a fitted game canvas is; its clicks land on the same cells."""
+    pytest.importorskip("ipycanvas")
+    from babyrobot_marl.play import notebook
+    from babyrobot_marl.render.canvas import FIT_SHARE, fit_cell_size
+
+    e = notebook.edit((5, 3))
+    cs = fit_cell_size(ed.sketch(e.draft))
+    assert e.cell_size == cs
+    assert (e.canvas.width, e.canvas.height) == (5 * cs * 2, 3 * cs * 2)
+    assert (e.canvas.layout.width, e.canvas.layout.max_width) == (FIT_SHARE, f"{5 * cs}px")
+    e.click((2 + 0.5) * cs, (1 + 0.5) * cs)  # the middle of cell (2, 1)
+    assert e._selected == (2, 1)
+    e.resize(8, 8)  # a larger level: smaller cells, the canvas as wide
+    assert e.cell_size == fit_cell_size(ed.sketch(e.draft)) and e.canvas.width == 8 * e.cell_size * 2

@@ -204,3 +204,14 @@ def test_the_player_offers_a_replay_of_the_episode_that_draws_without_stepping()
     assert [v.cell for v in p.canvas.history[0][0].robots] == [(0, 0)]
     _button(p, "reset").click()  # a new episode: its own replay, offered when it ends
     assert p.replay.widget.layout.display == "none" and len(p.canvas.history) == 1
+
+
+def test_the_single_robot_players_canvas_has_no_empty_band_under_the_grid():
+    """A player's episode shows no panel on its canvas (its steps and returns are in the text
+    under it): the canvas is the grid, with no room kept for values it never shows."""
+    from babyrobot_marl.play.notebook import Player
+
+    p = Player("mixed-8x8")
+    assert p.canvas.widget.height == p.canvas.hi.grid_height
+    p.press("ArrowDown")
+    assert p.canvas.widget.height == p.canvas.hi.grid_height

@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import html
 from collections.abc import Sequence
+from types import SimpleNamespace
 from typing import Any
 
 from .. import policies as policy_lib
@@ -32,7 +33,7 @@ from ..envs.keys import BROWSER_KEYS, RESTART, SWITCH, Command
 from ..envs.race import RaceEnv
 from ..envs.single import BabyRobotEnv
 from ..levels.resolve import resolve_level
-from ..render.canvas import LiveCanvas
+from ..render.canvas import FIT_SHARE, LiveCanvas, fit_cell_size
 from ..render.rgb import RgbRenderer
 from ..render.still import NARROW_FIT, Still
 from ..render.transfer import put_picture
@@ -62,8 +63,9 @@ def edit(level_or_size: Any = (5, 5), **kwargs: Any) -> Editor:
 
 FOCUS = "#1c7ed6"  # the frame of a canvas that has the keys
 FOCUS_STYLE = (  # a canvas (or the element in it) with the focus is framed: the keys go to it
+    # inside its box: an outline outside it is cut off where the output area clips its content
     "<style>.babyrobot-keys:focus, .babyrobot-keys:focus-within, .babyrobot-keys canvas:focus"
-    f" {{outline: 3px solid {FOCUS}; outline-offset: 2px}}</style>"
+    f" {{outline: 3px solid {FOCUS}; outline-offset: -3px}}</style>"
 )
 
 NOTEBOOK_OVER_HINT = "r or reset plays again; the slider under the buttons replays it"
@@ -121,7 +123,7 @@ class Player:
             self.game.labels = lambda i: f"#{i}"  # the canvas numbers its robots 0, 1, ...
         self.level: Level = self.game.env.level
         renderer = RgbRenderer(self.level, cell_size, theme)
-        self.canvas = LiveCanvas(renderer, animation_frames=0, fps=0, fit=cell_size is None)
+        self.canvas = LiveCanvas(renderer, animation_frames=0, fps=0, fit=cell_size is None, reserve_values=False)
         self.canvas.widget.on_key_down(self._on_key)
         self.canvas.widget.add_class("babyrobot-keys")
         buttons = []
@@ -227,7 +229,8 @@ class Editor:
     plain words (the cell at fault outlined). ``level`` and ``text`` give the result; "play it" opens
     it in a ``Player`` below, which follows every edit."""
 
-    def __init__(self, level_or_size: Any = (5, 5), race: bool | None = None, cell_size: int = 48, theme: str = "light"):
+    def __init__(self, level_or_size: Any = (5, 5), race: bool | None = None, cell_size: int | None = None,
+                 theme: str = "light"):  # fmt: skip
         from ipycanvas import Canvas
         from ipywidgets import HTML, BoundedIntText, Button, Checkbox, HBox, Layout, VBox
 
@@ -237,7 +240,8 @@ class Editor:
             self.draft = ed.from_level(resolve_level(level_or_size))
             if race is not None:
                 self.draft = ed.with_race(self.draft, race)
-        self.cell_size, self.theme, self.ratio = int(cell_size), theme, 2
+        # without a cell size, the canvas fills the column as the game's canvas does (fitted cells)
+        self.fit, self._cell_size, self.theme, self.ratio = cell_size is None, int(cell_size or 0), theme, 2
         self.player: Player | None = None
         self._playing = False  # "play it" was clicked: a player follows the edits
         self._syncing, self._bad_cell, self._selected = False, None, None
@@ -268,7 +272,8 @@ class Editor:
         hint = HTML(FOCUS_STYLE + "<small>click a cell to change it (or click it, then press E exit, S start, "
                     "B blocked, P puddle, F floor); click the line between two cells: wall, glass, open</small>")  # fmt: skip
         controls = HBox([self.width_box, self.height_box, self.race_box, self.play_button])
-        self.widget = VBox([controls, HBox([self.canvas, self.text_view]), hint, self.verdict, self.player_box])
+        drawing = [self.canvas, self.text_view] if self.fit else [HBox([self.canvas, self.text_view])]
+        self.widget = VBox([controls, *drawing, hint, self.verdict, self.player_box])
         self.widget.add_class("babyrobot-editor")
         self.still = Still(self.widget, self.picture)
         self._set(self.draft)
@@ -278,6 +283,14 @@ class Editor:
         self.still.show()
 
     # ------------------------------------------------------------------ results
+    @property
+    def cell_size(self) -> int:
+        """The cells' size in CSS pixels: the one given, else the fitted one for the draft's size."""
+        if not self.fit:
+            return self._cell_size
+        w, h = ed.size(self.draft)
+        return fit_cell_size(SimpleNamespace(width=w, height=h))
+
     @property
     def text(self) -> str:
         """The level text drawn so far (valid or not)."""
@@ -398,7 +411,10 @@ class Editor:
             if resized:
                 c.width, c.height = w, h
             # the height follows the width: a narrow column shows the whole level scaled down
-            c.layout.width, c.layout.max_width, c.layout.height = f"{w // self.ratio}px", NARROW_FIT, "auto"
+            if self.fit:  # as the game's fitted canvas: 90% of the column, never wider than its pixels
+                c.layout.width, c.layout.max_width, c.layout.height = FIT_SHARE, f"{w // self.ratio}px", "auto"
+            else:
+                c.layout.width, c.layout.max_width, c.layout.height = f"{w // self.ratio}px", NARROW_FIT, "auto"
             c.layout.align_self = "flex-start"  # beside the editor's tools: its own height, not the row's
             put_picture(c, img, fresh=fresh or resized or not self._drawn)
         self._drawn = True

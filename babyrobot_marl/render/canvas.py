@@ -17,8 +17,10 @@ size so it is crisp on HiDPI screens:
 Both renderers draw the same operations (``paint``), so the canvas and ``rgb_array`` show the
 same picture. Without a ``cell_size`` of its own (``fit``) the canvas fills about 90% of the
 notebook column (less for tall levels) and its backing store has the pixels for that. The panel's
-height is kept from the start (a colour bar's, and the legend's), so the canvas does not grow
-when an overlay comes.
+height is reserved when an episode starts: the lines, colour bar and legend the overlay shows then,
+and (``reserve_values``) room for a colour bar or ``RESERVED_LINES`` lines of text, so the canvas
+does not grow mid-episode when values or a step's lines come. A panel that outgrows it makes the
+canvas taller, drawn so that no frame shows it empty (``_resize``).
 
 Shown with a still of its latest frame (``still.Still``), refreshed when an episode ends, when
 the env closes and after every notebook cell that changed it (``snapshot``): a notebook saved
@@ -43,6 +45,7 @@ from ..core.level import Cell
 from .canvas_calls import _css, _frame_bars, _rect, _send, _Styles  # noqa: F401  (_css: read as canvas._css)
 from .checks import MAX_ANIMATION_FRAMES, MAX_CELL_SIZE, MIN_CELL_SIZE, check_animation_frames, check_fps  # noqa: F401
 from .overlay import Overlay
+from .panel_room import panel_room
 from .rgb import RgbRenderer
 from .scene import Scene, as_scene, glide, robot_sprites
 from .shapes import Fill, Op, Text
@@ -55,6 +58,7 @@ FIT_WIDTH, FIT_HEIGHT = 940, 940  # CSS pixels: a fitted canvas's largest grid (
 FIT_SHARE = "90%"  # of the notebook column, a fitted canvas's width
 FIT_VIEW = 80  # percent of the window's height a fitted canvas may take (tall levels are narrower)
 MAX_REPLAY = 10_000  # scenes an episode's replay keeps (the latest)
+RESERVED_LINES = 2  # lines of panel text a canvas has room for from the start (a step's and a return's)
 MAX_TRACKED = 16  # canvases whose saved PNG is refreshed after each cell (the most recent ones)
 _shown: deque[LiveCanvas] = deque(maxlen=MAX_TRACKED)
 _hooked = False
@@ -116,11 +120,13 @@ class LiveCanvas:
     time a program spends between steps is not added to it; ``animation_frames``: frames
     per step (0: robots jump); ``pixel_ratio``: backing-store pixels per CSS pixel; ``fit``:
     the canvas fills about 90% of the notebook column (``renderer``'s cell size is then only
-    the ``rgb_array`` frames'); else each cell is ``renderer.cell_size`` CSS pixels.
+    the ``rgb_array`` frames'); else each cell is ``renderer.cell_size`` CSS pixels;
+    ``reserve_values``: the panel has room for values or a few lines of text from the start (a
+    program may show them mid-episode), else only for what each episode starts with (a player).
     """
 
     def __init__(self, renderer: RgbRenderer, animation_frames: int = 4, fps: float = 4.0, pixel_ratio: int = PIXEL_RATIO,
-                 fit: bool = False):  # fmt: skip
+                 fit: bool = False, reserve_values: bool = True):  # fmt: skip
         from ipycanvas import MultiCanvas
 
         self.renderer = renderer
@@ -128,7 +134,7 @@ class LiveCanvas:
         self.fps = check_fps(fps, "fps")
         if isinstance(pixel_ratio, bool) or pixel_ratio not in (1, 2):
             raise ValueError(f"pixel_ratio: must be 1 or 2, got {pixel_ratio!r}")
-        self.ratio, self.fit = pixel_ratio, bool(fit)
+        self.ratio, self.fit, self.reserve_values = pixel_ratio, bool(fit), bool(reserve_values)
         css_cell = fit_cell_size(renderer.level) if self.fit else renderer.cell_size
         same = css_cell * pixel_ratio == renderer.cell_size
         self.hi = renderer if same else RgbRenderer(renderer.level, css_cell * pixel_ratio, renderer.theme)
@@ -230,6 +236,8 @@ class LiveCanvas:
         if overlay is not None:
             self.set_overlay(overlay, self.scene, top=False)
         self._sync_static()  # a replay may have left another overlay's cells there
+        if not self.history:  # an episode's first frame: the panel's room for the whole episode
+            self._grow(self.hi.grid_height + self._reserved(scene), scene)
         self.scene, self._replaying = scene, None
         steps = self.animation_frames if animate else 0
         if steps == 0 or not glide(scene, 0.0)[0]:  # nobody moved (or a reset's first frame)
@@ -322,26 +330,28 @@ class LiveCanvas:
 
     # ------------------------------------------------------------------ layers
     def _reserved(self, scene: Scene) -> int:
-        """The panel's height kept from the start: a colour bar's (an overlay of values may
-        come), and the legend's, in backing-store pixels."""
-        from .panel import panel_sections
+        """The panel's height kept for an episode that starts with ``scene`` (``panel_room``)."""
+        return panel_room(self.hi, self.overlay, scene.legend, self.ratio, RESERVED_LINES if self.reserve_values else 0)
 
-        r = self.hi
-        return sum(sec.height for sec in panel_sections(r.width, r.cell_size, r.theme, (), (0.0, 1.0), scene.legend, self.ratio))
+    def _grow(self, height: int, scene: Scene) -> None:
+        """The canvas made ``height`` backing-store pixels tall if it is less (it never shrinks)."""
+        if height > self.widget[0].height:
+            self._resize(height, lambda: self._draw_top(scene, force=True), scene)
 
     def _set_height(self, height: int) -> None:
         """The backing store's height (resizing clears every layer) and the CSS size with it: the
-        height follows the width, so a canvas in a narrow column scales down whole."""
-        self.widget.height = height
+        height follows the width, so a canvas in a narrow column scales down whole. The height is
+        sent last: the caller's batch of commands follows it at once (``_resize``)."""
         self.widget.layout.width = f"{self.width}px" if not self.fit else FIT_SHARE
-        self.widget.layout.max_width = self._max_width() if self.fit else NARROW_FIT
+        self.widget.layout.max_width = self._max_width(height) if self.fit else NARROW_FIT
         self.widget.layout.height = "auto"
         self.widget.layout.align_self = "flex-start"  # in a row of widgets: its own height, not the row's
+        self.widget.height = height
 
-    def _max_width(self) -> str:
+    def _max_width(self, height: int | None = None) -> str:
         """A fitted canvas's widest: its backing store's (never blurred up) and, for a tall level,
-        what keeps it within ``FIT_VIEW`` percent of the window's height."""
-        return f"min({self.width}px, calc({FIT_VIEW}vh * {self.hi.width / self.widget.height:.4f}))"
+        what keeps it within ``FIT_VIEW`` percent of the window's height (``height``: the backing store's)."""
+        return f"min({self.width}px, calc({FIT_VIEW}vh * {self.hi.width / (height or self.widget.height):.4f}))"
 
     def _pace(self, interval: float) -> None:
         """Wait until the next frame is due, then set the one after ``interval`` seconds later."""
@@ -397,9 +407,9 @@ class LiveCanvas:
         r = self.hi
         sections = panel_sections(r.width, r.cell_size, r.theme, self.overlay.panel, value_range(self.overlay),
                                   scene.legend, self.ratio)  # fmt: skip
-        height = max(r.grid_height + sum(sec.height for sec in sections), self.widget.height)
-        if height != self.widget.height:
-            self._resize(height, lambda: self._draw_top(scene, force=True))
+        height = max(r.grid_height + sum(sec.height for sec in sections), self.widget[0].height)
+        if height != self.widget[0].height:
+            self._resize(height, lambda: self._draw_top(scene, force=True), scene)
             return
         drawn = self._drawn if not force else None
         if force or drawn is None:
@@ -429,21 +439,32 @@ class LiveCanvas:
                 layer.clear()
             _send(layer, ops, self._styles)
 
-    def _resize(self, height: int, draw_top: Any) -> None:
-        """A taller backing store, which the browser clears: the resize, then every layer in one
-        message right after it (the level's rectangles computed before), as a new canvas's first
-        picture is sent: no frame shows the canvas without the level, nor a layer without the
-        others. ``draw_top``: the labels and panel, drawn at the new height."""
+    def _resize(self, height: int, draw_top: Any, scene: Scene) -> None:
+        """A taller canvas, never shown empty. The browser clears a canvas it resizes; the page
+        shows the ``MultiCanvas``'s own canvas, which it redraws from the layers after each batch
+        of commands. So: the layers first (the page still shows the picture before), every layer
+        drawn at the new height in one message (the level's rectangles computed before), then the
+        shown canvas and, sent right after it, a small batch made before it: the browser composes
+        the layers into the canvas again after each batch.
+        ``draw_top``: the labels and panel, drawn at the new height."""
         img = self.hi.static(self.overlay, self._goals)
         put = picture_calls(img, fresh=True)
+        for layer in self.widget._canvases:
+            layer.height = height
         with self._hold():
             self._batched = True
             try:
-                self._set_height(height)
                 put(self.widget[0])
                 self._static = img
-                self._draw_robots(self.scene)
+                self._draw_robots(scene)
                 draw_top()
+            finally:
+                self._batched = False
+        with self._hold():  # the robots' batch made first, sent right after the resize: the browser
+            self._batched = True  # composes every layer into the resized canvas after it
+            try:
+                self._draw_robots(scene)
+                self._set_height(height)
             finally:
                 self._batched = False
 
