@@ -14,7 +14,7 @@ from pettingzoo import ParallelEnv
 from ..core.actions import N_ACTIONS
 from ..core.batch import BatchRace
 from ..core.checks import check_action, check_choice, check_count, check_global_view, check_seed, check_view_numbers
-from ..core.goals import GOAL_MODES, GoalColumns
+from ..core.goals import GOAL_MODES, GoalColumns, cell_keys, goal_offsets
 from ..core.level import Cell, Level
 from ..core.observe import global_gather, make_observer, with_hint
 from ..core.outcomes import FINISHED, START
@@ -35,7 +35,7 @@ from .checks import (
 )
 from .drawing import EnvDrawing, OverlayMethods
 from .encodings import Encoder
-from .race_goals import RaceGoals
+from .race_goals import RaceGoals, next_goals
 from .race_levels import RaceLevels, cell_arrays
 from .race_readouts import RaceReadouts
 from .single import default_max_steps
@@ -355,6 +355,31 @@ class RaceEnv(RaceGoals, RaceLevels, RaceReadouts, OverlayMethods, ParallelEnv):
         self._reported_live = self._agent_ids == self._live
         self._live_set = frozenset(self._live)
         self._live_goals = self._live_goal_keys = None  # own goals: the racing robots' targets (_racing_goals)
+
+    def _own_goals_step(self, live: list[int], cells: Sequence[int], here: np.ndarray | None, finishing: list[bool]) -> tuple:
+        """After a step's moves, own goals: ``(finishing, reached, offsets)``, the robots finishing on their
+        targets (lifelong: ``reached`` them, new targets drawn, nobody finishing) and the targets' offsets
+        from the racing robots' ``cells`` (``core.goals.goal_offsets``: 0 on the target; the target channel
+        is read from them). ``here``: ``cells`` as an array, if the step made one; ``finishing``: the moves' (none)."""
+        keys = self._live_goal_keys
+        if keys is None:  # kept until the racing robots or their targets change (_set_layout)
+            keys = self._live_goal_keys = cell_keys(self.table.width, self.table.height).take(self._racing_goals())
+        offsets = goal_offsets(self.table.width, self.table.height, cells if here is None else here, keys)
+        if np.count_nonzero(offsets) == len(offsets):  # the common step: nobody on its target
+            return finishing, None, offsets
+        finishing, reached = (offsets == 0).tolist(), None
+        for i, f in zip(live, finishing):
+            self._reached[i] += f
+        if self.lifelong:  # a new target instead, and the robot keeps going
+            reached, finishing = finishing, [False] * len(finishing)
+            self._goal_arr = next_goals(self.np_random, self.table, self._goal_of, live, cells, reached)
+            self._live_goals = self._live_goal_keys = None
+        return finishing, reached, offsets
+
+    def _racing_goals(self) -> np.ndarray:  # own goals: the racing robots' targets, kept until either changes
+        if self._live_goals is None:
+            self._live_goals = self._goal_arr if len(self._live) == self.n_robots else self._goal_arr[self._live]
+        return self._live_goals
 
     @property
     def _cells(self) -> list[int]:

@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from ..core.goals import cell_keys, draw_goals, goal_offsets, goal_step, next_goal
+from ..core.goals import draw_goals, goal_step, next_goal
 from .checks import check_cells, check_goal_cells, check_goals_reach
 
 
@@ -50,31 +50,6 @@ class OwnGoalShortest:
 
 class RaceGoals:
     """``RaceEnv``'s own-goal steps, stateless (the env holds the state): ``_cell_options``, ``_goals_for``, ...."""
-
-    def _own_goals_step(self, live: list[int], cells: Sequence[int], here: np.ndarray | None, finishing: list[bool]) -> tuple:
-        """After a step's moves, own goals: ``(finishing, reached, offsets)``, the robots finishing on their
-        targets (lifelong: ``reached`` them, new targets drawn, nobody finishing) and the targets' offsets
-        from the racing robots' ``cells`` (``core.goals.goal_offsets``: 0 on the target; the target channel
-        is read from them). ``here``: ``cells`` as an array, if the step made one; ``finishing``: the moves' (none)."""
-        keys = self._live_goal_keys
-        if keys is None:  # kept until the racing robots or their targets change (_set_layout)
-            keys = self._live_goal_keys = cell_keys(self.table.width, self.table.height).take(self._racing_goals())
-        offsets = goal_offsets(self.table.width, self.table.height, cells if here is None else here, keys)
-        if np.count_nonzero(offsets) == len(offsets):  # the common step: nobody on its target
-            return finishing, None, offsets
-        finishing, reached = (offsets == 0).tolist(), None
-        for i, f in zip(live, finishing):
-            self._reached[i] += f
-        if self.lifelong:  # a new target instead, and the robot keeps going
-            reached, finishing = finishing, [False] * len(finishing)
-            self._goal_arr = next_goals(self.np_random, self.table, self._goal_of, live, cells, reached)
-            self._live_goals = self._live_goal_keys = None
-        return finishing, reached, offsets
-
-    def _racing_goals(self) -> np.ndarray:  # own goals: the racing robots' targets, kept until either changes
-        if self._live_goals is None:
-            self._live_goals = self._goal_arr if len(self._live) == self.n_robots else self._goal_arr[self._live]
-        return self._live_goals
 
     def _goal_observations(self, here: np.ndarray | None = None, offsets: np.ndarray | None = None) -> np.ndarray:
         """``_observations`` with own goals: each row, then its goal's columns (``core.goals.GoalColumns``;
