@@ -86,37 +86,34 @@ def maze_range_family(low: int, high: int, seeds: Sequence[int] | range | None =
     Its attributes: ``family`` (the spec, ``"maze:8..16"``), ``largest`` (``(W, H)`` of the largest
     level it draws) and ``first()`` (a level of that size: what an env is built on).
     """
-    low, high = check_family_sides(low, high)
-    pool = range(FAMILY_SEEDS) if seeds is None else seeds
-    if len(pool) == 0:
-        raise ValueError("seeds: an empty set of maze seeds")
-
-    def draw(rng: np.random.Generator) -> Level:
-        side = int(rng.integers(low, high + 1))
-        return _draw_maze(side, side, pool, rng)
-
-    draw.family = f"maze:{low}..{high}"  # type: ignore[attr-defined]
-    draw.largest = (high, high)  # type: ignore[attr-defined]
-    draw.first = lambda: builtin.get(f"maze-{high}x{high}-s{int(pool[0])}")  # type: ignore[attr-defined]
-    return draw
+    return _square_family("maze", low, high, seeds, lambda side, pool, rng: _draw_maze(side, side, pool, rng),
+                          lambda side, seed: builtin.get(f"maze-{side}x{side}-s{seed}"))
 
 
 def grid_maze_family(low: int, high: int, seeds: Sequence[int] | range | None = None) -> LevelSource:
     """Square grid mazes (``gridmaze``: blocked cells, loops, no exit) of side ``low..high``
     (``"gridmaze:A..B"``): each draw takes the side, then the maze seed from ``seeds``, both from the
     generator it is given. Its attributes are ``maze_range_family``'s."""
+    return _square_family("gridmaze", low, high, seeds,
+                          lambda side, pool, rng: grid_maze(side, int(pool[int(rng.integers(len(pool)))])), grid_maze)
+
+
+def _square_family(kind: str, low: int, high: int, seeds: Sequence[int] | range | None,
+                   draw_level: Callable[[int, Sequence[int] | range, np.random.Generator], Level],
+                   level_of: Callable[[int, int], Level]) -> LevelSource:
+    """A family of square levels ``kind:low..high``: ``draw_level(side, pool, rng)`` after the side is drawn;
+    ``level_of(side, seed)`` makes its first (largest) level."""
     low, high = check_family_sides(low, high)
     pool = range(FAMILY_SEEDS) if seeds is None else seeds
     if len(pool) == 0:
         raise ValueError("seeds: an empty set of maze seeds")
 
     def draw(rng: np.random.Generator) -> Level:
-        side = int(rng.integers(low, high + 1))
-        return grid_maze(side, int(pool[int(rng.integers(len(pool)))]))
+        return draw_level(int(rng.integers(low, high + 1)), pool, rng)
 
-    draw.family = f"gridmaze:{low}..{high}"  # type: ignore[attr-defined]
+    draw.family = f"{kind}:{low}..{high}"  # type: ignore[attr-defined]
     draw.largest = (high, high)  # type: ignore[attr-defined]
-    draw.first = lambda: grid_maze(high, int(pool[0]))  # type: ignore[attr-defined]
+    draw.first = lambda: level_of(high, int(pool[0]))  # type: ignore[attr-defined]
     return draw
 
 
