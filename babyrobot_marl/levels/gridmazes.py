@@ -39,8 +39,8 @@ def grid_maze(side: int, seed: int = 0) -> Level:
         last = (0, 0)
         for _ in range(components):
             x, y, last = _grow(grid, x, y, last, straight, rng)
-    rows = ["".join("#" if b else "." for b in row[1:-1]) for row in grid[1:-1]]
-    return Level.from_grid("\n".join(rows), name=f"gridmaze-{side}-s{seed}")
+    ys, xs = np.nonzero(grid[1:-1, 1:-1])
+    return Level(width=side, height=side, blocked=frozenset(zip(xs.tolist(), ys.tolist())), name=f"gridmaze-{side}-s{seed}")
 
 
 def _grow(grid: np.ndarray, x: int, y: int, last: tuple[int, int], straight: float,
