@@ -11,9 +11,12 @@ For each size (robots, map side): POGEMA makes its random map (obstacle density 
 with ``obs_radius=2`` and ``on_target="nothing"`` (no robot leaves), and steps it with uniformly
 random actions. The race runs on the same map (``Level.from_grid`` of POGEMA's obstacles, one
 exit added in the largest open region) as ``race_v0.parallel_env(observe="local", view_radius=2,
-start="random")``, its actions random too, a dict of actions built per step as a PettingZoo user does. Both are timed in
-CPU time of their own process (``time.process_time``), after an untimed warm-up, in turns (who
-goes first alternates), so a busy machine slows both alike; agent-steps count the robots present
+start="random", max_cycles=128)``, its actions random too, a dict of actions built per step as a PettingZoo
+user does, a new race every 128 steps (POGEMA's maze benchmark's episode; its resets timed). Robots that
+reach their exit or target leave the board, so short races keep the crowd near full, as POGEMA's (no robot
+leaves it): in one long race each kind thinned at its own pace and the figures were taken at different crowd
+sizes. Both are timed in CPU time of their own process (``time.process_time``), after an untimed warm-up, in
+turns (who goes first alternates), so a busy machine slows both alike; agent-steps count the robots present
 at each step. Printed: microseconds per agent-step, median over rounds and its range, and the
 ratio POGEMA / race (higher: the race is faster), each round's ratio measured within the round.
 Beside them, in the same rounds: the race with ``goals="own"`` (each robot its own target, as POGEMA's
@@ -47,6 +50,7 @@ PAIRINGS = {"soft": ("soft", "soft"), "default": ("priority", "block")}  # name:
 SIZES = ((64, 32), (64, 64), (256, 32), (256, 64), (1024, 64))  # (robots, map side): 1,024 robots need the 64x64 maps
 QUICK_SIZES = ((64, 32), (256, 64))
 DENSITY, VIEW_RADIUS = 0.3, 2
+EPISODE = 128  # steps of a race before the next (POGEMA's maze benchmark's episode)
 
 # POGEMA's side, run by its own interpreter: prints its map, then CPU seconds and agent-steps per request.
 WORKER = r"""
@@ -127,7 +131,7 @@ def race_on(rows: list[str], robots: int, collisions: str, goals: str = "exit"):
     grid = Level.from_grid("\n".join(rows))
     level = Level(width=grid.width, height=grid.height, blocked=grid.blocked, exits={largest_region_cell(rows)})
     return race_v0.parallel_env(level=level, n_robots=robots, collisions=collisions, start="random", observe="local",
-                                view_radius=VIEW_RADIUS, max_cycles=10**9, goals=goals)
+                                view_radius=VIEW_RADIUS, max_cycles=EPISODE, goals=goals)
 
 
 class BatchStepper:
@@ -176,7 +180,7 @@ def measure(
     try:
         for runner in runners.values():
             runner.run(max(5, steps // 10))  # warm-up, untimed
-        out: dict[str, list[float]] = {name: [] for name in (*runners, "ratio", "own / exit")}
+        out: dict[str, list[float]] = {name: [] for name in (*runners, "ratio", "own / exit", "on board", "own on board")}
         for r in range(rounds):
             order = list(runners.values())[:: 1 if r % 2 == 0 else -1]  # who goes first alternates
             for runner in order:
@@ -186,6 +190,8 @@ def measure(
                 out[name].append(runner.seconds / runner.agent_steps)
             out["ratio"].append(out["pogema"][-1] / out["race"][-1])
             out["own / exit"].append(out["own"][-1] / out["race"][-1])
+            out["on board"].append(runners["race"].agent_steps / steps)  # robots not yet finished, on average
+            out["own on board"].append(runners["own"].agent_steps / steps)
         return out
     finally:
         pogema.close()
@@ -222,18 +228,20 @@ def main(argv: list[str] | None = None) -> int:
     rounds, agent_steps = (1, 10_000) if args.quick else (args.rounds, args.agent_steps)
     sizes = QUICK_SIZES if args.quick else SIZES
     print(f"race_v0.parallel_env(observe='local', view_radius={VIEW_RADIUS}) beside POGEMA 1.4 (obs_radius={VIEW_RADIUS}), "
-          f"POGEMA's random maps at density {DENSITY}, random actions")
+          f"POGEMA's random maps at density {DENSITY}, random actions; the race: a new one every {EPISODE} steps")
     print(f"CPU us per agent-step, median [min, max] over {rounds} round(s) of {agent_steps:,} agent-steps each")
-    print("race: goals='exit'; own: goals='own'; batch: the batch engine (env.batch(1)); own / exit: own's time over race's")
+    print("race: goals='exit'; own: goals='own'; batch: the batch engine (env.batch(1)); own / exit: own's time over race's;")
+    print("on board: robots still racing, mean over the steps, race / own (POGEMA keeps every robot)")
     print(f"{'collisions':>18s} {'robots':>6s} {'map':>6s} {'race':>20s} {'own':>20s} {'batch':>20s} {'POGEMA':>20s} "
-          f"{'POGEMA / race':>18s} {'own / exit':>18s}")
+          f"{'POGEMA / race':>18s} {'own / exit':>18s} {'on board':>13s}")
     for pairing in PAIRINGS if args.collisions == "both" else (args.collisions,):
         theirs, ours_rule = PAIRINGS[pairing]
         for robots, side in sizes:
             got = measure(args.pogema_python, pairing, robots, side, rounds, agent_steps, args.seed)
             times = " ".join(f"{spread(got[name], 1e6):>20s}" for name in ("race", "own", "batch", "pogema"))
             print(f"{f'{ours_rule} / {theirs}':>18s} {robots:6d} {f'{side}x{side}':>6s} {times} "
-                  f"{spread(got['ratio']):>18s} {spread(got['own / exit']):>18s}", flush=True)
+                  f"{spread(got['ratio']):>18s} {spread(got['own / exit']):>18s} "
+                  f"{statistics.mean(got['on board']):>6.1f} / {statistics.mean(got['own on board']):<4.1f}", flush=True)
     return 0
 
 

@@ -10,7 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from babyrobot_marl.core import nearest, observe
-from babyrobot_marl.core.goals import cell_keys, goal_offsets, target_channel
+from babyrobot_marl.core.goals import cell_keys, channel_marks, channel_where, goal_offsets, row_starts, target_channel
 from babyrobot_marl.core.table import compile_level
 from tests.strategies import edge, grid_levels, inside
 
@@ -118,8 +118,9 @@ def test_local_rows_given_goals_carry_the_target_channel_first_in_their_extra_co
 
 @pytest.mark.parametrize("table_bytes", [observe._LEVEL_ROWS_BYTES, 0])
 @pytest.mark.parametrize("races", [1, 3])
-def test_local_rows_from_the_goals_offsets_equal_those_from_the_goals(table_bytes, races):
-    """An own-goal step hands the observer the goals' offsets it checked finishing with: the same rows."""
+def test_local_rows_from_the_goals_marks_equal_those_from_the_goals(table_bytes, races):
+    """An own-goal step hands the observer where the target channel's 1s go (``channel_marks``, from the
+    goals' offsets it checked finishing with): the same rows as from the goals."""
     table = compile_level(__import__("babyrobot_marl").levels.get("mixed-8x8"))
     w, h = table.width, table.height
     view = observe.local_view(table, 2)
@@ -127,14 +128,16 @@ def test_local_rows_from_the_goals_offsets_equal_those_from_the_goals(table_byte
     cells = np.stack([g.choice(table.n_cells, 6, replace=False) for _ in range(races)])
     goals, racing = g.integers(0, table.n_cells, cells.shape), g.random(cells.shape) > 0.3
     goals[:, 0] = cells[:, 0]  # a robot on its goal: offset 0, its window's centre marked
-    offsets = goal_offsets(w, h, cells, cell_keys(w, h).take(goals))
+    offsets = goal_offsets(cell_keys(w, h), cells, cell_keys(w, h).take(goals))
     assert ((offsets == 0) == (cells == goals)).all()
+    starts = row_starts(cells.size, view.size + view.window.size, view.size).reshape(cells.shape)
+    marks = channel_marks(offsets, channel_where(w, h, 2), starts)
     if races == 1:
-        cells, goals, racing, offsets = cells[0], goals[0], racing[0], offsets[0]
+        cells, goals, racing, marks = cells[0], goals[0], racing[0], marks[0]
     with mock.patch.object(observe, "_LEVEL_ROWS_BYTES", table_bytes):
         observe.level_rows.cache_clear()
         want = observe.local_observations(view, cells, racing, extra=view.window.size, goals=goals)
-        got = observe.local_observations(view, cells, racing, extra=view.window.size, offsets=offsets)
+        got = observe.local_observations(view, cells, racing, extra=view.window.size, marks=marks)
     observe.level_rows.cache_clear()
     assert (got == want).all() and (got[..., view.size :] == target_channel(table, cells, goals, 2)).all()
 

@@ -147,3 +147,37 @@ def test_crowds_step_on_arrays_as_robot_by_robot_on_puddles_glass_and_exits():
         with mock.patch.object(race_core, "_ARRAYS_FROM", 10**9):
             assert play(env, 3, actions) == arrays, mode
     assert skids > 0
+
+
+def test_finishing_steps_build_their_dicts_by_zip_as_the_loop_over_agents_does(monkeypatch):
+    """A step where robots finish while every reported agent was racing builds its five dicts with
+    ``racing_outputs`` (zip and map); the per-agent loop kept for parked robots must give the same,
+    own targets and exits, "remove" and "freeze", through the end of the race."""
+    from babyrobot_marl.envs import race as race_module
+
+    calls = []
+
+    def checked(reported, rows, rewards, outcome, blocked, finishing, xy, ranks, over, parked_done):
+        rows, xy, ranks = list(rows), list(xy), list(ranks)
+        got = race_module_racing_outputs(reported, rows, rewards, outcome, blocked, finishing, xy, ranks, over, parked_done)
+        want = env._outputs_with_parked(list(env._agent_ids), outcome, blocked, rewards, over, parked_done)
+        assert [{a: np.asarray(v).tolist() for a, v in d.items()} for d in got[:4]] == [
+            {a: np.asarray(v).tolist() for a, v in d.items()} for d in want[:4]
+        ]
+        plain = [{a: {**i, "cell": i["cell"].tolist()} for a, i in out[4].items()} for out in (got, want)]
+        assert plain[0] == plain[1]
+        calls.append((over, True in finishing))
+        return got
+
+    race_module_racing_outputs = race_module.racing_outputs
+    monkeypatch.setattr(race_module, "racing_outputs", checked)
+    for goals, finished in (("own", "remove"), ("exit", "remove"), ("own", "freeze")):
+        env = race_v0.parallel_env(level="mixed-8x8", n_robots=12, start="random", goals=goals, finished=finished,
+                                   observe="local", max_cycles=60)  # fmt: skip
+        rng = np.random.default_rng(1)
+        for seed in range(6):
+            env.reset(seed=seed)
+            while env.agents:
+                env.step({a: int(rng.integers(5)) for a in env.agents})
+    assert (True, False) in calls or (True, True) in calls  # race ends checked
+    assert sum(f for _, f in calls) >= 10  # and many finishing steps

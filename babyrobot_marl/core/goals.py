@@ -16,7 +16,6 @@ stands on its own target, and another robot's target is floor too. What lives he
 
 from __future__ import annotations
 
-import math
 from collections import deque
 from collections.abc import Collection, Sequence
 from dataclasses import dataclass, fields
@@ -68,6 +67,7 @@ class Reach:
 
     component: np.ndarray
     members: tuple[tuple[int, ...], ...]
+    member_arrays: tuple[np.ndarray, ...]  # ``members`` as arrays: a shuffled part is one gather
     free: tuple[int, ...]
     neighbours: tuple[tuple[int, ...], ...]  # the cells one move leads to from each cell
 
@@ -101,7 +101,10 @@ def reach(table: Table) -> Reach:
     free = tuple(sorted(c for m in members if len(m) > 1 for c in m))
     comp = np.array(component, dtype=np.int64)
     comp.setflags(write=False)
-    return Reach(comp, members, free, neighbours)
+    arrays = tuple(np.array(m, dtype=np.int64) for m in members)
+    for a in arrays:
+        a.setflags(write=False)
+    return Reach(comp, members, arrays, free, neighbours)
 
 
 def draw_goals(rng: np.random.Generator, table: Table, starts: Sequence[int]) -> list[int]:
@@ -121,7 +124,8 @@ def draw_goals(rng: np.random.Generator, table: Table, starts: Sequence[int]) ->
         k = int(r.component[s])
         cells = order.get(k)
         if cells is None:
-            cells = order[k] = [r.members[k][j] for j in rng.permutation(len(r.members[k])).tolist()]
+            part = r.member_arrays[k]
+            cells = order[k] = part.take(rng.permutation(len(part))).tolist()
             taken[k], owner[k] = 0, []
         p = taken[k]
         if p < len(cells) and cells[p] == s:  # its own start: take the next, leaving the start for others
@@ -250,32 +254,42 @@ def mark_targets(
     """``target_channel`` written into rows whose channel columns (``column`` on) are 0 already: one
     number per row (a local observer's pass). ``out``: C-contiguous rows ``(..., m)``."""
     key = cell_keys(width, height)
-    mark_offsets(out, key.take(goals) - key.take(cells), width, height, radius, column)
+    mark_offsets(out, goal_offsets(key, cells, key.take(goals)), channel_where(width, height, radius), column)
 
 
-def goal_offsets(width: int, height: int, cells: np.ndarray, goal_keys: np.ndarray) -> np.ndarray:
-    """Each goal's offset from its robot's cell on a ``width x height`` grid, as a key difference
-    (``goal_keys``: ``cell_keys`` of the goals, kept while they stay): 0 exactly where a robot stands on
-    its goal, and what ``mark_offsets`` reads the target channel from."""
-    return goal_keys - cell_keys(width, height).take(cells)
+def goal_offsets(cell_key: np.ndarray, cells: np.ndarray, goal_keys: np.ndarray) -> np.ndarray:
+    """Each goal's offset from its robot's cell, as a key difference (``cell_key``: ``cell_keys`` of the
+    grid; ``goal_keys``: of the goals, kept while they stay): 0 exactly where a robot stands on its goal,
+    and what ``channel_marks`` reads the target channel from."""
+    return goal_keys - cell_key.take(cells)
 
 
-def mark_offsets(out: np.ndarray, offsets: np.ndarray, width: int, height: int, radius: int, column: int) -> None:
+def channel_marks(offsets: np.ndarray, where: np.ndarray, starts: np.ndarray) -> np.ndarray:
+    """Where the target channel's 1 goes in each row, as flat indices into C-contiguous rows, from the
+    goals' offsets (``goal_offsets``), ``where`` (``channel_where`` of the grid and radius) and ``starts``
+    (``row_starts``: the flat index of each row's channel): a local observer puts 1 there."""
+    at = where.take(offsets)  # intp offsets into an intp table: no casts
+    at += starts
+    return at
+
+
+def mark_offsets(out: np.ndarray, offsets: np.ndarray, where: np.ndarray, column: int) -> None:
     """``mark_targets`` from the goals' offsets (``goal_offsets``), when the caller has them already."""
-    at = _flat_where(width, height, radius).take(offsets)
-    at += _row_starts(at.shape, out.shape[-1], column)  # each row's flat index
-    out.put(at, 1)
+    starts = row_starts(offsets.size, out.shape[-1], column)
+    out.put(channel_marks(offsets, where, starts if offsets.ndim == 1 else starts.reshape(offsets.shape)), 1)
 
 
 @lru_cache(maxsize=COMPILED_CACHE)
 def cell_keys(w: int, h: int) -> np.ndarray:
-    """Each cell's key ``y * (2W - 1) + x`` on a ``w x h`` grid (``channel_tables``'s): goal minus cell
-    is one number per offset, 0 only on the goal itself."""
-    return channel_tables(w, h, 0)[0]
+    """Each cell's key ``y * (2W - 1) + x`` on a ``w x h`` grid (``channel_tables``'s) as ``intp``: goal minus
+    cell is one number per offset, 0 only on the goal itself, and indexes ``channel_where`` without a cast."""
+    keys = channel_tables(w, h, 0)[0].astype(np.intp)
+    keys.setflags(write=False)
+    return keys
 
 
 @lru_cache(maxsize=COMPILED_CACHE)
-def _flat_where(w: int, h: int, radius: int) -> np.ndarray:
+def channel_where(w: int, h: int, radius: int) -> np.ndarray:
     """``channel_tables``'s channel cell of each key difference as ``intp``: flat indices add to it without a cast."""
     where = channel_tables(w, h, radius)[1].astype(np.intp)
     where.setflags(write=False)
@@ -283,9 +297,9 @@ def _flat_where(w: int, h: int, radius: int) -> np.ndarray:
 
 
 @lru_cache(maxsize=16)
-def _row_starts(shape: tuple[int, ...], m: int, column: int) -> np.ndarray:
-    """``column`` of each row of ``shape`` rows of ``m`` numbers, as flat indices (kept: asked for every step)."""
-    starts = np.arange(column, math.prod(shape) * m, m).reshape(shape)
+def row_starts(n: int, m: int, column: int) -> np.ndarray:
+    """``column`` of each of ``n`` rows of ``m`` numbers, as flat indices (kept: asked for every step)."""
+    starts = np.arange(column, n * m, m)
     starts.setflags(write=False)
     return starts
 

@@ -26,12 +26,12 @@ from __future__ import annotations
 import math
 import sys
 from dataclasses import dataclass
-from functools import lru_cache
+from functools import cached_property, lru_cache
 
 import numpy as np
 
 from .checks import check_nearest_k, check_view_radius, shown
-from .goals import mark_offsets, mark_targets
+from .goals import channel_where, mark_targets
 from .nearest import nearest_nvec, nearest_observations
 from .table import Table
 
@@ -161,6 +161,12 @@ class LocalView:
     def nvec(self) -> np.ndarray:
         return np.array([self.width, self.height, *(_LOCAL_NVEC * self.window.size)], dtype=np.int64)
 
+    @cached_property
+    def channel_where(self) -> np.ndarray:
+        """Own goals' target channel: its cell for each goal offset (``goals.channel_where``), kept here
+        because every step reads it."""
+        return channel_where(self.width, self.height, self.radius)
+
 
 @lru_cache(maxsize=32)
 def local_view(table: Table, radius: int) -> LocalView:
@@ -204,16 +210,16 @@ def local_observations(
     racing: np.ndarray,
     extra: int = 0,
     goals: np.ndarray | None = None,
-    offsets: np.ndarray | None = None,
+    marks: np.ndarray | None = None,
 ) -> np.ndarray:
     """``(..., n, view.size)`` int64 rows from cells and racing flags of shape ``(..., n)``
     (leading dimensions: separate races, e.g. the envs of a batch); ``extra`` more columns at the
     end of each row, zeros for the caller to fill (own goals' columns: no copy to append them).
     ``goals`` (own goals, each robot's target cell, ``(..., n)``): the extra columns begin with the
-    target channel (``goals.target_channel``), written in this pass; ``offsets``: the goals' offsets
-    from the cells (``goals.goal_offsets``) instead, when the caller has them (own goals' steps do)."""
+    target channel (``goals.target_channel``), written in this pass; ``marks``: where each row's 1 goes
+    (``goals.channel_marks``), when the caller has them (own goals' steps do; one race only)."""
     cells, racing = np.asarray(cells), np.asarray(racing, dtype=bool)
-    if cells.ndim == 1 and (out := _one_race(view, cells, racing, extra, goals, offsets)) is not None:
+    if cells.ndim == 1 and (out := _one_race(view, cells, racing, extra, goals, marks)) is not None:
         return out
     *lead, n = cells.shape
     n_races = math.prod(lead)  # not np.prod: microseconds count every step
@@ -229,15 +235,15 @@ def local_observations(
         feats[...] = view.static.take(_window_indices(view, cells2), axis=0, mode="clip")  # "clip": no bounds checks
     if n > 1:  # a lone robot sees no other: its robot column stays 0
         _robots_seen(view, cells2, racing2, out[:, :, 2 + _ROBOT : view.size : len(LOCAL_FEATURES)])
-    if offsets is not None:
-        mark_offsets(out, offsets.reshape(n_races, n), view.width, view.height, view.radius, view.size)
+    if marks is not None:
+        out.put(marks, 1)
     elif goals is not None:
         mark_targets(out, cells2, goals, view.width, view.height, view.radius, view.size)
     return out.reshape(*lead, n, size)
 
 
 def _one_race(
-    view: LocalView, cells: np.ndarray, racing: np.ndarray, extra: int, goals: np.ndarray | None, offsets: np.ndarray | None
+    view: LocalView, cells: np.ndarray, racing: np.ndarray, extra: int, goals: np.ndarray | None, marks: np.ndarray | None
 ) -> np.ndarray | None:
     """``local_observations`` of one race (``cells`` 1-d) from the level's tables, without reshaping; None
     when the level has no tables (wide windows on large levels)."""
@@ -249,8 +255,8 @@ def _one_race(
         robot = out[:, 2 + _ROBOT : view.size : len(LOCAL_FEATURES)]
         if not _seen_alone(around, cells, racing, robot):  # robots sharing cells: counted
             _robots_counted(view, cells[None], racing[None], robot[None])
-    if offsets is not None:
-        mark_offsets(out, offsets, view.width, view.height, view.radius, view.size)
+    if marks is not None:
+        out.put(marks, 1)
     elif goals is not None:
         mark_targets(out, cells, goals, view.width, view.height, view.radius, view.size)
     return out
@@ -355,14 +361,14 @@ class Observer:
 
     def __call__(
         self, cells: np.ndarray, racing: np.ndarray, extra: int = 0, goals: np.ndarray | None = None,
-        offsets: np.ndarray | None = None,
+        marks: np.ndarray | None = None,
     ) -> np.ndarray:  # fmt: skip
         """``(..., n, len(nvec))`` int64 rows from every robot's cell and racing flag, ``(..., n)``
         (``extra``: that many more columns at the end, for the caller to fill; ``goals``: own goals'
         target cells, whose columns begin the extra ones: "local" the target channel, "nearest" ``[x, y]``;
-        ``offsets``: "local" reads the channel from the goals' ``goals.goal_offsets`` if given)."""
+        ``marks``: "local" puts the channel's 1s there (``goals.channel_marks``) if given)."""
         if self.view is not None:
-            return local_observations(self.view, cells, racing, extra, goals, offsets)
+            return local_observations(self.view, cells, racing, extra, goals, marks)
         out = nearest_observations(self.xy[np.asarray(cells)], racing, self.k, self.width, self.height, extra)
         if goals is not None:
             first = len(self.nvec)

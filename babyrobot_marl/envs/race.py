@@ -5,6 +5,7 @@ from __future__ import annotations
 import operator
 from collections.abc import Mapping, Sequence
 from functools import partial
+from itertools import compress
 from typing import Any
 
 import numpy as np
@@ -14,7 +15,7 @@ from pettingzoo import ParallelEnv
 from ..core.actions import N_ACTIONS
 from ..core.batch import BatchRace
 from ..core.checks import check_action, check_choice, check_count, check_global_view, check_seed, check_view_numbers
-from ..core.goals import GOAL_MODES, GoalColumns, cell_keys, goal_offsets
+from ..core.goals import GOAL_MODES, GoalColumns, channel_marks, row_starts
 from ..core.level import Cell, Level
 from ..core.observe import global_gather, make_observer, with_hint
 from ..core.outcomes import FINISHED, START
@@ -37,6 +38,7 @@ from .drawing import EnvDrawing, OverlayMethods
 from .encodings import Encoder
 from .race_goals import RaceGoals, next_goals
 from .race_levels import RaceLevels, cell_arrays
+from .race_outputs import racing_outputs
 from .race_readouts import RaceReadouts
 from .single import default_max_steps
 from .starts import new_generator
@@ -146,6 +148,7 @@ class RaceEnv(RaceGoals, RaceLevels, RaceReadouts, OverlayMethods, ParallelEnv):
         self._gather = global_gather(n if self._observer is None else 0)  # robot i sees i, i+1, ..., i-1: "global" only
         self._layouts: dict[tuple, np.ndarray] = {}  # _set_layout's gathers by robot numbers: races repeat finishing orders
         self._lists, self._sure_flat, self._reward_at, self._xy, self._cell_xy, self._xyf = cell_arrays(self.table)
+        self._cell_key, self._channel = self._goal_tables()
         # The state: the racing robots (`_live`, robot numbers, ascending) and their cells, and the
         # finished ones (`_done`) with their `_xyf` rows (`_parked`). Steps work on the racing
         # robots only; observations gather from the rows of `_live_cells + _parked`.
@@ -238,11 +241,11 @@ class RaceEnv(RaceGoals, RaceLevels, RaceReadouts, OverlayMethods, ParallelEnv):
         cells, outcome, blocked, finishing = race_step(
             self._lists, self.collisions, self._live_cells, acts, self._key, t, live, self.n_robots, self._sure_flat
         )
-        reached = offsets = None
+        reached = marks = None
         # "local" and "nearest": the cells as an array, once (own goals, observations, infos)
         here = None if self._observer is None else np.fromiter(cells, np.int64, len(cells))
         if self._goal_of is not None:  # own goals: finished on its own target (the table has no exits)
-            finishing, reached, offsets = self._own_goals_step(live, cells, here, finishing)
+            finishing, reached, marks = self._own_goals_step(live, cells, here, finishing)
         self._last_step = (live, self._live_cells, acts, outcome, blocked, finishing, t)
         self._live_cells = cells
         self._t = t = t + 1
@@ -262,7 +265,7 @@ class RaceEnv(RaceGoals, RaceLevels, RaceReadouts, OverlayMethods, ParallelEnv):
                 for a, xy, o, b in zip(reported, self._cell_xy.take(cells if here is None else here, axis=0), outcome, blocked)
             }
             no = self._none_done
-            out = dict(zip(reported, self._observations(here, offsets))), rewards, no.copy(), no.copy(), infos
+            out = dict(zip(reported, self._observations(here, marks))), rewards, no.copy(), no.copy(), infos
         if self.render_mode == "human":
             self.render()
         return out
@@ -271,45 +274,54 @@ class RaceEnv(RaceGoals, RaceLevels, RaceReadouts, OverlayMethods, ParallelEnv):
         self, cells: Sequence[int], outcome: Sequence[int], blocked: list[bool], finishing: list[bool], rewards: list[float]
     ):
         """The outputs of any step: robots finishing, the race ending, parked robots reported (freeze)."""
-        live = self._live
-        was_live = dict(zip(live, range(len(live))))  # robot -> its place among the racing robots
+        live, all_racing = self._live, self._reported_live  # before this step's finishers leave
         if True in finishing:  # ranks, and the bonus of the robots finishing first (no race with own goals)
             own, first = self._goal_of is not None, self._n_finished == 0
             rank = self._n_finished + 1
-            for k, i in enumerate(live):
-                if finishing[k]:
-                    self._rank[i] = rank
-                    self._n_finished += 1
-                    if own:  # reaching its target: the exit reward
-                        rewards[k] = self.rules.exit_reward
-                    elif first:
-                        rewards[k] += self.rules.win_bonus
+            for k in compress(range(len(live)), finishing):
+                self._rank[live[k]] = rank
+                self._n_finished += 1
+                if own:  # reaching its target: the exit reward
+                    rewards[k] = self.rules.exit_reward
+                elif first:
+                    rewards[k] += self.rules.win_bonus
         returns = list(map(operator.add, self._live_returns, rewards))
         if True in finishing:  # the finishers leave the board for their parking rows
-            racing, racing_cells, racing_returns, racing_bumps = [], [], [], []
-            done, parked, n_cells = list(self._done), list(self._parked), self.table.n_cells
-            for i, c, r, b, f in zip(live, cells, returns, self._live_bumps, finishing):
-                if f:
-                    self._returns[i], self._bumps[i] = r, b
-                    done.append(i)
-                    parked.append(n_cells + c)
-                else:
-                    racing.append(i)
-                    racing_cells.append(c)
-                    racing_returns.append(r)
-                    racing_bumps.append(b)
-            self._live, self._live_cells, returns, self._done, self._parked = racing, racing_cells, racing_returns, done, parked
-            self._live_bumps = racing_bumps
+            keep, n_cells = list(map(operator.not_, finishing)), self.table.n_cells
+            for i, r, b in compress(zip(live, returns, self._live_bumps), finishing):
+                self._returns[i], self._bumps[i] = r, b
+            self._done = [*self._done, *compress(live, finishing)]
+            self._parked = [*self._parked, *(n_cells + c for c in compress(cells, finishing))]
+            self._live, self._live_cells = list(compress(live, keep)), list(compress(cells, keep))
+            returns, self._live_bumps = list(compress(returns, keep)), list(compress(self._live_bumps, keep))
             self._set_layout()
         self._live_returns = returns
-        racing_now = self._live_set
         over = self._t >= self.max_cycles or not self._live
-        reported, ids = self.agents, self._agent_ids
-        all_cells, ranks = self._cells, self._rank
-        xy = self._cell_xy.take([all_cells[i] for i in ids], axis=0)  # infos' "cell": rows of one fresh array
+        reported, ids, ranks = self.agents, self._agent_ids, self._rank
         # parked robots (freeze) are terminated only when the race ends: PettingZoo expects a
         # terminated agent to leave `agents` in the same step
         parked_done = over or self.finished_mode == "remove"
+        if all_racing:  # every reported agent was racing (always with "remove"): the dicts by zip
+            xy = self._cell_xy.take(cells, axis=0)  # infos' "cell": rows of one fresh array
+            out = racing_outputs(reported, self._observations(), rewards, outcome, blocked, finishing, xy,
+                                 map(ranks.__getitem__, ids), over, parked_done)  # fmt: skip
+        else:
+            out = self._outputs_with_parked(live, outcome, blocked, rewards, over, parked_done)
+        if over:
+            self._set_agents([])
+        elif self.finished_mode == "remove":
+            self._set_agents(self._live)
+        return out
+
+    def _outputs_with_parked(
+        self, live: list[int], outcome: Sequence[int], blocked: list[bool], rewards: list[float], over: bool,
+        parked_done: bool,
+    ) -> tuple[dict, dict, dict, dict, dict]:  # fmt: skip
+        """``_step_general``'s dicts when robots parked before this step are reported too (``finished="freeze"``);
+        ``live``: the robots racing before the step, whose ``outcome``, ``blocked`` and ``rewards`` these are."""
+        reported, ids, ranks, racing_now, all_cells = self.agents, self._agent_ids, self._rank, self._live_set, self._cells
+        was_live = dict(zip(live, range(len(live))))  # robot -> its place among the racing robots
+        xy = self._cell_xy.take([all_cells[i] for i in ids], axis=0)  # infos' "cell": rows of one fresh array
         obs, rews, terms, truncs, infos = {}, {}, {}, {}, {}  # in one pass
         for a, i, row, cell in zip(reported, ids, self._observations(), xy):
             k = was_live.get(i)  # None: parked before this step (it earns nothing)
@@ -325,10 +337,6 @@ class RaceEnv(RaceGoals, RaceLevels, RaceReadouts, OverlayMethods, ParallelEnv):
                 "finished": not racing,
                 "rank": ranks[i],
             }
-        if over:
-            self._set_agents([])
-        elif self.finished_mode == "remove":
-            self._set_agents(self._live)
         return obs, rews, terms, truncs, infos
 
     def _set_agents(self, ids: list[int]) -> None:
@@ -354,19 +362,23 @@ class RaceEnv(RaceGoals, RaceLevels, RaceReadouts, OverlayMethods, ParallelEnv):
         self._gather_reported = g
         self._reported_live = self._agent_ids == self._live
         self._live_set = frozenset(self._live)
-        self._live_goals = self._live_goal_keys = None  # own goals: the racing robots' targets (_racing_goals)
+        self._live_goals = self._live_goal_keys = self._channel_starts = None  # own goals: kept per racing robots
 
     def _own_goals_step(self, live: list[int], cells: Sequence[int], here: np.ndarray | None, finishing: list[bool]) -> tuple:
-        """After a step's moves, own goals: ``(finishing, reached, offsets)``, the robots finishing on their
-        targets (lifelong: ``reached`` them, new targets drawn, nobody finishing) and the targets' offsets
-        from the racing robots' ``cells`` (``core.goals.goal_offsets``: 0 on the target; the target channel
-        is read from them). ``here``: ``cells`` as an array, if the step made one; ``finishing``: the moves' (none)."""
-        keys = self._live_goal_keys
+        """After a step's moves, own goals: ``(finishing, reached, marks)``, the robots finishing on their
+        targets (lifelong: ``reached`` them, new targets drawn, nobody finishing) and, when nobody is on
+        its target and the rows are "local", where their target channel's 1s go (``core.goals.channel_marks``).
+        ``here``: ``cells`` as an array, if the step made one; ``finishing``: the moves' (none)."""
+        keys, starts = self._live_goal_keys, self._channel_starts
         if keys is None:  # kept until the racing robots or their targets change (_set_layout)
-            keys = self._live_goal_keys = cell_keys(self.table.width, self.table.height).take(self._racing_goals())
-        offsets = goal_offsets(self.table.width, self.table.height, cells if here is None else here, keys)
+            keys = self._live_goal_keys = self._cell_key.take(self._racing_goals())
+        offsets = keys - self._cell_key.take(cells if here is None else here)  # goal_offsets: 0 on its target
         if np.count_nonzero(offsets) == len(offsets):  # the common step: nobody on its target
-            return finishing, None, offsets
+            if self._channel is None:
+                return finishing, None, None
+            if starts is None:
+                starts = self._channel_starts = row_starts(len(live), *self._channel[1:])
+            return finishing, None, channel_marks(offsets, self._channel[0], starts)
         finishing, reached = (offsets == 0).tolist(), None
         for i, f in zip(live, finishing):
             self._reached[i] += f
@@ -374,7 +386,7 @@ class RaceEnv(RaceGoals, RaceLevels, RaceReadouts, OverlayMethods, ParallelEnv):
             reached, finishing = finishing, [False] * len(finishing)
             self._goal_arr = next_goals(self.np_random, self.table, self._goal_of, live, cells, reached)
             self._live_goals = self._live_goal_keys = None
-        return finishing, reached, offsets
+        return finishing, reached, None
 
     def _racing_goals(self) -> np.ndarray:  # own goals: the racing robots' targets, kept until either changes
         if self._live_goals is None:
@@ -453,11 +465,11 @@ class RaceEnv(RaceGoals, RaceLevels, RaceReadouts, OverlayMethods, ParallelEnv):
             )
         return [given[i] for i in self._live]
 
-    def _observations(self, here: np.ndarray | None = None, offsets: np.ndarray | None = None) -> np.ndarray:
+    def _observations(self, here: np.ndarray | None = None, marks: np.ndarray | None = None) -> np.ndarray:
         """One row per reported agent, in ``agents`` order (a fresh array per step, rows never shared);
-        ``here``: the racing robots' cells as an array, if the step made one (own goals: ``offsets`` too)."""
+        ``here``: the racing robots' cells as an array, if the step made one (own goals: ``marks`` too)."""
         if self._goal_columns is not None:
-            return self._goal_observations(here, offsets)
+            return self._goal_observations(here, marks)
         if self._observer is not None:
             if self._reported_live:  # the racing robots' rows alone: finished robots are in nobody's view
                 here = np.array(self._live_cells) if here is None else here
@@ -474,6 +486,7 @@ class RaceEnv(RaceGoals, RaceLevels, RaceReadouts, OverlayMethods, ParallelEnv):
         self._fixed_starts, self._free = self._placement(self.n_robots)
         self.drawing.new_level(level)
         self._lists, self._sure_flat, self._reward_at, self._xy, self._cell_xy, self._xyf = cell_arrays(self.table)
+        self._cell_key, self._channel = self._goal_tables()
 
     def _check_started(self, what: str) -> None:
         if not self._started:

@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from ..core.goals import draw_goals, goal_step, next_goal
+from ..core.goals import cell_keys, draw_goals, goal_step, next_goal
 from .checks import check_cells, check_goal_cells, check_goals_reach
 
 
@@ -51,14 +51,27 @@ class OwnGoalShortest:
 class RaceGoals:
     """``RaceEnv``'s own-goal steps, stateless (the env holds the state): ``_cell_options``, ``_goals_for``, ...."""
 
-    def _goal_observations(self, here: np.ndarray | None = None, offsets: np.ndarray | None = None) -> np.ndarray:
+    def _goal_tables(self) -> tuple[np.ndarray, tuple | None]:
+        """Own goals' per-level tables, read every step: the cells' keys (``goal_offsets``) and, for "local"
+        rows, the target channel's ``(where, row length, column)`` (``channel_marks``)."""
+        view = self._observer.view if self._observer is not None else None
+        keys = cell_keys(self.table.width, self.table.height)
+        if self._goal_columns is None or view is None:
+            return keys, None
+        row = view.size + self._goal_columns.size
+        return keys, (view.channel_where, row, view.size)
+
+    def _goal_observations(self, here: np.ndarray | None = None, marks: np.ndarray | None = None) -> np.ndarray:
         """``_observations`` with own goals: each row, then its goal's columns (``core.goals.GoalColumns``;
         "local" and "nearest" observers write the goal's part in their own pass, the hint is added after).
-        ``here``: the racing robots' cells as an array, if the step made one, and ``offsets`` their targets'."""
+        ``here``: the racing robots' cells as an array, if the step made one, and ``marks`` their target channel's."""
         ids, columns, goals = self._agent_ids, self._goal_columns, self._goal_arr
         if self._observer is not None and self._reported_live:  # the racing robots' rows alone (as in _observations)
-            cells, goals = np.array(self._live_cells) if here is None else here, self._racing_goals()
-            rows = self._observer(cells, self._all_racing[: len(self._live)], columns.size, goals, offsets)
+            cells = np.array(self._live_cells) if here is None else here
+            if marks is not None and not columns.hint:  # the common step of a "local" race: its marks are the goals' part
+                return self.encoder(self._observer(cells, self._all_racing[: len(cells)], columns.size, None, marks))
+            goals = self._racing_goals()
+            rows = self._observer(cells, self._all_racing[: len(cells)], columns.size, goals, marks)
             return self.encoder(columns(self.table, cells, goals, out=rows, written=True) if columns.hint else rows)
         cells = np.array(self._cells)
         if self._observer is not None:  # rows with room for the goal's columns, filled in place
