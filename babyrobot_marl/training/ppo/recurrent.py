@@ -29,7 +29,7 @@ import numpy as np
 from ...core.actions import N_ACTIONS
 from ..deps import torch_module
 from .net import DENSE_LIMIT, log_softmax
-from .sampler import PerKey, distinct_rows
+from .sampler import Remembered, distinct_rows
 
 DEFAULT_HIDDEN = 32  # PPOConfig.hidden
 
@@ -154,7 +154,7 @@ class Recurrence:
     def start(self, inputs: Any) -> Recurrence:
         """A rollout begins: the weights are fixed, so the input layers run once per distinct input."""
         self.t, self.h0 = 0, self.h.clone()
-        self.features = PerKey(inputs, self.net.gate_inputs)
+        self.features = Remembered(inputs, self.net.gate_inputs)
         return self
 
     def _advance(self, keys: np.ndarray, h: Any) -> Any:
