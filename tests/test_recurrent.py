@@ -250,3 +250,27 @@ def test_the_updates_gradient_through_time_is_autograds():
     clip = min(1.0, cfg.max_grad_norm / (norm + 1e-6))  # the update clips the gradient's norm
     for name, p in net.named_parameters():
         assert torch.allclose(p.grad, expected[name] * clip, atol=1e-6), name
+
+
+def test_a_rollouts_input_gates_are_computed_once_per_input_and_equal_the_nets():
+    """In a rollout the weights are fixed: each input's gate values are computed when a robot first meets it and
+    read back after, equal to running the net on it."""
+    from babyrobot_marl.training.ppo.sampler import Remembered
+
+    net = make_recurrent_net(300, (4,), 3)
+    seen = []
+
+    def gates(rows):
+        seen.extend(rows[:, 0].tolist())
+        return net.gate_inputs(rows)
+
+    inputs = _Flat(300)
+    inputs.n_keys = 10**9  # too many keys for a full table: computed as met
+    remembered = Remembered(inputs, gates)
+    rng = np.random.default_rng(3)
+    for _ in range(20):
+        keys = rng.integers(0, 300, (2, 9))
+        with torch.no_grad():
+            direct = net.gate_inputs(torch.from_numpy(keys.reshape(-1, 1))).view(2, 9, -1)
+        assert torch.allclose(torch.from_numpy(remembered(keys)), direct, atol=1e-6)
+    assert sorted(seen) == sorted(set(seen))  # no key computed twice

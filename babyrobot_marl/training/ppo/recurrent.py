@@ -29,7 +29,7 @@ import numpy as np
 from ...core.actions import N_ACTIONS
 from ..deps import torch_module
 from .net import DENSE_LIMIT, log_softmax
-from .sampler import PerKey, distinct_rows
+from .sampler import Remembered, distinct_rows
 
 DEFAULT_HIDDEN = 32  # PPOConfig.hidden
 
@@ -69,11 +69,20 @@ def make_recurrent_net(n_in: int, net_arch: tuple[int, ...] = (64,), hidden: int
                     nn.init.orthogonal_(head.weight, gain)
                     nn.init.zeros_(head.bias)
 
-        def encode(self, rows: Any) -> Any:
+        def dense(self, rows: Any) -> Any:
+            """The multi-hot counts of rows of several indices, ``(B, n_in + 1)``, the padding column zero (no
+            input, no gradient); None where a look-up is cheaper (one index per row, or a wide input)."""
+            if rows.shape[1] == 1 or n_in > DENSE_LIMIT:  # a look-up is cheaper
+                return None
+            dense = torch.zeros(rows.shape[0], n_in + 1).scatter_add_(1, rows, torch.ones(rows.shape))
+            dense[:, n_in] = 0.0
+            return dense
+
+        def encode(self, rows: Any, dense: Any = None) -> Any:
+            """The input layers on ``rows`` (``dense``: their ``self.dense(rows)``, when it was built already)."""
             b, k = rows.shape
-            if k > 1 and n_in <= DENSE_LIMIT:  # the one-hot counts times the weights: faster than many look-ups
-                dense = torch.zeros(b, n_in + 1).scatter_add_(1, rows, torch.ones(rows.shape))
-                dense[:, n_in] = 0.0  # the padding row: no input, no gradient
+            dense = self.dense(rows) if dense is None else dense
+            if dense is not None:  # the one-hot counts times the weights: faster than many look-ups
                 h = torch.tanh(torch.addmm(self.first_bias, dense, self.first))
             else:
                 h = nn.functional.embedding(rows, self.first, padding_idx=n_in)  # the padding row gets no gradient
@@ -82,10 +91,10 @@ def make_recurrent_net(n_in: int, net_arch: tuple[int, ...] = (64,), hidden: int
                 h = torch.tanh(layer(h))
             return h
 
-        def gate_inputs(self, rows: Any) -> Any:
+        def gate_inputs(self, rows: Any, dense: Any = None) -> Any:
             """The GRU's input part of its gates, ``W_ih x + b_ih`` (``(B, 3 * hidden)``): a function of the input
             alone, so it is computed once per distinct input and looked up per robot-step."""
-            return torch.addmm(self.gru.bias_ih, self.encode(rows), self.gru.weight_ih.T)
+            return torch.addmm(self.gru.bias_ih, self.encode(rows, dense), self.gru.weight_ih.T)
 
         def step(self, gi: Any, h: Any) -> Any:
             """``nn.GRUCell``'s step from the gates' input part ``gi`` (``gate_inputs``) and the state ``h``."""
@@ -96,6 +105,11 @@ def make_recurrent_net(n_in: int, net_arch: tuple[int, ...] = (64,), hidden: int
 
         def heads(self, h: Any) -> tuple[Any, Any]:
             return self.actor(h), self.critic(h)[:, 0]
+
+        def heads_by_column(self, h: Any) -> tuple[Any, Any]:
+            """``heads`` of states given as columns, ``(hidden, N)`` (the update's feature-major layout)."""
+            logits = torch.addmm(self.actor.bias[:, None], self.actor.weight, h).T
+            return logits, torch.addmm(self.critic.bias[:, None], self.critic.weight, h)[0]
 
         def initial_state(self, n: int) -> Any:
             return torch.zeros(n, hidden)
@@ -140,7 +154,7 @@ class Recurrence:
     def start(self, inputs: Any) -> Recurrence:
         """A rollout begins: the weights are fixed, so the input layers run once per distinct input."""
         self.t, self.h0 = 0, self.h.clone()
-        self.features = PerKey(inputs, self.net.gate_inputs)
+        self.features = Remembered(inputs, self.net.gate_inputs)
         return self
 
     def _advance(self, keys: np.ndarray, h: Any) -> Any:
@@ -193,44 +207,53 @@ class Recurrence:
         return self.net.heads(torch.cat(states))
 
     def unroll(self, x: Any, keep: Any, h: Any) -> tuple[Any, tuple[Any, ...]]:
-        """The replay's cell without autograd: the states ``(T, B, H)`` from the gates' input parts ``x``
-        ``(T, B, 3H)``, the resets ``keep`` ``(T, B, 1)`` and the first state ``h``, and what ``unroll_backward``
-        reads (each step's reset state, gates and ``W_hn h``)."""
+        """The replay's cell without autograd, feature-major: the states ``(H, T, B)`` from the gates' input parts
+        ``x`` ``(3H, T, B)``, the resets ``keep`` ``(1, T, B)`` and the first state ``h`` ``(H, B)``, and what
+        ``unroll_backward`` reads (each step's reset state, gates and ``W_hn h``). Feature-major, each gate is one
+        block, every step's values are written in place and the weights' gradients are single products over all
+        steps (in ``(B, 3H)`` rows, slicing the gates and copying them cost as much as the arithmetic)."""
         torch = torch_module()
         gru, H = self.net.gru, self.net.hidden
-        T, B = x.shape[:2]
-        states, reset, gates, gh_n = (x.new_empty(T, B, k) for k in (H, H, 3 * H, H))
+        _, T, B = x.shape
+        states, reset, gates, gh_n = (x.new_empty(k, T, B) for k in (H, H, 3 * H, H))
+        w, b = gru.weight_hh, gru.bias_hh[:, None]
         for t in range(T):
-            hm = reset[t] = h * keep[t]
-            gh = torch.addmm(gru.bias_hh, hm, gru.weight_hh.T)
-            rz = torch.sigmoid(x[t, :, : 2 * H] + gh[:, : 2 * H])
-            n = torch.tanh(torch.addcmul(x[t, :, 2 * H :], rz[:, :H], gh[:, 2 * H :]))
-            h = states[t] = n + rz[:, H:] * (hm - n)
-            gates[t] = torch.cat([rz, n], 1)
-            gh_n[t] = gh[:, 2 * H :]
+            hm = torch.mul(h, keep[:, t], out=reset[:, t])
+            gh = torch.addmm(b, w, hm)
+            rz, n = gates[: 2 * H, t], gates[2 * H :, t]
+            torch.sigmoid(torch.add(x[: 2 * H, t], gh[: 2 * H], out=rz), out=rz)
+            torch.tanh(torch.addcmul(x[2 * H :, t], rz[:H], gh[2 * H :], out=n), out=n)
+            gh_n[:, t] = gh[2 * H :]
+            h = torch.addcmul(n, rz[H:], hm - n, out=states[:, t])
         return states, (reset, gates, gh_n)
 
     def unroll_backward(self, d_states: Any, saved: tuple[Any, ...], keep: Any) -> Any:
-        """The loss's gradient at the gates' input parts ``(T, B, 3H)`` from its gradient at the states
-        ``d_states`` (``(T, B, H)``), through time; adds ``W_hh``'s and ``b_hh``'s to their ``.grad``.
+        """The loss's gradient at the gates' input parts ``(3H, T, B)`` from its gradient at the states
+        ``d_states`` (``(H, T, B)``), through time; adds ``W_hh``'s and ``b_hh``'s to their ``.grad``.
         Written out as ``net.py``'s MLP: autograd's graph of a step's dozen small operations cost more than them."""
         torch = torch_module()
         gru, H = self.net.gru, self.net.hidden
         reset, gates, gh_n = saved
-        T, B = d_states.shape[:2]
-        d_gi, d_gh = d_states.new_empty(T, B, 3 * H), d_states.new_empty(T, B, 3 * H)
-        carry = d_states.new_zeros(B, H)
+        _, T, B = d_states.shape
+        r, z, n = gates[:H], gates[H : 2 * H], gates[2 * H :]
+        # the factors that do not depend on the gradient, for all steps at once: the loop keeps only what carries
+        f_n = (1 - z) * (1 - n * n)  # through h = n + z (h_prev - n), then n's tanh
+        f_z = (reset - n) * z * (1 - z)  # through z's sigmoid
+        f_r = gh_n * r * (1 - r)  # through n's input r * W_hn h, then r's sigmoid
+        d_gi, d_gh = d_states.new_empty(3 * H, T, B), d_states.new_empty(3 * H, T, B)
+        carry = d_states.new_zeros(H, B)
+        w_t = gru.weight_hh.T
         for t in reversed(range(T)):
-            dh = d_states[t] + carry
-            r, z, n = gates[t].split(H, 1)
-            d_n = dh * (1 - z) * (1 - n * n)  # through h = n + z (h_prev - n), then tanh
-            d_z = dh * (reset[t] - n) * z * (1 - z)  # through z's sigmoid
-            d_r = d_n * gh_n[t] * r * (1 - r)  # through r's sigmoid
-            d_gi[t] = torch.cat([d_r, d_z, d_n], 1)
-            d_gh[t] = gh = torch.cat([d_r, d_z, d_n * r], 1)
-            carry = torch.addmm(dh * z, gh, gru.weight_hh).mul_(keep[t])
-        flat = d_gh.view(-1, 3 * H)
-        for p, g in ((gru.weight_hh, flat.T @ reset.view(-1, H)), (gru.bias_hh, flat.sum(0))):
+            dh = torch.add(d_states[:, t], carry)
+            gh, d_n = d_gh[:, t], d_gi[2 * H :, t]
+            torch.mul(dh, f_n[:, t], out=d_n)
+            torch.mul(d_n, f_r[:, t], out=gh[:H])
+            torch.mul(dh, f_z[:, t], out=gh[H : 2 * H])
+            torch.mul(d_n, r[:, t], out=gh[2 * H :])  # W_hn h enters n times r
+            carry = torch.addmm(dh.mul_(z[:, t]), w_t, gh).mul_(keep[:, t])
+        d_gi[: 2 * H] = d_gh[: 2 * H]
+        flat = d_gh.view(3 * H, -1)
+        for p, g in ((gru.weight_hh, flat @ reset.view(H, -1).T), (gru.bias_hh, flat.sum(1))):
             p.grad = g if p.grad is None else p.grad.add_(g)
         return d_gi
 
@@ -244,12 +267,13 @@ class Recurrence:
         T, S = keys.shape[0], self.h0.shape[0]
         rows, inv = distinct_rows(inputs, keys.reshape(-1))
         inv = inv.view(T, S)
-        keep = torch.from_numpy(self.keep_buf.astype(np.float32))[..., None]
+        keep = torch.from_numpy(self.keep_buf.astype(np.float32))
         per = max(1, cfg.batch_size // T)
         batch = (torch.from_numpy(self.logp_buf), torch.from_numpy(actions.reshape(T, S)),
                  torch.from_numpy(adv.reshape(T, S)),
                  torch.from_numpy((returns.reshape(T, S) / self.value_scale).astype(np.float32)),
                  torch.from_numpy(valid.reshape(T, S).astype(np.float32)))
+        whole = None  # one minibatch holds every segment: its distinct inputs found once, not every epoch
         for _ in range(cfg.n_epochs):
             perm = torch.randperm(S, generator=order) if per < S else torch.arange(S)
             for start in range(0, S, per):
@@ -258,14 +282,22 @@ class Recurrence:
                 if part[-1].sum() == 0:
                     continue
                 optim.zero_grad(set_to_none=False)
-                present, local = torch.unique(inv[:, seq], return_inverse=True)
-                # the input layers once per distinct input; the cell through time by hand, the heads by autograd
-                x = self.net.gate_inputs(rows[present]).index_select(0, local.reshape(-1)).view(T, len(seq), -1)
+                if whole is None or per < S:
+                    present, local = torch.unique(inv[:, seq], return_inverse=True)
+                    mb_rows = rows[present]
+                    whole = mb_rows, self.net.dense(mb_rows), local.reshape(-1), keep[:, seq][None], self.h0[seq].T
+                mb_rows, dense, local, mb_keep, h0 = whole
+                # the input layers once per distinct input (feature-major); the cell through time by hand, the heads
+                # and the loss by autograd
+                gi = torch.addmm(self.net.gru.bias_ih[:, None], self.net.gru.weight_ih, self.net.encode(mb_rows, dense).T)
+                x = gi.index_select(1, local).view(-1, T, len(seq))
                 with torch.no_grad():
-                    states, saved = self.unroll(x.detach(), keep[:, seq], self.h0[seq])
-                flat = states.view(T * len(seq), -1).requires_grad_()
-                self.loss(*self.net.heads(flat), *part, cfg).backward()
-                x.backward(self.unroll_backward(flat.grad.view_as(states), saved, keep[:, seq]))
+                    states, saved = self.unroll(x.detach(), mb_keep, h0)
+                flat = states.view(states.shape[0], -1).requires_grad_()
+                self.loss(*self.net.heads_by_column(flat), *part, cfg).backward()
+                with torch.no_grad():
+                    d_x = self.unroll_backward(flat.grad.view_as(states), saved, mb_keep)
+                x.backward(d_x)
                 clip_grad_norm(grads_of(params), cfg.max_grad_norm)
                 optim.step()
 

@@ -37,6 +37,33 @@ class PerKey:
         return self.run(uniq)[inv.reshape(keys.shape)]
 
 
+class Remembered(PerKey):
+    """``PerKey`` that keeps what it computed: over a rollout (the weights fixed) each key's values are computed
+    the first time a robot meets it, not at every step it recurs."""
+
+    def __init__(self, inputs: Inputs, fn: Callable[[Any], Any]):
+        super().__init__(inputs, fn)
+        self.known = np.zeros(0, dtype=np.int64)  # the keys computed so far, sorted
+        self.slot = np.zeros(0, dtype=np.int64)  # each one's row of values
+        self.values: np.ndarray | None = None
+
+    def __call__(self, keys: np.ndarray) -> np.ndarray:
+        if self.table is not None:
+            return self.table[keys]
+        uniq, inv = np.unique(keys.reshape(-1), return_inverse=True)
+        at = np.minimum(np.searchsorted(self.known, uniq), max(len(self.known) - 1, 0))
+        new = uniq if not len(self.known) else uniq[self.known[at] != uniq]
+        if len(new):
+            values = self.run(new)
+            start = 0 if self.values is None else len(self.values)
+            self.values = values if self.values is None else np.concatenate([self.values, values])
+            known, slot = np.concatenate([self.known, new]), np.concatenate([self.slot, start + np.arange(len(new))])
+            order = np.argsort(known, kind="stable")
+            self.known, self.slot = known[order], slot[order]
+            at = np.searchsorted(self.known, uniq)
+        return self.values[self.slot[at]][inv.reshape(keys.shape)]
+
+
 class Sampler(PerKey):
     """Actions sampled from the actor's probabilities per key (a rollout)."""
 
