@@ -45,3 +45,14 @@ def test_a_bad_label_is_refused_and_changes_nothing():
     with pytest.raises(ValueError, match="^label: "):
         env.set_overlay(values=None, label="two\nlines")
     assert env.overlay.label == "gap" and env.overlay.values is not None
+
+
+@pytest.mark.parametrize(("lo", "hi", "digits"), [(1, 2, 0), (1, 3, 0), (0, 1, 0), (0.5, 0.8, 1), (1, 59, 0)])
+def test_the_colour_bars_ticks_never_print_alike(lo, hi, digits):
+    """Visits 1 to 2, written as whole numbers, were ticked 1, 1.2, ... and printed "1 1 1 2 2 2"."""
+    from babyrobot_marl.render.overlay import Scale
+    from babyrobot_marl.render.panel import ticks
+
+    scale = Scale(float(lo), float(hi), "visits", digits)
+    printed = [scale.format(v) for v in ticks(lo, hi, 6, digits)]
+    assert len(printed) == len(set(printed)) >= 2 and printed[0] == scale.format(lo) and printed[-1] == scale.format(hi)

@@ -255,20 +255,23 @@ def _colour_bar(width: int, h: int, size: int, vr: tuple, theme: Theme) -> list[
     tick = max(2.0, cap * 0.45)
     label_y = top + bar_h + tick + 1 + cap_height(small)[1] / 2 + 1
     room = text_width(max(ends, key=len), small) + 2 * pad
-    for v in ticks(lo, hi, max(2, min(6, int((x1 - x0) // room) + 1))):
+    for v in ticks(lo, hi, max(2, min(6, int((x1 - x0) // room) + 1)), scale.digits):
         x = x0 if hi == lo else x0 + (v - lo) / (hi - lo) * (x1 - x0)
         ops.append(Fill(rect(x - 0.5, top + bar_h + 1, x + 0.5, top + bar_h + 1 + tick), theme.text))
         ops.append(Text(x, label_y, scale.format(v), small, theme.text))
     return ops
 
 
-def ticks(lo: float, hi: float, most: int) -> list[float]:
-    """At most ``most`` round values from ``lo`` to ``hi``, both ends included (1, 2 or 5 times a power of ten apart)."""
+def ticks(lo: float, hi: float, most: int, digits: int | None = None) -> list[float]:
+    """At most ``most`` round values from ``lo`` to ``hi``, both ends included (1, 2 or 5 times a power of ten apart;
+    with ``digits``, the decimals they are written with, at least one unit of the last apart: no two print alike)."""
     if hi <= lo:
         return [lo]
     raw = (hi - lo) / max(1, most - 1)
     mag = 10 ** np.floor(np.log10(raw))
     step = next(m * mag for m in (1, 2, 5, 10) if m * mag >= raw)
+    if digits is not None:
+        step = max(step, 10.0**-digits)
     inner = [k * step for k in range(int(np.ceil(lo / step)), int(np.floor(hi / step)) + 1)]
     keep = [v for v in inner if min(v - lo, hi - v) >= step * 0.45]  # not crowding an end
     return [lo, *keep, hi]
