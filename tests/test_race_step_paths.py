@@ -151,8 +151,9 @@ def test_crowds_step_on_arrays_as_robot_by_robot_on_puddles_glass_and_exits():
 
 def test_finishing_steps_build_their_dicts_by_zip_as_the_loop_over_agents_does(monkeypatch):
     """A step where robots finish while every reported agent was racing builds its five dicts with
-    ``racing_outputs`` (zip and map); the per-agent loop kept for parked robots must give the same,
-    own targets and exits, "remove" and "freeze", through the end of the race."""
+    ``racing_outputs`` (zip and map) and its rows from the robots that raced (``_finishing_rows``); the
+    per-agent loop and the rows of every robot kept for parked robots must give the same: own targets
+    and exits, "remove" and "freeze", local, nearest and global rows, with and without the hint."""
     from babyrobot_marl.envs import race as race_module
 
     calls = []
@@ -171,9 +172,12 @@ def test_finishing_steps_build_their_dicts_by_zip_as_the_loop_over_agents_does(m
 
     race_module_racing_outputs = race_module.racing_outputs
     monkeypatch.setattr(race_module, "racing_outputs", checked)
-    for goals, finished in (("own", "remove"), ("exit", "remove"), ("own", "freeze")):
+    configs = [("own", "remove", "local", False), ("exit", "remove", "local", False), ("own", "freeze", "local", False),
+               ("own", "remove", "local", True), ("exit", "remove", "local", True), ("own", "remove", "nearest", False),
+               ("exit", "remove", "global", False)]  # fmt: skip
+    for goals, finished, observe, hint in configs:
         env = race_v0.parallel_env(level="mixed-8x8", n_robots=12, start="random", goals=goals, finished=finished,
-                                   observe="local", max_cycles=60)  # fmt: skip
+                                   observe=observe, hint=hint, max_cycles=60)  # fmt: skip
         rng = np.random.default_rng(1)
         for seed in range(6):
             env.reset(seed=seed)

@@ -274,7 +274,7 @@ class RaceEnv(RaceGoals, RaceLevels, RaceReadouts, OverlayMethods, ParallelEnv):
         self, cells: Sequence[int], outcome: Sequence[int], blocked: list[bool], finishing: list[bool], rewards: list[float]
     ):
         """The outputs of any step: robots finishing, the race ending, parked robots reported (freeze)."""
-        live, all_racing = self._live, self._reported_live  # before this step's finishers leave
+        live, all_racing, keep = self._live, self._reported_live, None  # before this step's finishers leave
         if True in finishing:  # ranks, and the bonus of the robots finishing first (no race with own goals)
             own, first = self._goal_of is not None, self._n_finished == 0
             rank = self._n_finished + 1
@@ -303,8 +303,10 @@ class RaceEnv(RaceGoals, RaceLevels, RaceReadouts, OverlayMethods, ParallelEnv):
         parked_done = over or self.finished_mode == "remove"
         if all_racing:  # every reported agent was racing (always with "remove"): the dicts by zip
             xy = self._cell_xy.take(cells, axis=0)  # infos' "cell": rows of one fresh array
-            out = racing_outputs(reported, self._observations(), rewards, outcome, blocked, finishing, xy,
-                                 map(ranks.__getitem__, ids), over, parked_done)  # fmt: skip
+            rows = self._finishing_rows(live, cells, keep) if keep else None  # the finishers' last rows too
+            rows = self._observations() if rows is None else rows
+            out = racing_outputs(reported, rows, rewards, outcome, blocked, finishing, xy, map(ranks.__getitem__, ids), over,
+                                 parked_done)  # fmt: skip
         else:
             out = self._outputs_with_parked(live, outcome, blocked, rewards, over, parked_done)
         if over:

@@ -61,6 +61,19 @@ class RaceGoals:
         row = view.size + self._goal_columns.size
         return keys, (view.channel_where, row, view.size)
 
+    def _finishing_rows(self, live: list[int], cells: Sequence[int], keep: list[bool]) -> np.ndarray | None:
+        """The rows of the robots that raced this step (``live``, in order, now on ``cells``; ``keep``: still
+        racing), finishers included, as ``_observations`` gives them once the finishers have left: from these
+        robots alone (robots parked earlier are in nobody's view). None for "global" rows (the general way)."""
+        if self._observer is None:
+            return None
+        here, racing, columns = np.array(cells), np.array(keep), self._goal_columns
+        if columns is None:
+            return self.encoder(self._observer(here, racing))
+        goals = self._goal_arr[live]
+        rows = self._observer(here, racing, columns.size, goals)
+        return self.encoder(columns(self.table, here, goals, out=rows, written=True) if columns.hint else rows)
+
     def _goal_observations(self, here: np.ndarray | None = None, marks: np.ndarray | None = None) -> np.ndarray:
         """``_observations`` with own goals: each row, then its goal's columns (``core.goals.GoalColumns``;
         "local" and "nearest" observers write the goal's part in their own pass, the hint is added after).
