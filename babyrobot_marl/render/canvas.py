@@ -136,8 +136,8 @@ class LiveCanvas:
             raise ValueError(f"pixel_ratio: must be 1 or 2, got {pixel_ratio!r}")
         self.ratio, self.fit, self.reserve_values = pixel_ratio, bool(fit), bool(reserve_values)
         css_cell = fit_cell_size(renderer.level) if self.fit else renderer.cell_size
-        same = css_cell * pixel_ratio == renderer.cell_size
-        self.hi = renderer if same else RgbRenderer(renderer.level, css_cell * pixel_ratio, renderer.theme)
+        same = css_cell * pixel_ratio == renderer.cell_size and renderer.panel_ratio == pixel_ratio
+        self.hi = renderer if same else RgbRenderer(renderer.level, css_cell * pixel_ratio, renderer.theme, pixel_ratio)
         self.width, self.grid_height = self.hi.width // self.ratio, self.hi.grid_height // self.ratio  # CSS pixels
         self.widget = MultiCanvas(3, width=self.hi.width, height=self.hi.grid_height)
         self.scene = Scene()
