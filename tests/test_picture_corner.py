@@ -42,3 +42,23 @@ def test_only_a_lone_robot_in_the_corner_is_outlined():
     plain = placements(Scene((RobotView(0, (1, 1)),)))
     assert [p.outlined for p in alone] == [True]
     assert [p.outlined for p in shared + plain] == [False, False, False]
+
+
+@pytest.mark.parametrize("cs", [32, 48, 64, 96])
+def test_a_bumped_robots_stars_stay_inside_the_outer_walls(cs):
+    """A robot that bumped into the left or right outer wall: its stars drew over the wall and
+    past the board's edge; now nothing of it covers the wall's band."""
+    from babyrobot_marl import levels
+    from babyrobot_marl.render.picture import wall_width
+    from babyrobot_marl.render.rgb import RgbRenderer
+    from babyrobot_marl.render.scene import RobotView, Scene
+
+    level = levels.get("maze-8x8")
+    r = RgbRenderer(level, cs)
+    static = r.static(None)
+    band = int(wall_width(cs) // 2)
+    for x, heading, cols in ((0, 4, slice(0, band)), (7, 2, slice(8 * cs - band, 8 * cs))):
+        view = RobotView(0, (x, 3), heading, "bumped", numbered=False)
+        img = r.frame(Scene((view,)))
+        rows = slice(3 * cs, 4 * cs)
+        assert (img[rows, cols] == static[rows, cols]).all()

@@ -145,6 +145,7 @@ def robot(
     # marks on top: stars when bumped, a glint on glass, confetti when finished
     if pose == "bumped":
         for sx, sy, r in ((dx * 0.26 + 0.24, -0.33, 0.1), (dx * 0.26 - 0.22, -0.36, 0.075)):
+            sx = min(max(sx, r - STAR_REACH), STAR_REACH - r)  # inside its cell, off the wall it hit
             p.fill(star(sx, sy, r, r * 0.45), (255, 200, 40))
             p.fill(star(sx, sy, r * 0.5, r * 0.22), (255, 250, 210))
     elif pose == "glass":
@@ -162,6 +163,8 @@ def number_size(number: int, size: float) -> int | None:
     return fit(str(number), 0.27 * size * SCALE, 0.16 * size * SCALE, largest=40, smallest=6)
 
 
+STAR_REACH = 0.46  # a bumped robot's stars: this far from its centre at most (robot units; it leans 0.05 of
+# a cell into the wall: the stars stay within 0.45 of a cell from the cell's centre, inside its walls)
 OUTLINE = (0.08, 0.2)  # an outlined robot's rings: its ink, then the floor's colour, this far out (robot units)
 
 
@@ -170,7 +173,8 @@ def _silhouette(p: _Pen, grow: float, colour: Colour, dx: float, dy: float, arms
     (arms held down lie within); placed as ``robot`` places them for heading ``(dx, dy)``."""
     hx, hy = dx * 0.035, dy * 0.02
     ax = hx - dx * 0.05
-    p.fill(round_rect(-0.25 - grow, 0.3 - grow, 0.25 + grow, 0.43 + grow, 0.06 + grow), colour)
+    # under the track, half as wide: a robot in its corner stays inside its cell
+    p.fill(round_rect(-0.25 - grow, 0.3 - grow, 0.25 + grow, 0.43 + grow / 2, 0.06 + grow / 2), colour)
     p.fill(round_rect(-0.25 - grow, -0.01 - grow, 0.25 + grow, 0.31 + grow, 0.07 + grow), colour)
     p.fill(round_rect(-0.27 + hx - grow, -0.37 + hy - grow, 0.27 + hx + grow, -0.05 + hy + grow, 0.1 + grow), colour)
     p.stroke(hx, -0.33, ax, -0.46, 0.03 + grow, colour)
