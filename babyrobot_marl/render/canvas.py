@@ -19,9 +19,8 @@ same picture. Without a ``cell_size`` of its own (``fit``) the canvas fills abou
 notebook column (less for tall levels) and its backing store has the pixels for that. The panel's
 height is reserved when an episode starts: the lines, colour bar and legend the overlay shows then,
 and (``reserve_values``) room for a colour bar or ``RESERVED_LINES`` lines of text, so the canvas
-does not grow mid-episode when values or a step's lines come. A panel that outgrows it grows into
-spare rows kept below the picture, by CSS alone (``crop``); past them the canvas is made taller,
-drawn so that no frame shows it empty (``_resize``).
+does not grow mid-episode when values or a step's lines come; past it, into spare rows kept below
+the picture, by CSS alone (``crop``); past them the canvas is made taller, never shown empty.
 
 Shown with a still of its latest frame (``still.Still``), refreshed when an episode ends, when
 the env closes and after every notebook cell that changed it (``snapshot``): a notebook saved
@@ -45,7 +44,7 @@ import numpy as np
 from ..core.level import Cell
 from .canvas_calls import _css, _frame_bars, _rect, _send, _Styles, marked_frame  # noqa: F401  (_css: read as canvas._css)
 from .checks import MAX_ANIMATION_FRAMES, MAX_CELL_SIZE, MIN_CELL_SIZE, check_animation_frames, check_fps  # noqa: F401
-from .crop import backing_height, crop_margin
+from .crop import SPARE_LINES, backing_height, crop_margin
 from .overlay import Overlay
 from .panel_room import panel_room
 from .rgb import RgbRenderer
@@ -168,7 +167,7 @@ class LiveCanvas:
         self._redraw_due = False
         self._batched = False  # inside ``_resize``: every layer's commands in its one batch
         shown = self.hi.grid_height + self._reserved(self.scene)
-        self._set_height(backing_height(shown, self.hi.cell_size, self.ratio), shown)
+        self._set_height(self._backing(shown), shown)
         self._draw_static(fresh=True)
         self._draw_top()
 
@@ -340,9 +339,12 @@ class LiveCanvas:
         """The panel's height kept for an episode that starts with ``scene`` (``panel_room``)."""
         return panel_room(self.hi, self.overlay, scene.legend, self.ratio, RESERVED_LINES if self.reserve_values else 0)
 
+    def _backing(self, shown: int) -> int:
+        """``shown`` rows and spare ones when a program may add lines mid-episode (``reserve_values``)."""
+        return backing_height(shown, self.hi.cell_size, self.ratio, SPARE_LINES if self.reserve_values else 0)
+
     def _grow(self, height: int, scene: Scene) -> None:
-        """The picture made ``height`` backing-store pixels tall if it is less (it never shrinks):
-        within the backing store by CSS alone, else by a resize."""
+        """The picture made ``height`` pixels tall if it is less (never shrinks): by CSS, else a resize."""
         if height > self.widget[0].height:
             self._resize(height, lambda: self._draw_top(scene, force=True), scene)
         elif height > self.shown:
@@ -405,7 +407,7 @@ class LiveCanvas:
     def _draw_top(self, scene: Scene | None = None, force: bool = False) -> None:
         """Labels and panel (layer 2): only the strips of the panel whose content changed (a
         legend row's return, say), everything when the canvas's height changed or ``force``.
-        The canvas never shrinks and keeps a colour bar's height from the start."""
+        The picture never shrinks; a taller one is shown once its panel is drawn."""
         from .annotate import value_range
         from .panel import panel_sections, shifted
 
@@ -453,7 +455,7 @@ class LiveCanvas:
         shown canvas and, sent right after it, a small batch made before it: the browser composes
         the layers into the canvas again after each batch.
         ``draw_top``: the labels and panel, drawn at the new height."""
-        height = backing_height(shown, self.hi.cell_size, self.ratio)
+        height = self._backing(shown)
         img = self.hi.static(self.overlay, self._goals)
         put = picture_calls(img, fresh=True)
         for layer in self.widget._canvases:

@@ -18,10 +18,10 @@ from .panel import metrics
 SPARE_LINES = 12  # lines of panel text the backing store has room for below the picture
 
 
-def backing_height(shown: int, cs: int, ratio: int) -> int:
+def backing_height(shown: int, cs: int, ratio: int, lines: int = SPARE_LINES) -> int:
     """The backing store's height for a picture ``shown`` pixels tall (cells of ``cs`` backing
-    pixels, ``ratio`` of them to a CSS pixel): room for ``SPARE_LINES`` more lines, whole CSS pixels."""
-    spare = SPARE_LINES * metrics(cs, ratio).line_h
+    pixels, ``ratio`` of them to a CSS pixel): room for ``lines`` more lines, whole CSS pixels."""
+    spare = lines * metrics(cs, ratio).line_h
     return shown + spare + (-spare) % ratio
 
 
