@@ -60,7 +60,7 @@ def python_numbers_only(obj) -> bool:
 
 
 def make(animation_frames=3, level="maze-8x8", cs=32, ratio=2) -> live.LiveCanvas:
-    return live.LiveCanvas(RgbRenderer(levels.get(level), cs), animation_frames=animation_frames, fps=1e6, pixel_ratio=ratio)
+    return live.LiveCanvas(RgbRenderer(levels.get(level), cs), animation_frames=animation_frames, fps=0, pixel_ratio=ratio)
 
 
 def test_the_backing_store_is_twice_the_css_size_for_hidpi_screens():
@@ -649,3 +649,31 @@ def test_a_browser_redraw_after_a_replay_shows_the_replayed_scene_not_the_live_o
     env.reset(seed=1)  # a new episode: live again
     c.redraw()
     assert drawn[-1] == c.scene
+
+
+def test_when_sending_a_frame_takes_longer_than_its_share_in_between_frames_are_dropped_never_the_last(clock, monkeypatch):
+    """A slow browser or a busy machine: each frame takes 0.2 s to send against 62.5 ms planned.
+    The canvas keeps to the clock: in-between frames are dropped, each step still ends on its
+    last frame (the robot where it is), the glide never goes back, and nothing blank is sent."""
+    fractions: list[float] = []
+    real_glide = live.glide
+
+    def spy(scene, t, *args):
+        fractions.append(t)
+        return real_glide(scene, t, *args)
+
+    def slow(command, buffers=()):
+        clock.sent_at.append(clock.now)
+        clock.now += 0.2
+
+    monkeypatch.setattr(live, "glide", spy)
+    monkeypatch.setattr(ipc._CANVAS_MANAGER, "_send_custom", slow)
+    c = live.LiveCanvas(RgbRenderer(levels.get("maze-8x8"), 32), animation_frames=4, fps=4)
+    c.draw([(1, 1)], animate=False)
+    for x in range(2, 6):
+        fractions.clear()
+        c.draw(walk(x - 1, x))
+        drawn = fractions[1:]  # (the first call asks whether anyone moved)
+        assert drawn[-1] == 1.0 and len(drawn) < 4  # frames dropped, never the last
+        assert drawn == sorted(drawn)
+    assert c.pacer.dropped > 0 and c.scene == walk(4, 5)

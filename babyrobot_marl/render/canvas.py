@@ -34,7 +34,7 @@ extra (ipycanvas, ipywidgets, orjson); imported lazily. Every number sent is a P
 
 from __future__ import annotations
 
-import time
+import time  # noqa: F401  (the clock pacing reads: tests set it as canvas.time)
 from collections import deque
 from collections.abc import Sequence
 from typing import Any
@@ -46,6 +46,7 @@ from .canvas_calls import _css, _frame_bars, _rect, _send, _Styles, marked_frame
 from .checks import MAX_ANIMATION_FRAMES, MAX_CELL_SIZE, MIN_CELL_SIZE, check_animation_frames, check_fps  # noqa: F401
 from .crop import SPARE_LINES, backing_height, crop_margin
 from .overlay import Overlay
+from .pacing import Pacer
 from .panel_room import panel_room
 from .rgb import RgbRenderer
 from .scene import Scene, as_scene, glide, robot_sprites
@@ -150,7 +151,7 @@ class LiveCanvas:
         self._static: np.ndarray | None = None  # what layer 0 shows
         self._goals: tuple = ()  # the robots' own targets layer 0 shows (``Scene.goals``)
         self._drawn: list[tuple] | None = None  # the keys of the panel's pieces on layer 2
-        self._due = 0.0  # time.monotonic() at which the next robot frame may be sent
+        self.pacer = Pacer()  # when the next robot frame is due; frames dropped when late
         self._still: Still | None = None  # the still shown with the canvas (``show``)
         self.view: Any = self.widget  # what ``show`` displays: the canvas, and the replay bar under it
         self._replay: Any = None  # the replay bar (``show``)
@@ -249,11 +250,15 @@ class LiveCanvas:
         if steps == 0 or not glide(scene, 0.0)[0]:  # nobody moved (or a reset's first frame)
             # a reset's frame stays one frame's time too: else the first step followed at once, the start unseen
             step = 1.0 / self.fps if self.fps > 0 else 0.0
-            self._pace(step if animate else step / max(1, self.animation_frames))
+            self.pacer.wait(step if animate else step / max(1, self.animation_frames))
             self._draw_robots(scene)
         else:
+            interval = 1.0 / (self.fps * steps) if self.fps > 0 else 0.0
+            self.pacer.start_step()
             for k in range(1, steps + 1):
-                self._pace(1.0 / (self.fps * steps) if self.fps > 0 else 0.0)
+                if k < steps and self.pacer.late(interval):
+                    continue  # behind the clock: this in-between frame dropped, never the step's last
+                self.pacer.wait(interval)
                 at, poses = glide(scene, k / steps, self.hi.labelled, self.hi.label_top)
                 self._draw_robots(scene, at, poses)
         self._draw_top()
@@ -372,14 +377,6 @@ class LiveCanvas:
         """A fitted canvas's widest: its backing store's (never blurred up) and, for a tall level,
         what keeps it within ``FIT_VIEW`` percent of the window's height (``height``: the shown rows')."""
         return f"min({self.width}px, calc({FIT_VIEW}vh * {self.hi.width / (height or self.shown):.4f}))"
-
-    def _pace(self, interval: float) -> None:
-        """Wait until the next frame is due, then set the one after ``interval`` seconds later."""
-        now = time.monotonic()
-        if now < self._due:
-            time.sleep(self._due - now)
-            now = self._due
-        self._due = now + interval
 
     def _hold(self) -> Any:
         """One batch of canvas commands (one message); inside ``_resize``'s batch, that one."""
