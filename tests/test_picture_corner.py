@@ -45,20 +45,24 @@ def test_only_a_lone_robot_in_the_corner_is_outlined():
 
 
 @pytest.mark.parametrize("cs", [32, 48, 64, 96])
-def test_a_bumped_robots_stars_stay_inside_the_outer_walls(cs):
+@pytest.mark.parametrize("corner", [False, True])
+def test_a_bumped_robot_and_its_stars_stay_inside_the_outer_walls(cs, corner):
     """A robot that bumped into the left or right outer wall: its stars drew over the wall and
-    past the board's edge; now nothing of it covers the wall's band."""
+    past the board's edge (and a corner robot, leaning into the wall, its outline over it); now
+    nothing of it covers the wall's band."""
     from babyrobot_marl import levels
+    from babyrobot_marl.render.overlay import Overlay
     from babyrobot_marl.render.picture import wall_width
     from babyrobot_marl.render.rgb import RgbRenderer
     from babyrobot_marl.render.scene import RobotView, Scene
 
     level = levels.get("maze-8x8")
     r = RgbRenderer(level, cs)
-    static = r.static(None)
+    overlay = Overlay(values=np.zeros((8, 8))) if corner else None
+    static = r.static(overlay)
     band = int(wall_width(cs) // 2)
     for x, heading, cols in ((0, 4, slice(0, band)), (7, 2, slice(8 * cs - band, 8 * cs))):
         view = RobotView(0, (x, 3), heading, "bumped", numbered=False)
-        img = r.frame(Scene((view,)))
+        img = r.frame(Scene((view,), corner=corner), overlay)
         rows = slice(3 * cs, 4 * cs)
         assert (img[rows, cols] == static[rows, cols]).all()

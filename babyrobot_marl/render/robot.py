@@ -75,7 +75,7 @@ def robot(
     ``outlined``: ringed in its ink, then in the floor's colour (a small robot on a tinted cell)."""
     dx, dy = HEADINGS.get(heading, (0.0, 0.0))
     tilt = {"skidding": 14.0 * (dx or 1.0), "moving": 6.0 * dx}.get(pose, 0.0)
-    shift = 0.05 if pose == "bumped" else 0.0
+    shift = 0.05 if pose == "bumped" and not outlined else 0.0  # leaning into the wall; in a corner, off it
     p = _Pen(cx + dx * shift * size, cy + dy * shift * size, size, tilt)
     ink, body, dark = theme.robot_ink, colour, shade(colour, 0.72)
     light = shade(colour, 1.55)
