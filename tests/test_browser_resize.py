@@ -1,11 +1,9 @@
-"""Real-browser test: a canvas that grows mid-episode (its panel gains a line at every step, past
-the room kept for it). The browser clears a resized canvas: the layers are resized and drawn
-first, then the canvas shown and at once a batch that composes them into it, so no animation
-frame of the page shows a part of the picture (the level without its panel, say). Every
-animation frame of the page is read (``record_canvas``). The frames seen empty (the browser may
-paint between the resize's message and the batch right after it: none at a load of 7 in one
-run, 2 for 10 resizes at a load of 11) are counted and printed: a figure, not a test.
-Harness: tests/browser."""
+"""Real-browser test: a canvas whose panel gains a line at every step, past the room kept for it.
+The browser clears a canvas it resizes, so the canvas keeps spare rows below its picture and the
+panel grows into them by a change of CSS (``render/crop.py``): no frame shows the canvas empty or
+a part of the picture (the level without its panel, say). Every animation frame of the page is
+read (``record_canvas``). (Before the spare rows, each growth resized the canvas: 0-3 frames seen
+empty for 10 resizes.) Harness: tests/browser."""
 
 from __future__ import annotations
 
@@ -37,5 +35,6 @@ def test_a_panel_that_grows_mid_episode_never_blanks_the_canvas(page, screenshot
     empty = [f for f in frames if f["sig"] == 0]
     partial = [f for f in frames if not f["drawn"] and f["sig"] != 0]
     page.log(f"frames seen empty while the canvas grew: {len(empty)}")
+    assert not empty, f"{len(empty)} frames showed the canvas empty: {empty[:5]}"
     assert not partial, f"{len(partial)} frames showed a part of the picture: {partial[:5]}"
     assert frames[-1]["drawn"]

@@ -60,13 +60,14 @@ def python_numbers_only(obj) -> bool:
 
 
 def make(animation_frames=3, level="maze-8x8", cs=32, ratio=2) -> live.LiveCanvas:
-    return live.LiveCanvas(RgbRenderer(levels.get(level), cs), animation_frames=animation_frames, fps=1e6, pixel_ratio=ratio)
+    return live.LiveCanvas(RgbRenderer(levels.get(level), cs), animation_frames=animation_frames, fps=0, pixel_ratio=ratio)
 
 
 def test_the_backing_store_is_twice_the_css_size_for_hidpi_screens():
     c = make(cs=40)
-    assert c.widget.width == 8 * 40 * 2 and c.widget.height == 8 * 40 * 2 + c._reserved(Scene())
-    assert (c.widget.layout.width, c.widget.layout.height) == ("320px", "auto")  # the height follows the width
+    assert c.widget.width == 8 * 40 * 2 and c.shown == 8 * 40 * 2 + c._reserved(Scene())
+    assert c.widget.height > c.shown  # spare rows below the picture, cropped (``crop``)
+    assert (c.box.layout.width, c.widget.layout.height) == ("320px", "auto")  # the height follows the width
     one = make(cs=40, ratio=1)
     assert one.widget.width == 320
     with pytest.raises(ValueError, match="^pixel_ratio"):
@@ -158,32 +159,32 @@ def test_a_client_connecting_gets_everything_redrawn(sent):
 
 def test_a_panel_taller_than_the_reserved_one_makes_the_canvas_taller_in_whole_css_pixels():
     c = make()
-    h = c.widget.height
+    h = c.shown
     c.draw([(1, 1)], update_overlay(Overlay(), levels.get("maze-8x8"), panel=["a", "b"]))
-    assert c.widget.height > h and c.widget.height % 2 == 0
-    taller = c.widget.height
+    assert c.shown > h and c.shown % 2 == 0
+    taller = c.shown
     c.draw([(1, 1)], Overlay())  # the panel gone: the canvas keeps its height (nothing below it jumps)
-    assert c.widget.height == taller
+    assert c.shown == taller
 
 
 def test_the_canvas_keeps_a_colour_bar_height_from_the_start_so_values_do_not_make_it_grow(sent):
     c = make()
-    h = c.widget.height
+    h = c.shown
     assert h > 8 * 64  # the reserved strip under the grid
     c.draw([(1, 1)], update_overlay(Overlay(), levels.get("maze-8x8"), values=np.arange(64.0).reshape(8, 8)))
-    assert c.widget.height == h
+    assert c.shown == h
     assert c.picture().shape[0] == h  # the still is as tall as the canvas
 
 
 def test_a_canvas_without_a_cell_size_fills_90_percent_of_the_column_with_the_pixels_for_it():
     c = live.LiveCanvas(RgbRenderer(levels.get("maze-8x8")), fps=0, fit=True)
-    assert (c.widget.layout.width, c.widget.layout.height) == ("90%", "auto")
+    assert (c.box.layout.width, c.widget.layout.height) == ("90%", "auto")
     # no wider than its backing store's pixels (90% of a 1,032-pixel column is 929), nor than 80% of the window's height
-    assert c.widget.layout.max_width.startswith(f"min({c.width}px, calc(80vh * 0.") and c.width >= 929
+    assert c.box.layout.max_width.startswith(f"min({c.width}px, calc(80vh * 0.") and c.width >= 929
     assert c.widget.width == 2 * c.width
     tall = live.LiveCanvas(RgbRenderer(levels.get("maze-8x8").__class__(width=4, height=40, exits=[(0, 0)])), fps=0, fit=True)
     assert tall.grid_height <= live.FIT_HEIGHT  # capped for tall levels
-    assert f"calc(80vh * {tall.hi.width / tall.widget.height:.4f})" in tall.css
+    assert f"calc(80vh * {tall.hi.width / tall.shown:.4f})" in tall.css  # of the picture shown
     env = BabyRobotEnv(level="maze-8x8", render_mode="rgb_array")
     assert env.drawing.fit and not BabyRobotEnv(level="maze-8x8", cell_size=32).drawing.fit
 
@@ -406,7 +407,7 @@ def test_a_layer_the_browser_may_show_empty_gets_its_level_as_rectangles(sent_im
     assert [how for how, _ in sent_images] == ["fillStyledRects"]
     assert (sent_images[0][1] == hi.static(ov)).all()
     sent_images.clear()
-    c.set_overlay(update_overlay(ov, lv, panel=["a line"] * 12))  # a panel taller than the one kept
+    c.set_overlay(update_overlay(ov, lv, panel=["a line"] * 30))  # a panel taller than the spare rows
     assert [how for how, _ in sent_images] == ["fillStyledRects"] and (sent_images[0][1] == hi.static(ov)).all()
 
 
@@ -648,3 +649,31 @@ def test_a_browser_redraw_after_a_replay_shows_the_replayed_scene_not_the_live_o
     env.reset(seed=1)  # a new episode: live again
     c.redraw()
     assert drawn[-1] == c.scene
+
+
+def test_when_sending_a_frame_takes_longer_than_its_share_in_between_frames_are_dropped_never_the_last(clock, monkeypatch):
+    """A slow browser or a busy machine: each frame takes 0.2 s to send against 62.5 ms planned.
+    The canvas keeps to the clock: in-between frames are dropped, each step still ends on its
+    last frame (the robot where it is), the glide never goes back, and nothing blank is sent."""
+    fractions: list[float] = []
+    real_glide = live.glide
+
+    def spy(scene, t, *args):
+        fractions.append(t)
+        return real_glide(scene, t, *args)
+
+    def slow(command, buffers=()):
+        clock.sent_at.append(clock.now)
+        clock.now += 0.2
+
+    monkeypatch.setattr(live, "glide", spy)
+    monkeypatch.setattr(ipc._CANVAS_MANAGER, "_send_custom", slow)
+    c = live.LiveCanvas(RgbRenderer(levels.get("maze-8x8"), 32), animation_frames=4, fps=4)
+    c.draw([(1, 1)], animate=False)
+    for x in range(2, 6):
+        fractions.clear()
+        c.draw(walk(x - 1, x))
+        drawn = fractions[1:]  # (the first call asks whether anyone moved)
+        assert drawn[-1] == 1.0 and len(drawn) < 4  # frames dropped, never the last
+        assert drawn == sorted(drawn)
+    assert c.pacer.dropped > 0 and c.scene == walk(4, 5)

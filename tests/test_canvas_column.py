@@ -22,19 +22,22 @@ def css_of(text: str) -> dict[str, str]:
 @pytest.mark.parametrize("cs", [32, 64, 72])
 def test_a_canvas_with_its_own_cell_size_scales_down_in_a_narrow_column(cs):
     c = live.LiveCanvas(RgbRenderer(levels.get("maze-8x8"), cs), fps=0)
-    layout = c.widget.layout
-    assert (layout.width, layout.max_width, layout.height) == (f"{8 * cs}px", "100%", "auto")
-    assert layout.align_self == "flex-start"  # in a row of widgets its height stays its own
+    box, layout = c.box.layout, c.widget.layout  # the canvas, cropped to its picture by its box
+    assert (box.width, box.max_width, layout.width, layout.height) == (f"{8 * cs}px", "100%", "100%", "auto")
+    assert box.align_self == layout.align_self == "flex-start"  # in a row of widgets its height stays its own
     assert c.widget.width == 2 * 8 * cs  # the backing store keeps its resolution
     assert css_of(c.css) == {"width": f"{8 * cs}px", "max-width": "100%", "height": "auto"}
 
 
 def test_a_canvas_that_grows_keeps_scaling_down_in_a_narrow_column():
     c = live.LiveCanvas(RgbRenderer(levels.get("maze-8x8"), 64), fps=0)
-    h = c.widget.height
+    h, backing = c.shown, c.widget.height
     c.draw([(1, 1)], update_overlay(Overlay(), levels.get("maze-8x8"), panel=["a", "b", "c"]))
-    assert c.widget.height > h
-    assert (c.widget.layout.max_width, c.widget.layout.height) == ("100%", "auto")
+    assert c.shown > h and c.widget.height == backing  # into the spare rows
+    assert (c.box.layout.max_width, c.widget.layout.height) == ("100%", "auto")
+    c.draw([(1, 1)], update_overlay(Overlay(), levels.get("maze-8x8"), panel=["a"] * 30))
+    assert c.widget.height > backing  # past them: a taller canvas
+    assert (c.box.layout.max_width, c.widget.layout.height) == ("100%", "auto")
 
 
 def test_a_still_without_a_css_of_its_own_scales_down_in_a_narrow_column():

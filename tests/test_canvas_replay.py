@@ -13,7 +13,7 @@ from babyrobot_marl.render.rgb import RgbRenderer  # noqa: E402
 
 
 def test_a_cell_that_stops_an_episode_midway_leaves_a_replay_bar(monkeypatch):
-    c = live.LiveCanvas(RgbRenderer(levels.get("mixed-8x8"), 32), animation_frames=0, fps=1e6)
+    c = live.LiveCanvas(RgbRenderer(levels.get("mixed-8x8"), 32), animation_frames=0, fps=0)
     bar = c.replay_bar()
     monkeypatch.setattr(live, "_shown", live.deque([c], maxlen=live.MAX_TRACKED))
     for cell in [(0, 0), (1, 0), (2, 0), (2, 1)]:  # not done: the episode goes on

@@ -20,7 +20,7 @@ from tests.test_canvas import NAMES  # noqa: E402
 
 def test_a_resize_is_followed_by_one_message_drawing_every_layer(monkeypatch):
     level = levels.get("mixed-8x8")
-    c = live.LiveCanvas(RgbRenderer(level, 32), animation_frames=2, fps=1e6)
+    c = live.LiveCanvas(RgbRenderer(level, 32), animation_frames=2, fps=0)
     layers = {f"IPY_MODEL_{layer.model_id}": i for i, layer in enumerate(c.widget._canvases)}
     events: list = []
 
@@ -40,7 +40,7 @@ def test_a_resize_is_followed_by_one_message_drawing_every_layer(monkeypatch):
     c.draw([(0, 0)])
     c.draw([(1, 0)], update_overlay(Overlay(), level, panel=["step 1  return -1"]))
     before = c.widget.height
-    c.draw([(2, 0)], update_overlay(Overlay(), level, panel=["step 2  return -2", "moved", "a third line"]))
+    c.draw([(2, 0)], update_overlay(Overlay(), level, panel=["step 2  return -2", "moved"] + ["a line"] * 20))  # past the spare
     assert c.widget.height > before  # the panel grew: the canvas did
     at = [k for k, e in enumerate(events) if e[0] == "resize"]
     assert len(at) == 1
@@ -63,7 +63,7 @@ def test_the_shown_canvas_is_resized_after_its_layers_are_drawn_at_the_new_heigh
     for k, layer in enumerate(c.widget._canvases):
         layer.observe(lambda change, k=k: events.append(f"layer {k} resized"), names="height")
     c.draw([(0, 0)])
-    c.draw([(1, 0)], update_overlay(Overlay(), level, panel=["one", "two", "three", "four", "five"]))
+    c.draw([(1, 0)], update_overlay(Overlay(), level, panel=["one", "two", "three", "four", "five"] * 4))
     assert events.count("shown resized") == 1
     at = events.index("shown resized")
     assert {"layer 0 resized", "layer 1 resized", "layer 2 resized"} <= set(events[:at])
@@ -77,10 +77,10 @@ def test_an_episode_whose_panel_shows_two_lines_after_its_first_step_keeps_its_h
     level = levels.get("mixed-8x8")
     c = live.LiveCanvas(RgbRenderer(level, 32), animation_frames=0, fps=0)
     c.draw([(0, 0)])
-    h = c.widget.height
+    h = c.shown
     for t, cell in enumerate([(1, 0), (2, 0), (2, 1)], start=1):
         c.draw([cell], update_overlay(c.overlay, level, panel=[f"step {t}  return {-t}", "moved"]))
-        assert c.widget.height == h
+        assert c.shown == h
 
 
 def test_an_episode_that_starts_with_panel_lines_has_room_for_values_under_them_too():
@@ -90,6 +90,30 @@ def test_an_episode_that_starts_with_panel_lines_has_room_for_values_under_them_
     c.draw([(1, 0)], update_overlay(c.overlay, level, panel=["a", "b", "c", "d"]))
     c.new_episode()  # the overlay's four lines stay: the episode starts with them
     c.draw([(0, 0)], animate=False)
-    h = c.widget.height
+    h = c.shown
     c.draw([(1, 0)], update_overlay(c.overlay, level, values=np.arange(64.0).reshape(8, 8)))
-    assert c.widget.height == h
+    assert c.shown == h
+
+
+def test_a_panel_growing_into_the_spare_rows_resizes_nothing_and_is_drawn_before_it_shows(monkeypatch):
+    """The backing store keeps rows below the picture (``crop``): a panel that grows into them is
+    drawn there, then shown by a change of CSS; no canvas is resized (the browser clears those)."""
+    level = levels.get("mixed-8x8")
+    c = live.LiveCanvas(RgbRenderer(level, 32), animation_frames=0, fps=0)
+    events: list = []
+    monkeypatch.setattr(ipc._CANVAS_MANAGER, "_send_custom", lambda command, buffers=(): events.append("message"))
+    for w in (c.widget, *c.widget._canvases):
+        w.observe(lambda change: events.append("resized"), names="height")
+    c.widget.layout.observe(lambda change: events.append("cropped"), names="margin")
+    c.draw([(0, 0)])
+    start = c.shown
+    for t in range(1, 9):  # a line more at every step
+        events.clear()
+        shown = c.shown
+        c.draw([(t % 8, 0)], update_overlay(c.overlay, level, panel=[f"step {t}"] + ["moved"] * t))
+        assert "resized" not in events
+        if c.shown > shown:
+            at = events.index("cropped")
+            assert "message" in events[:at]  # the panel drawn before its rows show
+    assert c.shown > start
+    assert c.picture().shape[0] == c.shown  # the still: the picture shown

@@ -212,6 +212,6 @@ def test_the_single_robot_players_canvas_has_no_empty_band_under_the_grid():
     from babyrobot_marl.play.notebook import Player
 
     p = Player("mixed-8x8")
-    assert p.canvas.widget.height == p.canvas.hi.grid_height
+    assert p.canvas.shown == p.canvas.hi.grid_height == p.canvas.widget.height  # no spare rows under it either
     p.press("ArrowDown")
-    assert p.canvas.widget.height == p.canvas.hi.grid_height
+    assert p.canvas.shown == p.canvas.hi.grid_height

@@ -141,7 +141,7 @@ class Player:
                     + "</small>")  # fmt: skip
         self.replay = self.canvas.replay_bar()  # shown when an episode ends
         self._steps = -1  # the game's step count drawn last: less now, a new episode
-        self.widget = VBox([self.canvas.widget, HBox(buttons), self.replay.widget, hint, self.panel])
+        self.widget = VBox([self.canvas.box, HBox(buttons), self.replay.widget, hint, self.panel])
         self.widget.add_class("babyrobot-player")
         self.still = Still(self.widget, self.canvas.picture, self.canvas.css)
         self._refresh()

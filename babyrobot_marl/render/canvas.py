@@ -19,8 +19,8 @@ same picture. Without a ``cell_size`` of its own (``fit``) the canvas fills abou
 notebook column (less for tall levels) and its backing store has the pixels for that. The panel's
 height is reserved when an episode starts: the lines, colour bar and legend the overlay shows then,
 and (``reserve_values``) room for a colour bar or ``RESERVED_LINES`` lines of text, so the canvas
-does not grow mid-episode when values or a step's lines come. A panel that outgrows it makes the
-canvas taller, drawn so that no frame shows it empty (``_resize``).
+does not grow mid-episode when values or a step's lines come; past it, into spare rows kept below
+the picture, by CSS alone (``crop``); past them the canvas is made taller, never shown empty.
 
 Shown with a still of its latest frame (``still.Still``), refreshed when an episode ends, when
 the env closes and after every notebook cell that changed it (``snapshot``): a notebook saved
@@ -34,7 +34,7 @@ extra (ipycanvas, ipywidgets, orjson); imported lazily. Every number sent is a P
 
 from __future__ import annotations
 
-import time
+import time  # noqa: F401  (the clock pacing reads: tests set it as canvas.time)
 from collections import deque
 from collections.abc import Sequence
 from typing import Any
@@ -42,9 +42,11 @@ from typing import Any
 import numpy as np
 
 from ..core.level import Cell
-from .canvas_calls import _css, _frame_bars, _rect, _send, _Styles  # noqa: F401  (_css: read as canvas._css)
+from .canvas_calls import _css, _frame_bars, _rect, _send, _Styles, marked_frame  # noqa: F401  (_css: read as canvas._css)
 from .checks import MAX_ANIMATION_FRAMES, MAX_CELL_SIZE, MIN_CELL_SIZE, check_animation_frames, check_fps  # noqa: F401
+from .crop import SPARE_LINES, backing_height, crop_margin
 from .overlay import Overlay
+from .pacing import Pacer
 from .panel_room import panel_room
 from .rgb import RgbRenderer
 from .scene import Scene, as_scene, glide, robot_sprites
@@ -128,6 +130,7 @@ class LiveCanvas:
     def __init__(self, renderer: RgbRenderer, animation_frames: int = 4, fps: float = 4.0, pixel_ratio: int = PIXEL_RATIO,
                  fit: bool = False, reserve_values: bool = True):  # fmt: skip
         from ipycanvas import MultiCanvas
+        from ipywidgets import Box
 
         self.renderer = renderer
         self.animation_frames = check_animation_frames(animation_frames)
@@ -136,17 +139,19 @@ class LiveCanvas:
             raise ValueError(f"pixel_ratio: must be 1 or 2, got {pixel_ratio!r}")
         self.ratio, self.fit, self.reserve_values = pixel_ratio, bool(fit), bool(reserve_values)
         css_cell = fit_cell_size(renderer.level) if self.fit else renderer.cell_size
-        same = css_cell * pixel_ratio == renderer.cell_size
-        self.hi = renderer if same else RgbRenderer(renderer.level, css_cell * pixel_ratio, renderer.theme)
+        same = css_cell * pixel_ratio == renderer.cell_size and renderer.panel_ratio == pixel_ratio
+        self.hi = renderer if same else RgbRenderer(renderer.level, css_cell * pixel_ratio, renderer.theme, pixel_ratio)
         self.width, self.grid_height = self.hi.width // self.ratio, self.hi.grid_height // self.ratio  # CSS pixels
         self.widget = MultiCanvas(3, width=self.hi.width, height=self.hi.grid_height)
+        self.box = Box([self.widget])  # the canvas cropped to its picture (``crop``): what is shown
+        self.shown = self.hi.grid_height  # the backing store's rows the page shows
         self.scene = Scene()
         self.overlay = Overlay()
         self.frames_sent = 0  # hold_canvas batches sent (tests, benchmarks)
         self._static: np.ndarray | None = None  # what layer 0 shows
         self._goals: tuple = ()  # the robots' own targets layer 0 shows (``Scene.goals``)
         self._drawn: list[tuple] | None = None  # the keys of the panel's pieces on layer 2
-        self._due = 0.0  # time.monotonic() at which the next robot frame may be sent
+        self.pacer = Pacer()  # when the next robot frame is due; frames dropped when late
         self._still: Still | None = None  # the still shown with the canvas (``show``)
         self.view: Any = self.widget  # what ``show`` displays: the canvas, and the replay bar under it
         self._replay: Any = None  # the replay bar (``show``)
@@ -162,7 +167,8 @@ class LiveCanvas:
             layer.on_client_ready(lambda *_, k=k: self._on_ready(lambda: self._show(*self._shown(), layer=k)))
         self._redraw_due = False
         self._batched = False  # inside ``_resize``: every layer's commands in its one batch
-        self._set_height(self.hi.grid_height + self._reserved(self.scene))
+        shown = self.hi.grid_height + self._reserved(self.scene)
+        self._set_height(self._backing(shown), shown)
         self._draw_static(fresh=True)
         self._draw_top()
 
@@ -179,7 +185,7 @@ class LiveCanvas:
         and a replay bar (shown when an episode ends)."""
         from ipywidgets import VBox
 
-        self.view = VBox([self.widget, self.replay_bar().widget])
+        self.view = VBox([self.box, self.replay_bar().widget])
         self._still = Still(self.view, self.picture, self.css, self.ratio)
         self._snapped = (self.scene, self.overlay)
         self._still.show()
@@ -217,11 +223,12 @@ class LiveCanvas:
     def picture(self) -> np.ndarray:
         """What the canvas shows, at its backing store's resolution (the panel's reserved strip included)."""
         img = self.hi.frame(self.scene, self.overlay)
-        for f in self._marks(self.scene):  # axis-aligned bars: painted as they are
+        for f in marked_frame(self.hi, self.scene, self.marked):  # axis-aligned bars: painted as they are
             (x0, y0), (x1, y1) = f.points.min(axis=0).astype(int), f.points.max(axis=0).astype(int)
             img[y0:y1, x0:x1] = f.colour
-        if img.shape[0] < self.widget.height:
-            pad = np.empty((self.widget.height - img.shape[0], *img.shape[1:]), dtype=np.uint8)
+        img = img[: self.shown]
+        if img.shape[0] < self.shown:
+            pad = np.empty((self.shown - img.shape[0], *img.shape[1:]), dtype=np.uint8)
             pad[:] = self.hi.theme.panel
             img = np.concatenate([img, pad])
         return img
@@ -243,11 +250,15 @@ class LiveCanvas:
         if steps == 0 or not glide(scene, 0.0)[0]:  # nobody moved (or a reset's first frame)
             # a reset's frame stays one frame's time too: else the first step followed at once, the start unseen
             step = 1.0 / self.fps if self.fps > 0 else 0.0
-            self._pace(step if animate else step / max(1, self.animation_frames))
+            self.pacer.wait(step if animate else step / max(1, self.animation_frames))
             self._draw_robots(scene)
         else:
+            interval = 1.0 / (self.fps * steps) if self.fps > 0 else 0.0
+            self.pacer.start_step()
             for k in range(1, steps + 1):
-                self._pace(1.0 / (self.fps * steps) if self.fps > 0 else 0.0)
+                if k < steps and self.pacer.late(interval):
+                    continue  # behind the clock: this in-between frame dropped, never the step's last
+                self.pacer.wait(interval)
                 at, poses = glide(scene, k / steps, self.hi.labelled, self.hi.label_top)
                 self._draw_robots(scene, at, poses)
         self._draw_top()
@@ -333,33 +344,39 @@ class LiveCanvas:
         """The panel's height kept for an episode that starts with ``scene`` (``panel_room``)."""
         return panel_room(self.hi, self.overlay, scene.legend, self.ratio, RESERVED_LINES if self.reserve_values else 0)
 
+    def _backing(self, shown: int) -> int:
+        """``shown`` rows and spare ones when a program may add lines mid-episode (``reserve_values``)."""
+        return backing_height(shown, self.hi.cell_size, self.ratio, SPARE_LINES if self.reserve_values else 0)
+
     def _grow(self, height: int, scene: Scene) -> None:
-        """The canvas made ``height`` backing-store pixels tall if it is less (it never shrinks)."""
+        """The picture made ``height`` pixels tall if it is less (never shrinks): by CSS, else a resize."""
         if height > self.widget[0].height:
             self._resize(height, lambda: self._draw_top(scene, force=True), scene)
+        elif height > self.shown:
+            self._crop(height)
 
-    def _set_height(self, height: int) -> None:
-        """The backing store's height (resizing clears every layer) and the CSS size with it: the
-        height follows the width, so a canvas in a narrow column scales down whole. The height is
-        sent last: the caller's batch of commands follows it at once (``_resize``)."""
-        self.widget.layout.width = f"{self.width}px" if not self.fit else FIT_SHARE
-        self.widget.layout.max_width = self._max_width(height) if self.fit else NARROW_FIT
-        self.widget.layout.height = "auto"
-        self.widget.layout.align_self = "flex-start"  # in a row of widgets: its own height, not the row's
-        self.widget.height = height
+    def _set_height(self, backing: int, shown: int) -> None:
+        """The backing store's height (resizing clears every layer) and the CSS that shows its top
+        ``shown`` rows: the height follows the width, so a canvas in a narrow column scales down
+        whole. The height is sent last: the caller's batch of commands follows it at once (``_resize``)."""
+        self.widget.layout.width, self.widget.layout.height = "100%", "auto"
+        self.widget.layout.align_self = "flex-start"  # its own height, not its box's
+        self.box.layout.overflow = "hidden"
+        self.box.layout.align_self = "flex-start"  # in a row of widgets: its own height, not the row's
+        self._crop(shown, backing)
+        self.widget.height = backing
+
+    def _crop(self, shown: int, backing: int | None = None) -> None:
+        """The page shows the backing store's top ``shown`` rows (a CSS change: nothing is cleared)."""
+        self.shown = shown
+        self.box.layout.width = f"{self.width}px" if not self.fit else FIT_SHARE
+        self.box.layout.max_width = self._max_width(shown) if self.fit else NARROW_FIT
+        self.widget.layout.margin = crop_margin(backing or self.widget.height, shown, self.hi.width)
 
     def _max_width(self, height: int | None = None) -> str:
         """A fitted canvas's widest: its backing store's (never blurred up) and, for a tall level,
-        what keeps it within ``FIT_VIEW`` percent of the window's height (``height``: the backing store's)."""
-        return f"min({self.width}px, calc({FIT_VIEW}vh * {self.hi.width / (height or self.widget.height):.4f}))"
-
-    def _pace(self, interval: float) -> None:
-        """Wait until the next frame is due, then set the one after ``interval`` seconds later."""
-        now = time.monotonic()
-        if now < self._due:
-            time.sleep(self._due - now)
-            now = self._due
-        self._due = now + interval
+        what keeps it within ``FIT_VIEW`` percent of the window's height (``height``: the shown rows')."""
+        return f"min({self.width}px, calc({FIT_VIEW}vh * {self.hi.width / (height or self.shown):.4f}))"
 
     def _hold(self) -> Any:
         """One batch of canvas commands (one message); inside ``_resize``'s batch, that one."""
@@ -371,18 +388,6 @@ class LiveCanvas:
             return nullcontext()
         self.frames_sent += 1
         return hold_canvas()
-
-    def _marks(self, scene: Scene) -> list[Fill]:
-        """The frame round the ``marked`` robot's cell, in its colour (under the robots)."""
-        from .palette import robot_colour
-
-        view = next((v for v in scene.robots if v.number == self.marked), None)
-        if view is None:
-            return []
-        cs = self.hi.cell_size
-        x0, y0, t = view.cell[0] * cs, view.cell[1] * cs, max(2, cs // 16)
-        colour = robot_colour(self.hi.theme, view.number)
-        return [Fill(p, colour) for p in _frame_bars(x0 + t, y0 + t, x0 + cs - t, y0 + cs - t, t)]
 
     def _sync_static(self) -> None:
         """Layer 0 again if it does not show the overlay's cells."""
@@ -399,7 +404,7 @@ class LiveCanvas:
     def _draw_top(self, scene: Scene | None = None, force: bool = False) -> None:
         """Labels and panel (layer 2): only the strips of the panel whose content changed (a
         legend row's return, say), everything when the canvas's height changed or ``force``.
-        The canvas never shrinks and keeps a colour bar's height from the start."""
+        The picture never shrinks; a taller one is shown once its panel is drawn."""
         from .annotate import value_range
         from .panel import panel_sections, shifted
 
@@ -407,9 +412,9 @@ class LiveCanvas:
         r = self.hi
         sections = panel_sections(r.width, r.cell_size, r.theme, self.overlay.panel, value_range(self.overlay),
                                   scene.legend, self.ratio)  # fmt: skip
-        height = max(r.grid_height + sum(sec.height for sec in sections), self.widget[0].height)
-        if height != self.widget[0].height:
-            self._resize(height, lambda: self._draw_top(scene, force=True), scene)
+        need, height = r.grid_height + sum(sec.height for sec in sections), self.widget[0].height
+        if need > height:
+            self._resize(need, lambda: self._draw_top(scene, force=True), scene)
             return
         drawn = self._drawn if not force else None
         if force or drawn is None:
@@ -431,22 +436,23 @@ class LiveCanvas:
         if drawn is not None and len(drawn) > len(now) and y < height:  # strips gone: their place blank
             ops.append(Fill(_rect(0, y, r.width, height), r.theme.panel))
         self._drawn = now
-        if not ops:
-            return
-        layer = self.widget[2]
-        with self._hold():
-            if drawn is None:
-                layer.clear()
-            _send(layer, ops, self._styles)
+        if ops:
+            with self._hold():
+                if drawn is None:
+                    self.widget[2].clear()
+                _send(self.widget[2], ops, self._styles)
+        if need > self.shown and not self._batched:  # drawn first: the rows shown next hold the panel
+            self._crop(need)
 
-    def _resize(self, height: int, draw_top: Any, scene: Scene) -> None:
-        """A taller canvas, never shown empty. The browser clears a canvas it resizes; the page
-        shows the ``MultiCanvas``'s own canvas, which it redraws from the layers after each batch
+    def _resize(self, shown: int, draw_top: Any, scene: Scene) -> None:
+        """A taller canvas showing ``shown`` rows (``crop``), never shown empty. The browser clears
+        a canvas it resizes; the page shows the ``MultiCanvas``'s own canvas, which it redraws from the layers after each batch
         of commands. So: the layers first (the page still shows the picture before), every layer
         drawn at the new height in one message (the level's rectangles computed before), then the
         shown canvas and, sent right after it, a small batch made before it: the browser composes
         the layers into the canvas again after each batch.
         ``draw_top``: the labels and panel, drawn at the new height."""
+        height = self._backing(shown)
         img = self.hi.static(self.overlay, self._goals)
         put = picture_calls(img, fresh=True)
         for layer in self.widget._canvases:
@@ -464,7 +470,7 @@ class LiveCanvas:
             self._batched = True  # composes every layer into the resized canvas after it
             try:
                 self._draw_robots(scene)
-                self._set_height(height)
+                self._set_height(height, shown)
             finally:
                 self._batched = False
 
@@ -472,7 +478,7 @@ class LiveCanvas:
                      poses: dict[int, str] | None = None) -> None:  # fmt: skip
         layer = self.widget[1]
         sprites = robot_sprites(scene, self.hi.cell_size, self.hi.theme, poses, at, self.hi.labelled)
-        marks = self._marks(scene)
+        marks = marked_frame(self.hi, scene, self.marked)
         with self._hold():
             layer.clear()
             if marks:

@@ -25,6 +25,18 @@ def _frame_bars(x0: int, y0: int, x1: int, y1: int, t: int) -> list[np.ndarray]:
             rect(x0, y0 + t, x0 + t, y1 - t), rect(x1 - t, y0 + t, x1, y1 - t)]  # fmt: skip
 
 
+def marked_frame(r: Any, scene: Any, marked: int | None) -> list[Fill]:
+    """The frame round the ``marked`` robot's cell in ``r``'s pixels, in its colour (under the robots)."""
+    from .palette import robot_colour
+
+    view = next((v for v in scene.robots if v.number == marked), None)
+    if view is None:
+        return []
+    cs = r.cell_size
+    x0, y0, t = view.cell[0] * cs, view.cell[1] * cs, max(2, cs // 16)
+    return [Fill(p, robot_colour(r.theme, view.number)) for p in _frame_bars(x0 + t, y0 + t, x0 + cs - t, y0 + cs - t, t)]
+
+
 class _Styles:
     """The font and fill style each layer was last given: setting an ipycanvas attribute costs
     tens of microseconds (a traitlet and a command), so unchanged ones are not sent again."""

@@ -63,10 +63,13 @@ RENDERER_BYTES = BLOCK_BYTES + LONE_BYTES + PANEL_BYTES + ROW_BYTES + PLACED_BYT
 
 
 class RgbRenderer(CellBlocks):
-    """Draws one level at one cell size and theme; ``frame(scene_or_robots, overlay)`` returns a fresh image."""
+    """Draws one level at one cell size and theme; ``frame(scene_or_robots, overlay)`` returns a fresh image.
+    ``panel_ratio``: device pixels per CSS pixel of the panel (2: the picture of a canvas drawn
+    at twice its CSS size, whose panel is laid out for its CSS size and drawn twice as large)."""
 
-    def __init__(self, level: Level, cell_size: int | None = None, theme: str | Theme = "light"):
+    def __init__(self, level: Level, cell_size: int | None = None, theme: str | Theme = "light", panel_ratio: int = 1):
         self.level = level
+        self.panel_ratio = panel_ratio
         self.cell_size = cs = check_cell_size(cell_size, level)
         self.theme = resolve_theme(theme)
         self.width, self.grid_height = level.width * cs, level.height * cs
@@ -88,7 +91,7 @@ class RgbRenderer(CellBlocks):
         self._reach: dict[tuple, tuple] = {}  # the cells a lone robot's look covers, relative to its cell
         self._on_tiles = self._tiled()
         self._mark_cache: ByteCache[tuple] = ByteCache(MARK_BYTES, _ref_bytes)  # bursts placed, by their two cells
-        self._row_h = metrics(cs).row_h
+        self._row_h = metrics(cs, panel_ratio).row_h
         self._rows: ByteCache[list] = ByteCache(ROW_BYTES, _row_bytes)  # legend rows' layouts, by content
         self._blocks: ByteCache[np.ndarray] = ByteCache(BLOCK_BYTES, _array_bytes)  # cells with robots drawn in,
         self._blocks_static: np.ndarray | None = None  # by content, on this static image
@@ -310,14 +313,14 @@ class RgbRenderer(CellBlocks):
         the row's content (thousands: rows repeat from race to race); their pictures are ``_strip``'s."""
         hit = self._rows.get(row)
         if hit is None:
-            sec = legend_row_section(self.width, self.cell_size, self.theme, row)
+            sec = legend_row_section(self.width, self.cell_size, self.theme, row, self.panel_ratio)
             hit = self._rows.put(row, [(x0, x1, key, sec.height, sec.background, build) for x0, x1, key, build in sec.parts])
         return hit
 
     def _panel_strips(self, overlay: Overlay | None, scene: Scene) -> list[np.ndarray]:
         lines = overlay.panel if overlay is not None else ()
         vr = annotate.value_range(overlay) if overlay is not None else None
-        sections = panel_sections(self.width, self.cell_size, self.theme, lines, vr, scene.legend)
+        sections = panel_sections(self.width, self.cell_size, self.theme, lines, vr, scene.legend, self.panel_ratio)
         strips = []
         self._legend_y, y = None, 0
         for sec in sections:

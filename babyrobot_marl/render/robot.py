@@ -69,15 +69,20 @@ def robot(
     heading: int = 0,
     pose: str = "idle",
     number: int | None = None,
+    outlined: bool = False,
 ) -> list[Op]:
-    """The operations that draw one Baby Robot (see the module's table for ``pose``)."""
+    """The operations that draw one Baby Robot (see the module's table for ``pose``);
+    ``outlined``: ringed in its ink, then in the floor's colour (a small robot on a tinted cell)."""
     dx, dy = HEADINGS.get(heading, (0.0, 0.0))
     tilt = {"skidding": 14.0 * (dx or 1.0), "moving": 6.0 * dx}.get(pose, 0.0)
-    shift = 0.05 if pose == "bumped" else 0.0
+    shift = 0.05 if pose == "bumped" and not outlined else 0.0  # leaning into the wall; in a corner, off it
     p = _Pen(cx + dx * shift * size, cy + dy * shift * size, size, tilt)
     ink, body, dark = theme.robot_ink, colour, shade(colour, 0.72)
     light = shade(colour, 1.55)
 
+    if outlined:
+        for grow, ring in zip(OUTLINE[::-1], (theme.floor, ink)):
+            _silhouette(p, grow, ring, dx, dy, pose == "finished")
     # shadow, speed lines and splashes: under the robot
     p.fill(ellipse(0.0, 0.45, 0.3, 0.055), (0, 0, 0), 0.16)
     if pose == "moving" and (dx or dy):
@@ -140,6 +145,7 @@ def robot(
     # marks on top: stars when bumped, a glint on glass, confetti when finished
     if pose == "bumped":
         for sx, sy, r in ((dx * 0.26 + 0.24, -0.33, 0.1), (dx * 0.26 - 0.22, -0.36, 0.075)):
+            sx = min(max(sx, r - STAR_REACH), STAR_REACH - r)  # inside its cell, off the wall it hit
             p.fill(star(sx, sy, r, r * 0.45), (255, 200, 40))
             p.fill(star(sx, sy, r * 0.5, r * 0.22), (255, 250, 210))
     elif pose == "glass":
@@ -155,6 +161,27 @@ def robot(
 def number_size(number: int, size: float) -> int | None:
     """The text size of ``number`` on the chest of a robot ``size`` pixels tall; None: too small to be drawn."""
     return fit(str(number), 0.27 * size * SCALE, 0.16 * size * SCALE, largest=40, smallest=6)
+
+
+STAR_REACH = 0.46  # a bumped robot's stars: this far from its centre at most (robot units; it leans 0.05 of
+# a cell into the wall: the stars stay within 0.45 of a cell from the cell's centre, inside its walls)
+OUTLINE = (0.08, 0.2)  # an outlined robot's rings: its ink, then the floor's colour, this far out (robot units)
+
+
+def _silhouette(p: _Pen, grow: float, colour: Colour, dx: float, dy: float, arms_up: bool) -> None:
+    """The robot's head, body, track and antenna (and raised arms), ``grow`` wider all round
+    (arms held down lie within); placed as ``robot`` places them for heading ``(dx, dy)``."""
+    hx, hy = dx * 0.035, dy * 0.02
+    ax = hx - dx * 0.05
+    # under the track, half as wide: a robot in its corner stays inside its cell
+    p.fill(round_rect(-0.25 - grow, 0.3 - grow, 0.25 + grow, 0.43 + grow / 2, 0.06 + grow / 2), colour)
+    p.fill(round_rect(-0.25 - grow, -0.01 - grow, 0.25 + grow, 0.31 + grow, 0.07 + grow), colour)
+    p.fill(round_rect(-0.27 + hx - grow, -0.37 + hy - grow, 0.27 + hx + grow, -0.05 + hy + grow, 0.1 + grow), colour)
+    p.stroke(hx, -0.33, ax, -0.46, 0.03 + grow, colour)
+    p.disc(ax, -0.46, 0.045 + grow * 0.6, colour)
+    if arms_up:
+        for side in (-1, 1):
+            p.stroke(side * 0.25, 0.08, side * 0.42, -0.16, 0.09 + grow, colour)
 
 
 def _eyes(p: _Pen, pose: str, ex: float, ey: float, eye: Colour) -> None:

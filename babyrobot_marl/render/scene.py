@@ -67,6 +67,7 @@ class Placement:
     cx: float  # centre, cell units
     cy: float
     scale: float  # 1: a whole cell
+    outlined: bool = False  # ringed so it reads small on a tinted cell (a lone robot in an overlay's corner)
 
 
 def placements(scene: Scene, labelled: frozenset = frozenset(), top: float = 0.0) -> list[Placement]:
@@ -98,7 +99,7 @@ def lone_placement(view: RobotView, corner: bool, top: float) -> Placement:
     """A robot alone in its cell (the same object each time: renderers key their caches by it)."""
     x, y = view.cell
     if corner:
-        return Placement(view, x + CORNER[1], y + CORNER[2], CORNER[0])
+        return Placement(view, x + CORNER[1], y + CORNER[2], CORNER[0], outlined=True)
     scale, ((u, w),) = icon_scale(1, top)
     return Placement(view, x + u, y + w, scale)
 
@@ -151,7 +152,7 @@ def placement_sprites(p: Placement, cs: float, theme: Theme, pose: str, cx: floa
     """A placed robot's sprite and its rank badge (None while racing), centred at ``(cx, cy)`` cells, in pixels."""
     v = p.view
     numbered = v.numbered and not v.rank  # on the podium: its rank only (its number is in the legend)
-    robot = (robot_sprite(theme, v.number, v.heading, pose, numbered, round(cs * p.scale, 2)), cx * cs, cy * cs)
+    robot = (robot_sprite(theme, v.number, v.heading, pose, numbered, round(cs * p.scale, 2), p.outlined), cx * cs, cy * cs)
     if not v.rank:
         return robot, None
     # a medal on its chest, where a racing robot's id is: clear of the label above and of the

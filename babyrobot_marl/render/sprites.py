@@ -28,19 +28,22 @@ OTHER_RANK = (150, 154, 166)
 SPRITE_BYTES = 8 * MB  # robots' outlines: a few kB each, one per robot number, heading, pose and size
 
 
-def robot_sprite(theme: Theme, number: int, heading: int, pose: str, numbered: bool, size: float) -> Sprite:
-    """Baby Robot number ``number`` (its colour; its number on its chest when ``numbered``). Robots
-    that look the same share a sprite: below the size a number is drawn at, a robot is its colour."""
+def robot_sprite(theme: Theme, number: int, heading: int, pose: str, numbered: bool, size: float,
+                 outlined: bool = False) -> Sprite:  # fmt: skip
+    """Baby Robot number ``number`` (its colour; its number on its chest when ``numbered``;
+    ringed when ``outlined``). Robots that look the same share a sprite: below the size a number
+    is drawn at, a robot is its colour."""
     shown = number if numbered and number_size(number, size) is not None else None
-    return _robot_sprite(theme, robot_colour(theme, number), heading, pose, numbered, shown, size)
+    return _robot_sprite(theme, robot_colour(theme, number), heading, pose, numbered, shown, size, outlined)
 
 
 @byte_cached(SPRITE_BYTES)
 def _robot_sprite(theme: Theme, colour: tuple, heading: int, pose: str, numbered: bool, shown: int | None,
-                  size: float) -> Sprite:  # fmt: skip
+                  size: float, outlined: bool) -> Sprite:  # fmt: skip
     if numbered and shown is None:  # a chest too small for its number: drawn as robot() draws it then
-        return flatten([op for op in robot(0.0, 0.0, size, theme, colour, heading, pose, 0) if not isinstance(op, Text)])
-    return flatten(robot(0.0, 0.0, size, theme, colour, heading, pose, shown))
+        ops = robot(0.0, 0.0, size, theme, colour, heading, pose, 0, outlined)
+        return flatten([op for op in ops if not isinstance(op, Text)])
+    return flatten(robot(0.0, 0.0, size, theme, colour, heading, pose, shown, outlined))
 
 
 @lru_cache(maxsize=256)
