@@ -67,7 +67,8 @@ def test_the_backing_store_is_twice_the_css_size_for_hidpi_screens():
     c = make(cs=40)
     assert c.widget.width == 8 * 40 * 2 and c.shown == 8 * 40 * 2 + c._reserved(Scene())
     assert c.widget.height > c.shown  # spare rows below the picture, cropped (``crop``)
-    assert (c.box.layout.width, c.widget.layout.height) == ("320px", "auto")  # the height follows the width
+    # the box: the picture's 320 CSS pixels and its 1-pixel frame on each side; the height follows the width
+    assert (c.box.layout.width, c.widget.layout.height) == ("322px", "auto")
     one = make(cs=40, ratio=1)
     assert one.widget.width == 320
     with pytest.raises(ValueError, match="^pixel_ratio"):
@@ -677,3 +678,11 @@ def test_when_sending_a_frame_takes_longer_than_its_share_in_between_frames_are_
         assert drawn[-1] == 1.0 and len(drawn) < 4  # frames dropped, never the last
         assert drawn == sorted(drawn)
     assert c.pacer.dropped > 0 and c.scene == walk(4, 5)
+
+
+def test_the_canvas_is_framed_in_the_pages_border_colour():
+    """On a dark notebook page a light canvas's dark outer wall merged into the page: the canvas's box
+    has a frame in the page's own border colour (a JupyterLab variable, with a grey for other pages)."""
+    for fit in (False, True):
+        c = live.LiveCanvas(RgbRenderer(levels.get("maze-8x8"), 32), fps=0, pixel_ratio=2, fit=fit)
+        assert c.box.layout.border == "1px solid var(--jp-border-color1, #9e9e9e)" and c.box.layout.overflow == "hidden"

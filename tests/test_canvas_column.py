@@ -23,7 +23,7 @@ def css_of(text: str) -> dict[str, str]:
 def test_a_canvas_with_its_own_cell_size_scales_down_in_a_narrow_column(cs):
     c = live.LiveCanvas(RgbRenderer(levels.get("maze-8x8"), cs), fps=0)
     box, layout = c.box.layout, c.widget.layout  # the canvas, cropped to its picture by its box
-    assert (box.width, box.max_width, layout.width, layout.height) == (f"{8 * cs}px", "100%", "100%", "auto")
+    assert (box.width, box.max_width, layout.width, layout.height) == (f"{8 * cs + 2}px", "100%", "100%", "auto")  # + frame
     assert box.align_self == layout.align_self == "flex-start"  # in a row of widgets its height stays its own
     assert c.widget.width == 2 * 8 * cs  # the backing store keeps its resolution
     assert css_of(c.css) == {"width": f"{8 * cs}px", "max-width": "100%", "height": "auto"}
