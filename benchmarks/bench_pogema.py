@@ -7,21 +7,21 @@ POGEMA pins gymnasium 0.28.1, so it runs in a venv of its own (``pip install "po
 in a subprocess this script drives over stdin/stdout; ``--pogema-python`` (or ``POGEMA_PYTHON``)
 names that venv's interpreter.
 
-For each size (robots, map side): POGEMA makes its random map (obstacle density 0.3, its seed)
-with ``obs_radius=2`` and ``on_target="nothing"`` (no robot leaves), and steps it with uniformly
-random actions. The race runs on the same map (``Level.from_grid`` of POGEMA's obstacles, one
-exit added in the largest open region) as ``race_v0.parallel_env(observe="local", view_radius=2,
-start="random", max_cycles=128)``, its actions random too, a dict of actions built per step as a PettingZoo
-user does, a new race every 128 steps (POGEMA's maze benchmark's episode; its resets timed). Robots that
-reach their exit or target leave the board, so short races keep the crowd near full, as POGEMA's (no robot
-leaves it): in one long race each kind thinned at its own pace and the figures were taken at different crowd
-sizes. Both are timed in CPU time of their own process (``time.process_time``), after an untimed warm-up, in
-turns (who goes first alternates), so a busy machine slows both alike; agent-steps count the robots present
-at each step. Printed: microseconds per agent-step, median over rounds and its range, and the
-ratio POGEMA / race (higher: the race is faster), each round's ratio measured within the round.
-Beside them, in the same rounds: the race with ``goals="own"`` (each robot its own target, as POGEMA's
-robots have; ``own / exit``: its time over the race's to the exit) and the batch engine
-(``env.batch(1)``, every robot's step and "local" rows as arrays, no per-agent dicts).
+For each size (robots, map side): POGEMA makes its random map (obstacle density 0.3, its seed) with
+``obs_radius=2`` and ``on_target="nothing"`` (no robot leaves), and steps it with uniformly random actions.
+The race runs on the same map (``Level.from_grid`` of POGEMA's obstacles, one exit added in the largest open
+region) as ``race_v0.parallel_env(observe="local", view_radius=2, start="random", max_cycles=128)``, its
+actions random too, a dict of actions built per step as a PettingZoo user does, a new race every 128 steps
+(POGEMA's maze benchmark's episode; its resets timed). Robots that reach their exit or target leave the board,
+so short races keep the crowd near full, as POGEMA's (no robot leaves it): in one long race the crowd to the
+exit and the crowd to own targets would thin at their own paces, and their figures would be taken at different
+crowd sizes. Both are timed in CPU time of their own process (``time.process_time``), after an untimed
+warm-up, in turns (who goes first alternates), so a busy machine slows both alike; agent-steps count the
+robots present at each step. Printed: microseconds per agent-step, median over rounds and its range, and the
+ratio POGEMA / race (higher: the race is faster), each round's ratio measured within the round. Beside them,
+in the same rounds: the race with ``goals="own"`` (each robot its own target, as POGEMA's robots have;
+``own / exit``: its time over the race's to the exit) and the batch engine (``env.batch(1)``, every robot's step and
+"local" rows as arrays, no per-agent dicts).
 
 Two pairings of collision rules (``--collisions``): ``soft``, POGEMA's soft rule in both (the
 same rule, step for step), and ``default``, each env's default (POGEMA's ``"priority"``, robots
