@@ -15,7 +15,7 @@ from pettingzoo import ParallelEnv
 from ..core.actions import N_ACTIONS
 from ..core.batch import BatchRace
 from ..core.checks import check_action, check_choice, check_count, check_global_view, check_seed, check_view_numbers
-from ..core.goals import GOAL_MODES, GoalColumns, channel_marks, row_starts
+from ..core.goals import GOAL_MODES, GoalColumns, channel_marks, goal_offsets, row_starts
 from ..core.level import Cell, Level
 from ..core.observe import global_gather, make_observer, with_hint
 from ..core.outcomes import FINISHED, START
@@ -374,7 +374,7 @@ class RaceEnv(RaceGoals, RaceLevels, RaceReadouts, OverlayMethods, ParallelEnv):
         keys, starts = self._live_goal_keys, self._channel_starts
         if keys is None:  # kept until the racing robots or their targets change (_set_layout)
             keys = self._live_goal_keys = self._cell_key.take(self._racing_goals())
-        offsets = keys - self._cell_key.take(cells if here is None else here)  # goal_offsets: 0 on its target
+        offsets = goal_offsets(self._cell_key, cells if here is None else here, keys)  # 0: on its target
         if np.count_nonzero(offsets) == len(offsets):  # the common step: nobody on its target
             if self._channel is None:
                 return finishing, None, None

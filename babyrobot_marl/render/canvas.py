@@ -58,7 +58,8 @@ PIXEL_RATIO = 2
 REDRAW_AFTER = 1.0  # seconds after a browser (re)connects: everything drawn once more
 FIT_WIDTH, FIT_HEIGHT = 940, 940  # CSS pixels: a fitted canvas's largest grid (90% of a 1,032-pixel column)
 FIT_SHARE = "90%"  # of the notebook column, a fitted canvas's width
-FRAME = "1px solid var(--jp-border-color1, #9e9e9e)"  # the page's own border colour: the picture stands out on a dark page
+FRAME_PX = 1  # the frame round the canvas, in the page's own border colour: the picture stands out on a dark page
+FRAME = f"{FRAME_PX}px solid var(--jp-border-color1, #9e9e9e)"
 FIT_VIEW = 80  # percent of the window's height a fitted canvas may take (tall levels are narrower)
 MAX_REPLAY = 10_000  # scenes an episode's replay keeps (the latest)
 RESERVED_LINES = 2  # lines of panel text a canvas has room for from the start (a step's and a return's)
@@ -370,7 +371,7 @@ class LiveCanvas:
     def _crop(self, shown: int, backing: int | None = None) -> None:
         """The page shows the backing store's top ``shown`` rows (a CSS change: nothing is cleared)."""
         self.shown = shown
-        self.box.layout.width = f"{self.width + 2}px" if not self.fit else FIT_SHARE  # + the frame (the box's border-box)
+        self.box.layout.width = f"{self.width + 2 * FRAME_PX}px" if not self.fit else FIT_SHARE  # border-box: + the frame
         self.box.layout.max_width = self._max_width(shown) if self.fit else NARROW_FIT
         self.widget.layout.margin = crop_margin(backing or self.widget.height, shown, self.hi.width)
 
