@@ -130,6 +130,14 @@ while there are cells left), and keeps going: nobody finishes, and the race ends
 (every robot truncated). `env.goals_reached` counts each robot's targets in the episode
 (throughput: their sum over the steps).
 
+`finished="stay"` (with `goals="own"`, POGEMA's `on_target="nothing"`, the rule of its
+published maze runs): a robot on its target stays on the board and keeps racing: it earns the
+exit reward (0 by default) for each step it ends there, may leave again, and blocks others as
+any robot does; `infos[agent]["finished"]` says whether it stands on its target now, and so
+does `env.goals_reached` (1 or 0). The race ends when every robot stands on its target at
+once (all terminated) or after `max_cycles` steps (all truncated). Stepped with
+`parallel_env` / `env` (the batch engine parks finished robots, so it refuses this mode).
+
 ## Episode end
 
 The race ends when every robot has finished, or after `max_cycles` steps (the robots still

@@ -12,16 +12,18 @@ For each size (robots, map side): POGEMA makes its random map (obstacle density 
 The race runs on the same map (``Level.from_grid`` of POGEMA's obstacles, one exit added in the largest open
 region) as ``race_v0.parallel_env(observe="local", view_radius=2, start="random", max_cycles=128)``, its
 actions random too, a dict of actions built per step as a PettingZoo user does, a new race every 128 steps
-(POGEMA's maze benchmark's episode; its resets timed). Robots that reach their exit or target leave the board,
-so short races keep the crowd near full, as POGEMA's (no robot leaves it): in one long race the crowd to the
-exit and the crowd to own targets would thin at their own paces, and their figures would be taken at different
-crowd sizes. Both are timed in CPU time of their own process (``time.process_time``), after an untimed
-warm-up, in turns (who goes first alternates), so a busy machine slows both alike; agent-steps count the
-robots present at each step. Printed: microseconds per agent-step, median over rounds and its range, and the
-ratio POGEMA / race (higher: the race is faster), each round's ratio measured within the round. Beside them,
-in the same rounds: the race with ``goals="own"`` (each robot its own target, as POGEMA's robots have;
-``own / exit``: its time over the race's to the exit) and the batch engine (``env.batch(1)``, every robot's step and
-"local" rows as arrays, no per-agent dicts).
+(POGEMA's maze benchmark's episode; its resets timed). Beside it, in the same rounds: ``own``, the race with
+``goals="own"`` and ``finished="stay"`` (each robot its own target, and robots stay on their targets: POGEMA's
+task under POGEMA's rule here, ``on_target="nothing"``); ``leaving``, own goals where a robot leaves the board at
+its target (``finished="remove"``); and the batch engine (``env.batch(1)``, every robot's step and "local" rows
+as arrays, no per-agent dicts). Robots that reach the exit (or, leaving, their targets) leave the board, so
+short races keep those crowds near full, as POGEMA's: in one long race the crowds would thin at their own paces,
+and their figures would be taken at different crowd sizes. All are timed in CPU time of their own process
+(``time.process_time``), after an untimed warm-up, in turns (who goes first alternates), so a busy machine
+slows them alike; agent-steps count the robots present at each step. Printed: microseconds per agent-step,
+median over rounds and its range, the ratio POGEMA / race (higher: the race is faster) and own's and leaving's
+times over the race's to the exit (``own / exit``, ``leaving / exit``), each round's ratio measured within the
+round.
 
 Two pairings of collision rules (``--collisions``): ``soft``, POGEMA's soft rule in both (the
 same rule, step for step), and ``default``, each env's default (POGEMA's ``"priority"``, robots
@@ -126,12 +128,12 @@ def largest_region_cell(rows: list[str]) -> tuple[int, int]:
     return min(best, key=lambda c: (abs(c[0] - w // 2) + abs(c[1] - h // 2), c))
 
 
-def race_on(rows: list[str], robots: int, collisions: str, goals: str = "exit"):
+def race_on(rows: list[str], robots: int, collisions: str, goals: str = "exit", finished: str = "remove"):
     """The race on POGEMA's map, one exit added (``goals="own"``: each robot its own target instead)."""
     grid = Level.from_grid("\n".join(rows))
     level = Level(width=grid.width, height=grid.height, blocked=grid.blocked, exits={largest_region_cell(rows)})
     return race_v0.parallel_env(level=level, n_robots=robots, collisions=collisions, start="random", observe="local",
-                                view_radius=VIEW_RADIUS, max_cycles=EPISODE, goals=goals)
+                                view_radius=VIEW_RADIUS, max_cycles=EPISODE, goals=goals, finished=finished)
 
 
 class BatchStepper:
@@ -173,14 +175,16 @@ def measure(
     env = race_on(pogema.rows, robots, ours_rule)
     runners = {
         "race": Stepper(env, actions, clock=time.process_time),
-        "own": Stepper(race_on(pogema.rows, robots, ours_rule, "own"), actions, clock=time.process_time),
+        "own": Stepper(race_on(pogema.rows, robots, ours_rule, "own", "stay"), actions, clock=time.process_time),
+        "own, leaving": Stepper(race_on(pogema.rows, robots, ours_rule, "own"), actions, clock=time.process_time),
         "batch": BatchStepper(env, actions),
         "pogema": pogema,
     }
     try:
         for runner in runners.values():
             runner.run(max(5, steps // 10))  # warm-up, untimed
-        out: dict[str, list[float]] = {name: [] for name in (*runners, "ratio", "own / exit", "on board", "own on board")}
+        out: dict[str, list[float]] = {name: [] for name in (*runners, "ratio", "own / exit", "leaving / exit", "on board",
+                                                             "leaving on board")}  # fmt: skip
         for r in range(rounds):
             order = list(runners.values())[:: 1 if r % 2 == 0 else -1]  # who goes first alternates
             for runner in order:
@@ -190,8 +194,9 @@ def measure(
                 out[name].append(runner.seconds / runner.agent_steps)
             out["ratio"].append(out["pogema"][-1] / out["race"][-1])
             out["own / exit"].append(out["own"][-1] / out["race"][-1])
+            out["leaving / exit"].append(out["own, leaving"][-1] / out["race"][-1])
             out["on board"].append(runners["race"].agent_steps / steps)  # robots not yet finished, on average
-            out["own on board"].append(runners["own"].agent_steps / steps)
+            out["leaving on board"].append(runners["own, leaving"].agent_steps / steps)
         return out
     finally:
         pogema.close()
@@ -230,18 +235,20 @@ def main(argv: list[str] | None = None) -> int:
     print(f"race_v0.parallel_env(observe='local', view_radius={VIEW_RADIUS}) beside POGEMA 1.4 (obs_radius={VIEW_RADIUS}), "
           f"POGEMA's random maps at density {DENSITY}, random actions; the race: a new one every {EPISODE} steps")
     print(f"CPU us per agent-step, median [min, max] over {rounds} round(s) of {agent_steps:,} agent-steps each")
-    print("race: goals='exit'; own: goals='own'; batch: the batch engine (env.batch(1)); own / exit: own's time over race's;")
-    print("on board: robots still racing, mean over the steps, race / own (POGEMA keeps every robot)")
-    print(f"{'collisions':>18s} {'robots':>6s} {'map':>6s} {'race':>20s} {'own':>20s} {'batch':>20s} {'POGEMA':>20s} "
-          f"{'POGEMA / race':>18s} {'own / exit':>18s} {'on board':>13s}")
+    print("race: goals='exit'; own: goals='own', finished='stay' (robots stay on their targets: POGEMA's rule here);")
+    print("leaving: goals='own', a robot leaves at its target (finished='remove'); batch: the batch engine (env.batch(1));")
+    print("own / exit, leaving / exit: their times over race's; on board: robots still racing, mean over the steps,")
+    print("race / leaving (POGEMA and own keep every robot)")
+    print(f"{'collisions':>18s} {'robots':>6s} {'map':>6s} {'race':>20s} {'own':>20s} {'leaving':>20s} {'batch':>20s} "
+          f"{'POGEMA':>20s} {'POGEMA / race':>18s} {'own / exit':>18s} {'leaving / exit':>18s} {'on board':>13s}")
     for pairing in PAIRINGS if args.collisions == "both" else (args.collisions,):
         theirs, ours_rule = PAIRINGS[pairing]
         for robots, side in sizes:
             got = measure(args.pogema_python, pairing, robots, side, rounds, agent_steps, args.seed)
-            times = " ".join(f"{spread(got[name], 1e6):>20s}" for name in ("race", "own", "batch", "pogema"))
+            times = " ".join(f"{spread(got[name], 1e6):>20s}" for name in ("race", "own", "own, leaving", "batch", "pogema"))
             print(f"{f'{ours_rule} / {theirs}':>18s} {robots:6d} {f'{side}x{side}':>6s} {times} "
-                  f"{spread(got['ratio']):>18s} {spread(got['own / exit']):>18s} "
-                  f"{statistics.mean(got['on board']):>6.1f} / {statistics.mean(got['own on board']):<4.1f}", flush=True)
+                  f"{spread(got['ratio']):>18s} {spread(got['own / exit']):>18s} {spread(got['leaving / exit']):>18s} "
+                  f"{statistics.mean(got['on board']):>6.1f} / {statistics.mean(got['leaving on board']):<4.1f}", flush=True)
     return 0
 
 

@@ -13,11 +13,12 @@ max_cycles=128)``, the benchmark's starts and goals given by ``reset(options=...
 
 The robots are shortest-path robots: each follows a shortest path to its own goal as if alone (the
 lowest-numbered action among the optimal ones, ``planning.goal_actions``), stops only when the
-soft rule stops it. A robot leaves the board when it reaches its goal (POGEMA's
-``on_target="finish"``); the published runs use ``on_target="nothing"`` (robots stay on their
-targets and still block), so the two rules differ for robots that would pass over a finished
-robot's target. ``--in-pogema`` steps the same robots in POGEMA 1.4 itself (its own venv) with
-both: with ``"finish"`` every episode must be the one run here, robot by robot (else exit status 1).
+soft rule stops it. As in the published runs (POGEMA's ``on_target="nothing"``), a robot that
+reaches its goal stays there and still blocks (``finished="stay"``), and an episode is solved when
+every robot stands on its goal at once; ``--finished remove`` lets a robot leave the board at its
+goal instead (POGEMA's ``on_target="finish"``). ``--in-pogema`` steps the same robots in POGEMA 1.4
+itself (its own venv) with both: with the matching rule every episode must be the one run here,
+robot by robot (else exit status 1).
 Metrics are POGEMA's, named as ``babyrobot-marl evaluate`` names them:
 ``all_reached_rate`` (CSR), ``success_rate`` (ISR), ``sum_of_costs`` and ``makespan``, with 95%
 intervals (Wilson for rates, over mazes for CSR and robots for ISR; normal for means).
@@ -45,6 +46,7 @@ HERE = Path(__file__).resolve().parent
 DATA = HERE / "data" / "pogema_mazes.json"
 MAKER = HERE / "pogema_mazes_data.py"
 STEPS = 128
+ON_TARGET = {"stay": "nothing", "remove": "finish"}  # our finished= and POGEMA's on_target, the same rule
 ROBOTS = (8, 16, 32, 48, 64)
 QUICK_MAZES, QUICK_ROBOTS = 4, (8,)
 SOURCE = "POGEMA's benchmark results (2025), 128 validation mazes, 128 steps, soft collisions"
@@ -80,10 +82,21 @@ def path_actions(grid: str, goal: tuple[int, int]) -> np.ndarray:
     return np.where(best.any(axis=2), best.argmax(axis=2), 0)
 
 
-def race(grid: str, starts: list[tuple[int, int]], goals: list[tuple[int, int]]) -> Episode:
-    """One episode of shortest-path robots: each robot's finishing step (0: not in ``STEPS`` steps)."""
+def arrivals(finish: list[int], infos: dict[str, dict], names: dict[str, int], t: int) -> None:
+    """Each robot's step of arrival on its goal, in ``finish`` (0: not on it): a robot that stays on its
+    goal may leave it again, and then its arrival is forgotten (POGEMA's sum of costs counts the last)."""
+    for a, info in infos.items():
+        k = names[a]
+        if not info["finished"]:
+            finish[k] = 0
+        elif not finish[k]:
+            finish[k] = t
+
+
+def race(grid: str, starts: list[tuple[int, int]], goals: list[tuple[int, int]], finished: str = "stay") -> Episode:
+    """One episode of shortest-path robots: each robot's arrival step (0: not on its goal at the end)."""
     env = race_v0.parallel_env(level=level_of(grid), n_robots=len(starts), goals="own", collisions="soft",
-                               observe="nearest", k=1, start="random", max_cycles=STEPS)
+                               observe="nearest", k=1, start="random", max_cycles=STEPS, finished=finished)
     env.reset(seed=0, options={"starts": starts, "goals": goals})
     tables = [path_actions(grid, g) for g in goals]
     finish = [0] * len(starts)
@@ -92,22 +105,19 @@ def race(grid: str, starts: list[tuple[int, int]], goals: list[tuple[int, int]])
     while env.agents:
         t += 1
         moves = {a: int(tables[names[a]][env.robot_cells[names[a]][::-1]]) for a in env.agents}
-        _, _, terminated, _, _ = env.step(moves)
-        for a, done in terminated.items():
-            if done:
-                finish[names[a]] = t
+        arrivals(finish, env.step(moves)[4], names, t)
     return Episode(seed=0, level=grid, steps=t, finish_steps=finish)
 
 
-def episodes(mazes: list[dict], robots: tuple[int, ...]) -> dict[int, list[Episode]]:
+def episodes(mazes: list[dict], robots: tuple[int, ...], finished: str = "stay") -> dict[int, list[Episode]]:
     """The shortest-path crowd's episode on every maze, per robot count."""
-    return {n: [race(m["grid"], cells(m["scenarios"][str(n)]["starts"]), cells(m["scenarios"][str(n)]["goals"]))
+    return {n: [race(m["grid"], cells(m["scenarios"][str(n)]["starts"]), cells(m["scenarios"][str(n)]["goals"]), finished)
                 for m in mazes] for n in robots}
 
 
-def run(mazes: list[dict], robots: tuple[int, ...]) -> dict[int, dict[str, float]]:
+def run(mazes: list[dict], robots: tuple[int, ...], finished: str = "stay") -> dict[int, dict[str, float]]:
     """POGEMA's metrics with their intervals per robot count, over the given mazes."""
-    return metrics(episodes(mazes, robots))
+    return metrics(episodes(mazes, robots, finished))
 
 
 def metrics(by_count: dict[int, list[Episode]]) -> dict[int, dict[str, float]]:
@@ -115,14 +125,15 @@ def metrics(by_count: dict[int, list[Episode]]) -> dict[int, dict[str, float]]:
 
 
 def table(results: dict[int, dict[str, float]], n_mazes: int,
-          others: dict[str, dict[int, dict[str, float]]] | None = None) -> str:
+          others: dict[str, dict[int, dict[str, float]]] | None = None, finished: str = "stay") -> str:
     """Our metrics per robot count (value [low, high]), any other crowd's below (``others``: name ->
     results), then the published CSR with its source."""
     lines = [f"shortest-path robots on {n_mazes} of POGEMA's validation mazes, {STEPS} steps, soft collisions; "
              "95% intervals in brackets",
              f"{'':<34}{'robots':>6}  {'CSR (all_reached_rate)':<24}{'ISR (success_rate)':<24}{'sum of costs':<26}"
              "makespan"]
-    for name, res in {"here (a robot leaves at its goal)": results, **(others or {})}.items():
+    here = "here (robots stay on their goals)" if finished == "stay" else "here (a robot leaves at its goal)"
+    for name, res in {here: results, **(others or {})}.items():
         for n, m in res.items():
             cols = [_shown(m, k, 2 if k.endswith("rate") else 1) for k in ("all_reached_rate", "success_rate",
                                                                              "sum_of_costs", "makespan")]
@@ -190,8 +201,8 @@ for grid, starts, goals in task["episodes"]:
         t += 1
         cells = env.grid.get_agents_xy(ignore_borders=True)
         for i, (c, g) in enumerate(zip(cells, goals)):
-            if not finish[i] and (not env.grid.is_active[i] or tuple(c) == (g[1], g[0])):
-                finish[i] = t
+            there = not env.grid.is_active[i] or tuple(c) == (g[1], g[0])
+            finish[i] = (finish[i] or t) if there else 0  # the last arrival (a robot may leave its goal again)
         done = all(terminated) or all(truncated)
     print(json.dumps([finish, t]), flush=True)
 """
@@ -241,7 +252,7 @@ def load_crowd_policy(path: str) -> tuple[Any, str | None]:
 
 
 def policy_race(policy: Any, grid: str, starts: list[tuple[int, int]], goals: list[tuple[int, int]],
-                rng: np.random.Generator, greedy: bool) -> Episode:
+                rng: np.random.Generator, greedy: bool, finished: str = "stay") -> Episode:
     """One episode of the learnt crowd: every robot reads its local window (target channel, hint) as
     ``race_v0`` shows it, the net runs once per distinct row; actions sampled (``greedy``: the likeliest)."""
     import torch
@@ -250,7 +261,8 @@ def policy_race(policy: Any, grid: str, starts: list[tuple[int, int]], goals: li
 
     form = policy.form
     env = race_v0.parallel_env(level=level_of(grid), n_robots=len(starts), goals="own", collisions="soft",
-                               observe="local", view_radius=form.radius, hint=form.hint, start="random", max_cycles=STEPS)
+                               observe="local", view_radius=form.radius, hint=form.hint, start="random", max_cycles=STEPS,
+                               finished=finished)
     obs, _ = env.reset(seed=0, options={"starts": starts, "goals": goals})
     names = {a: i for i, a in enumerate(env.possible_agents)}
     finish, last, t = [0] * len(starts), np.full(len(starts), NO_ACTION), 0
@@ -264,22 +276,21 @@ def policy_race(policy: Any, grid: str, starts: list[tuple[int, int]], goals: li
         sampled = np.minimum((rng.random((len(p), 1)) >= np.cumsum(p, axis=1)).sum(axis=1), 4)  # inverse CDF
         moves = p.argmax(axis=1) if greedy else sampled
         last[who] = moves
-        obs, _, terminated, _, _ = env.step(dict(zip(env.agents, moves.tolist())))
-        for a, done in terminated.items():
-            if done:
-                finish[names[a]] = t
+        obs, _, _, _, infos = env.step(dict(zip(env.agents, moves.tolist())))
+        arrivals(finish, infos, names, t)
     return Episode(seed=0, level=grid, steps=t, finish_steps=finish)
 
 
 def policy_episodes(policy: Any, mazes: list[dict], robots: tuple[int, ...], seed: int,
-                    greedy: bool) -> dict[int, list[Episode]]:
+                    greedy: bool, finished: str = "stay") -> dict[int, list[Episode]]:
     """The learnt crowd's episode on every maze, per robot count (one generator, seeded: same run, same figures)."""
     from babyrobot_marl.training.deps import torch_threads
 
     rng = np.random.default_rng(seed)
     with torch_threads(1):  # more threads stall on a busy machine, and a net this small gains nothing from them
         return {n: [policy_race(policy, m["grid"], cells(m["scenarios"][str(n)]["starts"]),
-                                cells(m["scenarios"][str(n)]["goals"]), rng, greedy) for m in mazes] for n in robots}
+                                cells(m["scenarios"][str(n)]["goals"]), rng, greedy, finished) for m in mazes]
+                for n in robots}
 
 
 def counts(text: str) -> tuple[int, ...]:
@@ -309,12 +320,14 @@ def main(argv: list[str] | None = None) -> int:
                    help="also a policy saved by 'babyrobot-marl train --goals own --observe local' (its row below)")
     p.add_argument("--greedy", action="store_true", help="--policy: the likeliest action (default: sampled, --seed)")
     p.add_argument("--seed", type=int, default=0, help="--policy: the seed of its sampled actions (default: 0)")
+    p.add_argument("--finished", choices=tuple(ON_TARGET), default="stay",
+                   help="a robot at its goal stays there, blocking (default, as the published runs), or leaves the board")
     p.add_argument("--json", action="store_true", help="end with one JSON line of the metrics")
     p.add_argument("--regenerate", action="store_true",
                    help="make the data again with POGEMA's venv (--pogema-python) and compare with the shipped file")
     p.add_argument("--in-pogema", action="store_true",
                    help="also step the same robots in POGEMA 1.4 itself (--pogema-python), with its on_target "
-                   "'finish' (as here: checked episode by episode) and 'nothing' (robots stay on their targets)")
+                   "'nothing' and 'finish' (the one matching --finished checked episode by episode)")
     p.add_argument("--pogema-python", default=os.environ.get("POGEMA_PYTHON"), metavar="PATH",
                    help="the python of a venv with pogema 1.4 (and pogema-toolbox 0.1.1 for --regenerate)")
     args = p.parse_args(argv)
@@ -332,18 +345,19 @@ def main(argv: list[str] | None = None) -> int:
         if not same:
             return 1
     mazes, robots = load_mazes()[: QUICK_MAZES if args.quick else args.mazes], QUICK_ROBOTS if args.quick else args.robots
-    ours = episodes(mazes, robots)
+    ours = episodes(mazes, robots, args.finished)
     results, others = metrics(ours), {}
     if policy is not None:
-        learnt = metrics(policy_episodes(policy, mazes, robots, args.seed, args.greedy))
+        learnt = metrics(policy_episodes(policy, mazes, robots, args.seed, args.greedy, args.finished))
         others[f"learnt policy ({'greedy' if args.greedy else 'sampled'})"] = learnt
     if args.in_pogema:
-        finish = in_pogema(args.pogema_python, mazes, robots, "finish")
-        same = all(a == b for n in robots for a, b in zip(ours[n], finish[n]))
-        others["POGEMA 1.4, on_target='finish'"] = metrics(finish)
-        others["POGEMA 1.4, on_target='nothing'"] = metrics(in_pogema(args.pogema_python, mazes, robots, "nothing"))
-        print(f"POGEMA 1.4 with on_target='finish': every episode {'the same as' if same else 'DIFFERENT from'} here")
-    print(table(results, len(mazes), others))
+        theirs = {rule: in_pogema(args.pogema_python, mazes, robots, rule) for rule in ("nothing", "finish")}
+        matching = ON_TARGET[args.finished]
+        same = all(a == b for n in robots for a, b in zip(ours[n], theirs[matching][n]))
+        for rule, eps in theirs.items():
+            others[f"POGEMA 1.4, on_target='{rule}'"] = metrics(eps)
+        print(f"POGEMA 1.4 with on_target='{matching}': every episode {'the same as' if same else 'DIFFERENT from'} here")
+    print(table(results, len(mazes), others, args.finished))
     if args.json:
         def kept(res: dict[int, dict[str, float]]) -> dict[str, dict[str, float]]:
             return {str(n): {k: m[k] for k in m if k.split("_low")[0].split("_high")[0] in METRICS} for n, m in res.items()}

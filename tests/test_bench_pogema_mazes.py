@@ -65,10 +65,19 @@ def test_robots_meeting_head_on_in_a_corridor_stop_each_other_under_the_soft_rul
     assert episode.finish_steps == [0, 0] and episode.steps == b.STEPS  # swaps revert: nobody passes
 
 
-def test_a_robot_leaves_at_its_goal_and_frees_the_cell(b):
+def test_with_finished_remove_a_robot_leaves_at_its_goal_and_frees_the_cell(b):
     # robot 0 reaches (2, 0) first; robot 1 then passes over it to (4, 0)
-    episode = b.race(".....", [(1, 0), (0, 0)], [(2, 0), (4, 0)])
+    episode = b.race(".....", [(1, 0), (0, 0)], [(2, 0), (4, 0)], "remove")
     assert episode.finish_steps == [1, 4]
+
+
+def test_by_default_a_robot_stays_on_its_goal_and_blocks_as_in_the_published_runs(b):
+    episode = b.race(".....", [(1, 0), (0, 0)], [(2, 0), (4, 0)])
+    assert episode.finish_steps == [1, 0] and episode.steps == b.STEPS  # robot 1 never gets past robot 0
+    # one that leaves its goal is counted from its last arrival
+    finish = [3, 0]
+    b.arrivals(finish, {"robot_0": {"finished": False}, "robot_1": {"finished": True}}, {"robot_0": 0, "robot_1": 1}, 9)
+    assert finish == [0, 9]
 
 
 def test_the_path_table_stays_on_the_goal_and_moves_toward_it(b):

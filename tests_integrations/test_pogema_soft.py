@@ -24,6 +24,7 @@ import pytest
 
 from babyrobot_marl import race_v0
 from babyrobot_marl.core.level import Level
+from babyrobot_marl.planning import goal_actions
 
 DRIVER = Path(__file__).parent / "pogema" / "driver.py"
 POGEMA_PYTHON = os.environ.get("POGEMA_PYTHON")
@@ -64,16 +65,17 @@ def exit_cell(rows: list[str]) -> tuple[int, int]:
 class Pogema:
     """POGEMA 1.4 in a subprocess of its own venv: ``step(actions)`` -> ``[(x, y, active), ...]``."""
 
-    def __init__(self, rows: list[str], starts: list[tuple[int, int]], target: tuple[int, int]):
+    def __init__(self, rows: list[str], starts: list[tuple[int, int]], target: tuple[int, int] | list[tuple[int, int]],
+                 on_target: str = "finish"):
         self.proc = subprocess.Popen(
             [POGEMA_PYTHON, str(DRIVER)], stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True, bufsize=1
         )
         task = {
             "map": rows,
             "agents_xy": [[y, x] for x, y in starts],  # POGEMA: (row, column)
-            "targets_xy": [[target[1], target[0]]] * len(starts),
+            "targets_xy": [[t[1], t[0]] for t in (target if isinstance(target, list) else [target] * len(starts))],
             "collision_system": "soft",
-            "on_target": "finish",
+            "on_target": on_target,
         }
         self.first = self._send(task)
 
@@ -126,3 +128,40 @@ def test_soft_collisions_step_as_pogema_does(n_robots, side, steps):
     finished = n_robots - len(env.agents)
     print(f"{n_robots} robots, {side}x{side}: {t + 1} steps equal, {blocked} stops by robots, {finished} finished")
     assert t + 1 >= min(steps, 300) and blocked >= 100  # long runs, robots stopped by robots all along
+
+
+@pytest.mark.parametrize(("n_robots", "side", "steps"), [(8, 16, 600), (64, 32, 400), (256, 48, 300)])
+def test_robots_that_stay_on_their_own_goals_step_as_pogemas_on_target_nothing(n_robots, side, steps):
+    """``goals="own", finished="stay"`` against POGEMA's ``on_target="nothing"``: each robot its own target, most
+    moves towards it (so robots reach their targets, stay, and are pushed against), the rest random."""
+    rows = random_map(side, seed=n_robots + 1)
+    level = Level.from_grid("\n".join(rows))
+    env = race_v0.parallel_env(level=level, n_robots=n_robots, collisions="soft", start="random", goals="own",
+                               finished="stay", max_cycles=steps + 1)
+    env.reset(seed=n_robots)
+    goals = [env.goals[a] for a in env.possible_agents]
+    towards = [goal_actions(level, g) for g in goals]  # [y, x, action]: optimal moves towards each goal
+    pogema = Pogema(rows, list(env.robot_cells), goals, on_target="nothing")
+    g = np.random.default_rng(n_robots)
+    on_goal = 0
+    try:
+        assert pogema.first == on_board(env)
+        for t in range(steps):
+            if not env.agents:
+                break
+            actions = []
+            for k, (x, y) in enumerate(env.robot_cells):
+                best = np.flatnonzero(towards[k][y, x])
+                actions.append(int(best[0]) if best.size and g.random() < 0.8 else int(g.integers(0, 5)))
+            _, _, _, _, infos = env.step(dict(zip(env.possible_agents, actions)))
+            on_goal += sum(info["finished"] for info in infos.values())
+            theirs = pogema.step(actions)
+            ours = [(x, y, True) for x, y in env.robot_cells]  # nobody leaves the board (the race may end: all there)
+            assert theirs == ours, f"step {t + 1}: robots differ: " + ", ".join(
+                f"{i}: ours {o}, POGEMA {p}" for i, (o, p) in enumerate(zip(ours, theirs)) if o != p
+            )
+        assert env.agents or list(env.robot_cells) == goals  # ended early only when every robot stood on its goal
+    finally:
+        pogema.close()
+    print(f"{n_robots} robots, {side}x{side}: {t + 1} steps equal, {on_goal} robot-steps on their goals")
+    assert (t + 1 >= min(steps, 100) or not env.agents) and on_goal >= 10 * n_robots  # on their goals, racing on

@@ -242,14 +242,15 @@ def check_train_args(args: argparse.Namespace, n_envs: int, family: bool = False
 _RACE_FLAGS = {"n_robots": "--robots", "level": "--level", "collisions": "--collisions"}
 
 
-def check_race_flags(level: str, robots: int, collisions: str, goals: str = "exit", lifelong: bool = False) -> None:
+def check_race_flags(level: str, robots: int, collisions: str, goals: str = "exit", lifelong: bool = False,
+                     finished: str = "remove") -> None:
     """The race's own checks (robots that fit on the level, the level itself, the goals it can have) before any
     episode, naming the flags."""
     from ..envs.race import RaceEnv
 
     try:
         RaceEnv(level=level, n_robots=robots, collisions=collisions, start="random", observe="nearest", k=1, goals=goals,
-                lifelong=lifelong)
+                lifelong=lifelong, finished=finished)
     except ValueError as err:
         name, _, rest = str(err).partition(":")
         rest = rest.replace(" on level '',", " on this --level,")  # a grid map has no name

@@ -49,7 +49,7 @@ FLAGS = {
     "n_robots": "--robots", "max_cycles": "--max-cycles", "max_steps": "--max-steps", "view_radius": "--view-radius",
     "near_radius": "--near-radius", "collisions": "--collisions", "start": "--start", "observe": "--observe",
     "hint": "--hint", "memory": "--memory", "recurrent": "--recurrent", "hidden": "--hidden", "seed": "--seed",
-    "level": "--level", "goals": "--goals", "lifelong": "--lifelong",
+    "level": "--level", "goals": "--goals", "lifelong": "--lifelong", "finished": "--finished",
 }
 # the flag that names a policy, by command (a saved policy's errors start "policy:"); `levels` takes a NAME
 POLICY_FLAGS = {"play": "--policy", "race": "--policies", "evaluate": "POLICY", "train": "--load"}

@@ -45,6 +45,10 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--collisions", choices=COLLISION_MODES, default="block",
                    help="collision rule; soft: POGEMA's (default: block)")
     add_goal_args(p, policy_default=True)
+    p.add_argument("--finished", choices=("remove", "stay"), default="remove",
+                   help="with --goals own: remove (default): a robot leaves the board at its target; stay: it stays there, "
+                   "racing on and blocking, and counts if it stands on its target when the episode ends, which ends early "
+                   "only when every robot does (POGEMA's on_target='nothing', the rule of its published maze runs)")
     p.add_argument("--plot", type=output_path, default=None, metavar="PATH",
                    help="also draw the metrics with their intervals to this PNG image (matplotlib: the plot extra)")
     p.add_argument("--greedy", action="store_true",
@@ -62,12 +66,13 @@ def run(args: argparse.Namespace, out: TextIO) -> int:
     check_goal_flags(args.goals, args.lifelong)
     if given:
         check_policy_goals([args.policy], args.goals, "POLICY")  # what a saved policy was trained for
-    check_race_flags(args.level, args.robots, args.collisions, args.goals, args.lifelong)
+    check_race_flags(args.level, args.robots, args.collisions, args.goals, args.lifelong, args.finished)
     if args.plot:  # before the episodes: a missing matplotlib is known now
         _matplotlib()
     policy, form = _policy(args.policy, args.greedy, args.seed)
     ev = evaluate(policy, level=args.level, n_robots=args.robots, episodes=args.episodes, seed=args.seed,
-                  collisions=args.collisions, policy_env=form, goals=args.goals, lifelong=args.lifelong)
+                  collisions=args.collisions, policy_env=form, goals=args.goals, lifelong=args.lifelong,
+                  finished=args.finished)
     out.write(ev.table() + "\n")
     if args.policy not in POLICY_NAMES:  # a saved policy: what it was trained with
         out.write(_trained_with(args.policy) + "\n")

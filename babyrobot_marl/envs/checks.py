@@ -188,6 +188,16 @@ def check_lifelong(lifelong: object, goals_mode: str) -> bool:
     return bool(lifelong)
 
 
+def check_finished(finished: object, modes: tuple[str, ...], goals_mode: str, lifelong: bool) -> str:
+    """``finished``: one of ``modes``; ``"stay"`` (robots stay on their targets, racing on) only with own goals and
+    without ``lifelong`` (where a robot on its target gets a new one)."""
+    check_choice(finished, "finished", modes)
+    if finished == "stay" and (goals_mode != "own" or lifelong):
+        got = f"goals={goals_mode!r}" if goals_mode != "own" else "lifelong=True"
+        raise ValueError(f"finished: 'stay' keeps robots on their own targets (goals='own', lifelong=False), got {got}")
+    return str(finished)
+
+
 def check_goal_cells(table: Table, cells: object, n: int, goals_mode: str, what: str = 'options["goals"]') -> list[int]:
     """``reset``'s own goals: ``n`` distinct cells ``(x, y)``, one per robot, not blocked (exits are floor with own
     goals), as cell ids; else a ``ValueError`` naming ``what``. Only with ``goals="own"``."""

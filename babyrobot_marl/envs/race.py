@@ -15,7 +15,7 @@ from pettingzoo import ParallelEnv
 from ..core.actions import N_ACTIONS
 from ..core.batch import BatchRace
 from ..core.checks import check_action, check_choice, check_count, check_global_view, check_seed, check_view_numbers
-from ..core.goals import GOAL_MODES, GoalColumns, channel_marks, goal_offsets, row_starts
+from ..core.goals import GOAL_MODES, GoalColumns
 from ..core.level import Cell, Level
 from ..core.observe import global_gather, make_observer, with_hint
 from ..core.outcomes import FINISHED, START
@@ -28,6 +28,7 @@ from ..render.checks import check_animation_frames, check_cell_size, check_fps, 
 from ..render.rgb import Theme, resolve_theme
 from .checks import (
     check_cells,
+    check_finished,
     check_hint,
     check_lifelong,
     check_no_goals,
@@ -36,7 +37,7 @@ from .checks import (
 )
 from .drawing import EnvDrawing, OverlayMethods
 from .encodings import Encoder
-from .race_goals import RaceGoals, next_goals
+from .race_goals import RaceGoals
 from .race_levels import RaceLevels, cell_arrays
 from .race_outputs import racing_outputs
 from .race_readouts import RaceReadouts
@@ -44,7 +45,7 @@ from .single import default_max_steps
 from .starts import new_generator
 
 START_MODES = ("level", "fill", "random")
-FINISHED_MODES = ("remove", "freeze")
+FINISHED_MODES = ("remove", "freeze", "stay")  # "stay": own goals only (POGEMA's on_target="nothing")
 # actions on the fast path: Python ints 0..4 (bools, numpy ints and the rest are checked one by one)
 _ACTIONS, _INT = frozenset(range(N_ACTIONS)), frozenset({int})
 _LAYOUTS, _LAYOUT_SIZE = 256, 4096  # gathers kept per env, and the largest kept (int indices)
@@ -111,9 +112,7 @@ class RaceEnv(RaceGoals, RaceLevels, RaceReadouts, OverlayMethods, ParallelEnv):
         self.max_cycles = default_max_steps(self.level) if max_cycles is None else check_count(max_cycles, "max_cycles")
         if start not in START_MODES:
             raise ValueError(f"start: must be one of {', '.join(map(repr, START_MODES))}, got {start!r}")
-        if finished not in FINISHED_MODES:
-            raise ValueError(f"finished: must be one of {', '.join(map(repr, FINISHED_MODES))}, got {finished!r}")
-        self.start, self.finished_mode = start, finished
+        self.start, self.finished_mode = start, check_finished(finished, FINISHED_MODES, self.goals_mode, self.lifelong)
         self._fixed_starts, self._free = self._placement(n)
         self.render_mode = check_render_mode(render_mode, self.metadata["render_modes"])
         self.cell_size, self.theme = check_cell_size(cell_size, self.level), resolve_theme(theme)
@@ -252,10 +251,13 @@ class RaceEnv(RaceGoals, RaceLevels, RaceReadouts, OverlayMethods, ParallelEnv):
         if True in blocked:
             self._live_bumps = list(map(operator.add, self._live_bumps, blocked))
         if True in finishing or t >= self.max_cycles or not self._reported_live or reached:
-            rewards = list(map(self._reward_at.__getitem__, cells))
-            if reached:  # lifelong: the target's step earns the exit reward
-                rewards = [self.rules.exit_reward if r else x for r, x in zip(reached, rewards)]
-            out = self._step_general(cells, outcome, blocked, finishing, rewards)  # rarely: the cells change
+            if reached and self.finished_mode == "stay":  # robots on their targets: they stay, racing
+                out = self._staying_outputs(cells, here, outcome, blocked, reached, marks)
+            else:
+                rewards = list(map(self._reward_at.__getitem__, cells))
+                if reached:  # lifelong: the target's step earns the exit reward
+                    rewards = [self.rules.exit_reward if r else x for r, x in zip(reached, rewards)]
+                out = self._step_general(cells, outcome, blocked, finishing, rewards)  # rarely: the cells change
         else:  # the common step: nobody finishes, the race goes on, the agents are the racing robots
             # the dicts by zip; infos fresh dicts, their cells rows of one fresh array (users keep and change them)
             rewards = dict(zip(reported, map(self._reward_at.__getitem__, cells)))
@@ -366,35 +368,6 @@ class RaceEnv(RaceGoals, RaceLevels, RaceReadouts, OverlayMethods, ParallelEnv):
         self._live_set = frozenset(self._live)
         self._live_goals = self._live_goal_keys = self._channel_starts = None  # own goals: kept per racing robots
 
-    def _own_goals_step(self, live: list[int], cells: Sequence[int], here: np.ndarray | None, finishing: list[bool]) -> tuple:
-        """After a step's moves, own goals: ``(finishing, reached, marks)``, the robots finishing on their
-        targets (lifelong: ``reached`` them, new targets drawn, nobody finishing) and, when nobody is on
-        its target and the rows are "local", where their target channel's 1s go (``core.goals.channel_marks``).
-        ``here``: ``cells`` as an array, if the step made one; ``finishing``: the moves' (none)."""
-        keys, starts = self._live_goal_keys, self._channel_starts
-        if keys is None:  # kept until the racing robots or their targets change (_set_layout)
-            keys = self._live_goal_keys = self._cell_key.take(self._racing_goals())
-        offsets = goal_offsets(self._cell_key, cells if here is None else here, keys)  # 0: on its target
-        if np.count_nonzero(offsets) == len(offsets):  # the common step: nobody on its target
-            if self._channel is None:
-                return finishing, None, None
-            if starts is None:
-                starts = self._channel_starts = row_starts(len(live), *self._channel[1:])
-            return finishing, None, channel_marks(offsets, self._channel[0], starts)
-        finishing, reached = (offsets == 0).tolist(), None
-        for i, f in zip(live, finishing):
-            self._reached[i] += f
-        if self.lifelong:  # a new target instead, and the robot keeps going
-            reached, finishing = finishing, [False] * len(finishing)
-            self._goal_arr = next_goals(self.np_random, self.table, self._goal_of, live, cells, reached)
-            self._live_goals = self._live_goal_keys = None
-        return finishing, reached, None
-
-    def _racing_goals(self) -> np.ndarray:  # own goals: the racing robots' targets, kept until either changes
-        if self._live_goals is None:
-            self._live_goals = self._goal_arr if len(self._live) == self.n_robots else self._goal_arr[self._live]
-        return self._live_goals
-
     @property
     def _cells(self) -> list[int]:
         """Each robot's cell (a finished robot: the exit it took), in robot order."""
@@ -417,6 +390,9 @@ class RaceEnv(RaceGoals, RaceLevels, RaceReadouts, OverlayMethods, ParallelEnv):
         """``n_envs`` copies of this race as one batch engine (the ``finished="freeze"`` view):
         env ``i`` plays exactly the races of this env seeded the same way."""
         self.levels.check_one_level("the batch engine (and the vector envs)")
+        if self.finished_mode == "stay":
+            raise ValueError("finished: the batch engine parks finished robots (finished='freeze'); "
+                             "races with finished='stay' step as parallel_env")  # fmt: skip
         return BatchRace(
             self.table, n_envs, self.n_robots, self.max_cycles, self._fixed_starts, self._free, self.start, self.rules.win_bonus,
             observer=self._observer, goal_columns=self._goal_columns, lifelong=self.lifelong,

@@ -20,8 +20,11 @@ and the same starts (``start="random"``). All robots of a crowd act with one pol
 
 means with the normal approximation, clipped to the range (one episode: the whole range).
 With ``goals="own"`` (``env_kwargs``) the robots go to their own targets, and the shortest-path
-robots walk a shortest path to theirs; with ``lifelong=True`` nobody finishes (each target
-reached brings a new one), so the rates read 0 and ``throughput`` is the measure.
+robots walk a shortest path to theirs; with ``finished="stay"`` robots stay on their targets (POGEMA's
+``on_target="nothing"``): a robot counts as arrived if it stands on its target when the episode ends
+(its cost: the step it last arrived), and an episode ends early only when all stand on theirs; with
+``lifelong=True`` nobody finishes (each target reached brings a new one), so the rates read 0 and
+``throughput`` is the measure.
 ``limit`` is the step limit (``max_cycles``: the largest level's default for a family).
 """
 
@@ -219,7 +222,7 @@ def _episode(env: RaceEnv, crowd: Policy | str, seed: int, i: int) -> Episode:
     finish = [0] * env.n_robots
     while env.agents:
         obs, _, _, _, infos = env.step({a: int(acting[index[a]](obs[a])) for a in env.agents})
-        for a, info in infos.items():
-            if info["finished"] and not finish[index[a]]:
-                finish[index[a]] = env.elapsed_steps
+        for a, info in infos.items():  # the last arrival: a robot that stays on its target may leave it again
+            k = index[a]
+            finish[k] = (finish[k] or env.elapsed_steps) if info["finished"] else 0
     return Episode(seed, env.level.name, env.elapsed_steps, finish, sum(env.goals_reached))
