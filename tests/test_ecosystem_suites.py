@@ -93,6 +93,9 @@ RACES = {
         level="maze:5..8", n_robots=4, start="random", goals="own", observe="nearest", k=2, obs_encoding="onehot",
         finished="freeze",
     ),
+    # POGEMA's on_target="nothing": robots stay on their targets, every agent present until the race ends
+    "four-own-local-soft-stay": dict(level="maze-8x8", n_robots=4, start="random", goals="own", observe="local",
+                                     collisions="soft", finished="stay"),
 }
 RACE_IDS = list(RACES)
 
