@@ -99,6 +99,13 @@ def on_board(env) -> list[tuple[int, int, bool]]:
     return [(x, y, a in racing) for a, (x, y) in zip(env.possible_agents, env.robot_cells)]
 
 
+def same_robots(t: int, ours: list[tuple[int, int, bool]], theirs: list[tuple[int, int, bool]]) -> None:
+    """After step ``t + 1`` every robot is where POGEMA has it; else the robots that differ."""
+    assert theirs == ours, f"step {t + 1}: robots differ: " + ", ".join(
+        f"{i}: ours {o}, POGEMA {p}" for i, (o, p) in enumerate(zip(ours, theirs)) if o != p
+    )
+
+
 @pytest.mark.parametrize(("n_robots", "side", "steps"), [(8, 16, 1500), (32, 24, 1000), (64, 32, 600), (256, 48, 400)])
 def test_soft_collisions_step_as_pogema_does(n_robots, side, steps):
     rows = random_map(side, seed=n_robots)
@@ -119,10 +126,7 @@ def test_soft_collisions_step_as_pogema_does(n_robots, side, steps):
             actions = g.integers(0, 5, n_robots).tolist()
             _, _, _, _, infos = env.step({a: actions[i] for i, a in enumerate(env.possible_agents) if a in env.agents})
             blocked += sum(info["blocked"] for info in infos.values())
-            theirs = pogema.step(actions)
-            assert theirs == on_board(env), f"step {t + 1}: robots differ: " + ", ".join(
-                f"{i}: ours {o}, POGEMA {p}" for i, (o, p) in enumerate(zip(on_board(env), theirs)) if o != p
-            )
+            same_robots(t, on_board(env), pogema.step(actions))
     finally:
         pogema.close()
     finished = n_robots - len(env.agents)
@@ -155,11 +159,8 @@ def test_robots_that_stay_on_their_own_goals_step_as_pogemas_on_target_nothing(n
                 actions.append(int(best[0]) if best.size and g.random() < 0.8 else int(g.integers(0, 5)))
             _, _, _, _, infos = env.step(dict(zip(env.possible_agents, actions)))
             on_goal += sum(info["finished"] for info in infos.values())
-            theirs = pogema.step(actions)
-            ours = [(x, y, True) for x, y in env.robot_cells]  # nobody leaves the board (the race may end: all there)
-            assert theirs == ours, f"step {t + 1}: robots differ: " + ", ".join(
-                f"{i}: ours {o}, POGEMA {p}" for i, (o, p) in enumerate(zip(ours, theirs)) if o != p
-            )
+            # nobody leaves the board (the race may end: every robot on its goal)
+            same_robots(t, [(x, y, True) for x, y in env.robot_cells], pogema.step(actions))
         assert env.agents or list(env.robot_cells) == goals  # ended early only when every robot stood on its goal
     finally:
         pogema.close()
