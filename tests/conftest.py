@@ -218,9 +218,23 @@ def _needs_train(item: pytest.Item) -> bool:
     return owner in names or bool(set(getattr(item, "fixturenames", ())) & names)
 
 
+# What a test file that exercises Gymnasium's or PettingZoo's API names: the libraries themselves, their
+# env checkers, gymnasium.make and vector envs. Those files are marked ``gymnasium`` and CI runs them
+# (``pytest -m "gymnasium and not heavy"``) again on gymnasium 1.2.2, the version ray[rllib] pins.
+GYMNASIUM_SIGNS = re.compile(r"\bgymnasium\b|\bpettingzoo\b|\bcheck_env\b|\bgym\.make\b|\bmake_vec\b|VectorEnv\b")
+
+
+@functools.cache
+def uses_gymnasium(path: Path) -> bool:
+    """Whether the test file names Gymnasium's or PettingZoo's API anywhere (its imports, its tests
+    or its helpers)."""
+    return GYMNASIUM_SIGNS.search(path.read_text(encoding="utf-8")) is not None
+
+
 def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item]) -> None:
     """``heavy``: the browser, notebook, training and soak tests (``slow`` ones included); ``train``:
-    the tests of files that skip without the train extra."""
+    the tests of files that skip without the train extra; ``gymnasium``: the tests of files that use
+    Gymnasium's or PettingZoo's API."""
     for item in items:
         test_id = f"{item.path.name}::{getattr(item, 'originalname', item.name)}"
         if (item.path.name in HEAVY_FILES or test_id in HEAVY_TESTS or item.get_closest_marker("slow")
@@ -228,6 +242,8 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
             item.add_marker(pytest.mark.heavy)
         if _needs_train(item):
             item.add_marker(pytest.mark.train)
+        if uses_gymnasium(item.path):
+            item.add_marker(pytest.mark.gymnasium)
 
 
 @pytest.hookimpl(wrapper=True)

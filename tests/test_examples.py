@@ -3,7 +3,8 @@
 Each runs as a reader runs it (``python examples/NAME.py ...``) in a temporary folder, so the files
 it writes stay out of the checkout. A script needing an extra skips only when that extra is missing,
 saying "needs the ... extra"; CI's train venv runs them all. ``rllib_race.py`` runs in
-``.ci/rllib.sh`` (the rllib venv; ray[rllib] pins gymnasium 1.2.2).
+``.ci/rllib.sh`` (the rllib venv; ray[rllib] pins gymnasium 1.2.2), ``readme_pictures.py`` in
+``tests/test_readme_pictures.py`` (which also compares what it draws with the committed pictures).
 """
 
 from __future__ import annotations
@@ -23,7 +24,6 @@ EXAMPLES = ROOT / "examples"
 # script: (its smallest arguments, the extra it needs (module), a line its output must have)
 SMALLEST = {
     "q_learning.py": (["--level", "default", "--episodes", "200"], None, r"^SARSA +200 episodes"),
-    "readme_pictures.py": (["--out", "pictures"], ("video", "imageio"), r"^wrote .*poses\.png"),
     "train_fast.py": (["--steps", "20000"], ("train", "torch"), r"^replayed the saved policy: return "),
     "train_ppo.py": (["--steps", "2000"], ("train", "stable_baselines3"), r"^saved babyrobot_ppo_maze-8x8\.zip and "),
     "train_race.py": (
@@ -32,8 +32,9 @@ SMALLEST = {
         r"^saved babyrobot_race_race-2\.zip$",
     ),
 }
-# scripts another CI step runs with their smallest settings, in a venv of their own
-ELSEWHERE = {"rllib_race.py": ".ci/rllib.sh"}
+# scripts another CI step runs with their smallest settings: in a venv of their own, or in a test that
+# checks what they draw (the README pictures take seconds: one run is enough)
+ELSEWHERE = {"rllib_race.py": ".ci/rllib.sh", "readme_pictures.py": "tests/test_readme_pictures.py"}
 
 
 def test_every_example_runs_in_ci():

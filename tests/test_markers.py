@@ -44,3 +44,28 @@ def test_every_test_named_heavy_by_id_exists():
         file, function = test_id.split("::")
         text = (ROOT / "tests" / file).read_text(encoding="utf-8")
         assert f"def {function}(" in text, f"{test_id}: no such test (renamed? then rename it in HEAVY_TESTS)"
+
+
+def test_a_file_naming_gymnasium_or_pettingzoo_api_is_marked_gymnasium(tmp_path):
+    from tests.conftest import uses_gymnasium
+
+    for n, body in enumerate(("import gymnasium\n", "from pettingzoo.test import parallel_api_test\n",
+                              "env = gym.make('x')\n", "from x import check_env\n", "v = make_vec(1)\n",
+                              "class A(SyncVectorEnv):\n    pass\n")):  # fmt: skip
+        path = tmp_path / f"test_g{n}.py"
+        path.write_text(body)
+        assert uses_gymnasium(path), body
+    plain = tmp_path / "test_plain.py"
+    plain.write_text("import numpy\n\ndef test_x():\n    pass\n")
+    assert not uses_gymnasium(plain)
+
+
+def test_the_gymnasium_files_include_the_envs_checkers_and_adapters():
+    """The files CI runs again on gymnasium 1.2.2: every test file that names the libraries' API (the
+    single-robot env, the race's Gymnasium and PettingZoo faces, the checkers, the vector envs)."""
+    from tests.conftest import ROOT, uses_gymnasium
+
+    marked = {p.name for p in (ROOT / "tests").glob("test_*.py") if uses_gymnasium(p)}
+    assert {"test_single_env.py", "test_race_env.py", "test_race_gym.py", "test_race_pettingzoo.py", "test_vector.py",
+            "test_ecosystem_suites.py", "test_env_plugins.py", "test_workers.py", "test_time_aware.py"} <= marked
+    assert "test_rules.py" not in marked  # the rules alone: no Gymnasium in them

@@ -436,14 +436,27 @@ def _number_boxes(ops) -> list:
     return out
 
 
+def _touched(points, w: int, h: int) -> tuple[tuple[slice, slice], np.ndarray]:
+    """The pixels of a ``w`` x ``h`` frame that the rasteriser touches for a polygon: a window of the
+    frame (``(rows, columns)`` slices) and its mask. A pixel whose centre lies more than half a pixel
+    outside the polygon's bounding box gets no ink, so the window is the box grown by a pixel; the
+    coverage of a pixel does not depend on the window, so the mask is the whole frame's, cut."""
+    from babyrobot_marl.render.paint import coverage
+
+    (ax, ay), (bx, by) = points.min(axis=0), points.max(axis=0)
+    x0, y0 = max(int(np.floor(ax)) - 1, 0), max(int(np.floor(ay)) - 1, 0)
+    x1, y1 = min(int(np.ceil(bx)) + 2, w), min(int(np.ceil(by)) + 2, h)
+    if x1 <= x0 or y1 <= y0:
+        return (slice(0, 0), slice(0, 0)), np.zeros((0, 0), dtype=bool)
+    return (slice(y0, y1), slice(x0, x1)), coverage(points, x0, y0, x1 - x0, y1 - y0) > 0
+
+
 @pytest.mark.parametrize("level", ["mixed-8x8", "walls", "ties"])
 @pytest.mark.parametrize("theme", ["light", "dark"])
 @pytest.mark.parametrize("cs", [32, 48, 64])
 def test_action_value_boxes_never_lie_under_arrows(cs, theme, level):
     """Issue 26 (review): the longer arrows ran over the action values' numbers. No pixel the
     rasteriser touches for an arrow (its dark edge included) is touched by a number's box."""
-    from babyrobot_marl.render.paint import coverage
-
     env = _q_case(level, cs, theme)
     r = env.unwrapped.drawing.renderer
     ops = annotate.ink_ops(env.unwrapped.overlay, cs, THEMES[theme], r.labelled, r.exits)
@@ -451,13 +464,31 @@ def test_action_value_boxes_never_lie_under_arrows(cs, theme, level):
     arrows = np.zeros((h, w), dtype=bool)
     for op in ops:
         if isinstance(op, Fill) and len(op.points) == 7:  # the arrow shapes: 7 corners
-            arrows |= coverage(op.points, 0, 0, w, h) > 0
+            window, mask = _touched(op.points, w, h)
+            arrows[window] |= mask
     boxes = _number_boxes(ops)
     assert arrows.sum() > 0 and len(boxes) >= 8
     for b in boxes:
-        covered = coverage(b.points, 0, 0, w, h) > 0
+        window, covered = _touched(b.points, w, h)
         at = b.points.mean(axis=0) // cs
-        assert not (covered & arrows).any(), (level, cs, theme, "cell", tuple(at.astype(int)))
+        assert not (covered & arrows[window]).any(), (level, cs, theme, "cell", tuple(at.astype(int)))
+
+
+def test_the_touched_window_holds_every_pixel_the_whole_frame_inks():
+    """The windowed masks the test above reads equal the whole frame's coverage, for arrows,
+    rectangles and shapes at the frame's edges."""
+    from babyrobot_marl.render.paint import coverage
+
+    w, h = 40, 30
+    shapes = [np.array([[3.2, 4.7], [20.5, 4.7], [20.5, 9.1], [3.2, 9.1]]),  # a rectangle
+              np.array([[0.0, 0.0], [12.3, 2.0], [5.5, 11.9]]),  # a triangle at the corner
+              np.array([[30.0, 20.0], [41.5, 22.0], [39.0, 31.0], [33.0, 29.5], [31.0, 27.0], [29.5, 24.0], [30.5, 21.0]])]
+    for points in shapes:
+        whole = coverage(points, 0, 0, w, h) > 0
+        window, mask = _touched(points, w, h)
+        cut = np.zeros((h, w), dtype=bool)
+        cut[window] = mask
+        assert whole.any() and (cut == whole).all()
 
 
 @pytest.mark.parametrize("cs", [32, 48, 64])

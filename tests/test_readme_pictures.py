@@ -1,14 +1,16 @@
 """``examples/readme_pictures.py`` draws the committed README pictures again, pixel for pixel.
 
-The script runs with ``--out`` into pytest's temporary folder (run without it, it rewrites
-``docs/images``); a picture that differs means the drawing code changed: run
-``python examples/readme_pictures.py`` and commit the pictures it writes.
+The script runs as ``python examples/readme_pictures.py --out DIR`` into pytest's temporary folder
+(run without it, it rewrites ``docs/images``); a picture that differs means the drawing code changed:
+run ``python examples/readme_pictures.py`` and commit the pictures it writes. This is the example's
+run in the suite (``tests/test_examples.py`` leaves it to this file).
 """
 
 from __future__ import annotations
 
 import hashlib
 import os
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -30,10 +32,11 @@ def test_readme_pictures_script_redraws_the_committed_pictures(tmp_path):
     iio = pytest.importorskip("imageio.v3", reason="the pictures need the video extra (imageio)")
     committed = digests(IMAGES)
     env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")])}
-    subprocess.run(
+    run = subprocess.run(
         [sys.executable, str(ROOT / "examples" / "readme_pictures.py"), "--out", str(tmp_path)],
-        check=True, capture_output=True, cwd=tmp_path, env=env, timeout=GUARD,
+        check=True, capture_output=True, text=True, cwd=tmp_path, env=env, timeout=GUARD,
     )  # fmt: skip
+    assert re.search(r"^wrote .*poses\.png", run.stdout, re.M), run.stdout[-3000:]
     assert sorted(p.name for p in tmp_path.iterdir()) == sorted(PICTURES)
     assert digests(IMAGES) == committed, "--out DIR wrote into docs/images"
     for name in PICTURES:
