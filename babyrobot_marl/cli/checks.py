@@ -263,6 +263,14 @@ def check_goal_flags(goals: str, lifelong: bool) -> None:
         raise ValueError("--lifelong: new targets replace reached ones, so it needs --goals own")
 
 
+def check_finished_flag(goals: str, lifelong: bool, finished: str) -> None:
+    """``--finished stay`` keeps robots on their own targets: it needs ``--goals own`` without ``--lifelong``."""
+    if finished == "stay" and (goals != "own" or lifelong):
+        why = "--lifelong gives a robot on its target a new one" if lifelong else f"got --goals {goals}"
+        raise ValueError(f"--finished: stay keeps robots on their own targets, so it needs --goals own without "
+                         f"--lifelong ({why}); drop --finished or pass --finished remove")
+
+
 # what a run's robots go for, by --goals: how an error names a saved policy's task and this run's
 GOAL_TASKS = {"exit": "the race to the exits (--goals exit)", "own": "own targets (--goals own)"}
 
@@ -319,6 +327,7 @@ def check_train_goals(args: argparse.Namespace) -> None:
     """``train``'s own goals: the fast trainer's policies that read local windows learn them (the target channel
     and the hint toward it); ``--lifelong`` needs them."""
     check_goal_flags(args.goals, args.lifelong)
+    check_finished_flag(args.goals, args.lifelong, args.finished)
     if args.goals == "own" and args.backend != "fast":
         raise ValueError("--goals own: only the fast backend trains own goals; drop --backend sb3")
     if args.goals == "own" and args.observe != "local":
