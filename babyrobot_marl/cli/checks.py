@@ -264,11 +264,11 @@ def check_goal_flags(goals: str, lifelong: bool) -> None:
 
 
 def check_finished_flag(goals: str, lifelong: bool, finished: str) -> None:
-    """``--finished stay`` keeps robots on their own targets: it needs ``--goals own`` without ``--lifelong``."""
+    """``--finished stay`` keeps robots on their own targets: it needs ``--goals own`` without ``--lifelong`` (said
+    as the race's own check says it, by flag)."""
     if finished == "stay" and (goals != "own" or lifelong):
-        why = "--lifelong gives a robot on its target a new one" if lifelong else f"got --goals {goals}"
-        raise ValueError(f"--finished: stay keeps robots on their own targets, so it needs --goals own without "
-                         f"--lifelong ({why}); drop --finished or pass --finished remove")
+        got = "--lifelong" if goals == "own" else f"--goals {goals}"
+        raise ValueError(f"--finished: 'stay' keeps robots on their own targets (--goals own, no --lifelong), got {got}")
 
 
 # what a run's robots go for, by --goals: how an error names a saved policy's task and this run's
@@ -288,6 +288,17 @@ def trained_goals(name: str) -> str | None:
         if isinstance(where, dict) and where.get("goals") in GOAL_TASKS:
             return where["goals"]
     return "exit"
+
+
+def trained_finished(name: str) -> str:
+    """The rule the saved policy at ``name`` was trained under at its target: ``"stay"`` when its file records
+    ``finished: stay``, else ``"remove"`` (files from before the rule was recorded, scripted policies, your keys)."""
+    from ..training.policy import load_checkpoint
+
+    if name in (*policies.POLICY_NAMES, "keys"):
+        return "remove"
+    env = load_checkpoint(name).get("env")
+    return "stay" if isinstance(env, dict) and env.get("finished") == "stay" else "remove"
 
 
 def check_policy_goals(names: list[str], goals: str, flag: str) -> None:
