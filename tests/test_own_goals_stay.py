@@ -102,20 +102,20 @@ def test_stay_needs_own_goals_without_lifelong():
 
 HALL = Level.from_grid("\n".join(["............", "..#......#..", "............", "......#.....", "............",
                                    "....#.......", "............", "............"]))
-STAY_RACES = [  # level, robots, observation; each under three collision rules
-    ("race-4", 2, {}),
-    ("mixed-8x8", 4, {"observe": "local", "view_radius": 1, "hint": True}),
-    ("race-corridor", 3, {}),
-    (HALL, 8, {"observe": "nearest", "k": 2}),
-    (HALL, 16, {"observe": "local", "view_radius": 2}),
+STAY_RACES = [  # level, robots, step limit, observation; each under three collision rules
+    ("race-4", 2, 8, {}),
+    ("mixed-8x8", 4, 30, {"observe": "local", "view_radius": 1, "hint": True}),
+    ("race-corridor", 3, 30, {}),
+    (HALL, 8, 60, {"observe": "nearest", "k": 2}),
+    (HALL, 16, 60, {"observe": "local", "view_radius": 2}),
 ]
 
 
 @pytest.mark.parametrize("collisions", ["soft", "block", "bounce"])
-@pytest.mark.parametrize(("level", "n_robots", "kw"), STAY_RACES)
-def test_the_batch_engine_plays_the_staying_races_of_parallel_env_step_for_step(level, n_robots, kw, collisions):
+@pytest.mark.parametrize(("level", "n_robots", "limit", "kw"), STAY_RACES)
+def test_the_batch_engine_plays_the_staying_races_of_parallel_env_step_for_step(level, n_robots, limit, kw, collisions):
     n_envs, seed0 = 4, 30
-    envs = [staying(level, n_robots, collisions=collisions, max_cycles=60, **kw) for _ in range(n_envs)]
+    envs = [staying(level, n_robots, collisions=collisions, max_cycles=limit, **kw) for _ in range(n_envs)]
     batch = envs[0].batch(n_envs)
     batch.seed([seed0 + i for i in range(n_envs)])
     batch.reset_envs(range(n_envs))
