@@ -135,8 +135,8 @@ published maze runs): a robot on its target stays on the board and keeps racing:
 exit reward (0 by default) for each step it ends there, may leave again, and blocks others as
 any robot does; `infos[agent]["finished"]` says whether it stands on its target now, and so
 does `env.goals_reached` (1 or 0). The race ends when every robot stands on its target at
-once (all terminated) or after `max_cycles` steps (all truncated). Stepped with
-`parallel_env` / `env` (the batch engine parks finished robots, so it refuses this mode).
+once (all terminated) or after `max_cycles` steps (all truncated). `env.batch(n)` plays the
+same races on the batch engine (all robots finish, staying on the board, when all stand on theirs).
 
 ## Episode end
 

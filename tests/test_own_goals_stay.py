@@ -8,6 +8,7 @@ import pytest
 
 from babyrobot_marl import race_v0
 from babyrobot_marl.core.level import Level
+from babyrobot_marl.envs.race_goals import towards_own_goal
 from babyrobot_marl.experiments import evaluate
 from babyrobot_marl.planning import goal_actions
 
@@ -90,18 +91,64 @@ def test_local_rows_mark_each_staying_robots_target_as_pogema_does_on_and_off_it
     assert stayed >= 20  # robots stood on their targets (the centre marked) many times
 
 
-def test_stay_needs_own_goals_without_lifelong_and_the_batch_engine_refuses_it():
+def test_stay_needs_own_goals_without_lifelong():
     with pytest.raises(ValueError, match=r"^finished: 'stay' keeps robots on their own targets.*goals='exit'"):
         race_v0.parallel_env(level="race-4", n_robots=2, finished="stay")
     with pytest.raises(ValueError, match=r"^finished: .*lifelong=True"):
         race_v0.parallel_env(level="race-4", n_robots=2, goals="own", lifelong=True, finished="stay")
     with pytest.raises(ValueError, match=r"^finished: must be one of 'remove', 'freeze', 'stay', got 'sit'"):
         race_v0.parallel_env(level="race-4", n_robots=2, goals="own", finished="sit")
-    env = staying(n_robots=2)
-    with pytest.raises(ValueError, match=r"^finished: the batch engine"):
-        env.batch(2)
-    env.reset(seed=0)  # still usable
-    assert len(env.agents) == 2
+
+
+HALL = Level.from_grid("\n".join(["............", "..#......#..", "............", "......#.....", "............",
+                                   "....#.......", "............", "............"]))
+STAY_RACES = [  # level, robots, step limit, observation; each under three collision rules
+    ("race-4", 2, 8, {}),
+    ("mixed-8x8", 4, 30, {"observe": "local", "view_radius": 1, "hint": True}),
+    ("race-corridor", 3, 30, {}),
+    (HALL, 8, 60, {"observe": "nearest", "k": 2}),
+    (HALL, 16, 60, {"observe": "local", "view_radius": 2}),
+]
+
+
+@pytest.mark.parametrize("collisions", ["soft", "block", "bounce"])
+@pytest.mark.parametrize(("level", "n_robots", "limit", "kw"), STAY_RACES)
+def test_the_batch_engine_plays_the_staying_races_of_parallel_env_step_for_step(level, n_robots, limit, kw, collisions):
+    n_envs, seed0 = 4, 30
+    envs = [staying(level, n_robots, collisions=collisions, max_cycles=limit, **kw) for _ in range(n_envs)]
+    batch = envs[0].batch(n_envs)
+    batch.seed([seed0 + i for i in range(n_envs)])
+    batch.reset_envs(range(n_envs))
+    for i, env in enumerate(envs):
+        env.reset(seed=seed0 + i)
+    rng = np.random.default_rng(5)
+    solved = truncated = left = 0
+    for _ in range(300):  # toward each robot's target, now and then a random step (rarely on it): robots arrive, leave
+        on = batch.cells == batch.goals
+        wander = rng.random(on.shape) < np.where(on, 0.4 / n_robots, 0.3)
+        actions = np.array([[int(rng.integers(0, 5)) if wander[i, k] else towards_own_goal(env, k)
+                             for k in range(n_robots)] for i, env in enumerate(envs)])
+        rewards, finishing, _, _, over = batch.step(actions)
+        obs = batch.observations()
+        left += int((on & (batch.cells != batch.goals) & ~over[:, None]).sum())
+        for i, env in enumerate(envs):
+            o, r, term, trunc, info = env.step({a: int(actions[i, k]) for k, a in enumerate(env.agents)})
+            assert [env.table.cell_id(c) for c in env.robot_cells] == batch.cells[i].tolist()
+            for k, agent in enumerate(env.possible_agents):
+                assert r[agent] == rewards[i, k]
+                assert np.array_equal(o[agent], obs[i, k])
+                assert term[agent] == finishing[i, k] and trunc[agent] == (over[i] and not finishing[i, k])
+                assert info[agent]["finished"] == (batch.cells[i, k] == batch.goals[i, k])
+            assert (not env.agents) == over[i]
+            if not env.agents:
+                solved += all(term.values())
+                truncated += all(trunc.values())
+                env.reset()
+        done = np.flatnonzero(over)
+        if done.size:
+            batch.reset_envs(done)
+    assert truncated > 0 and left > 0  # races cut at the step limit, robots that left their targets
+    assert solved > 0 or n_robots > 8  # and races that all robots finished (16 robots rarely stand still all at once)
 
 
 def test_evaluate_counts_robots_on_their_targets_at_the_end_and_their_last_arrival():

@@ -93,7 +93,7 @@ def test_own_goals_need_local_windows():
 def test_a_policy_of_own_goals_saves_its_settings_and_refuses_an_env_of_exits(trained, tmp_path):
     path = trained.save(str(tmp_path / "own.pt"))
     data = load_checkpoint(path)
-    assert data["env"] == {"goals": "own", "collisions": "soft", "lifelong": False}
+    assert data["env"] == {"goals": "own", "collisions": "soft", "lifelong": False, "finished": "remove"}
     exits = race_v0.parallel_env(level="maze:8..10", n_robots=4, observe="local", hint=True, start="random")
     with pytest.raises(ValueError, match=r"^policy: trained with goals='own'; this env has goals='exit'"):
         load_policy(path, env=exits)
@@ -135,7 +135,7 @@ def test_a_short_own_goals_run_saves_its_settings_and_evaluates_with_own_goals(t
     out = capsys.readouterr().out
     assert "own goals, collisions soft" in out and json.loads(out.splitlines()[-1])["timesteps"] >= 4096
     data = load_checkpoint(str(path))
-    assert data["env"] == {"goals": "own", "collisions": "soft", "lifelong": False}
+    assert data["env"] == {"goals": "own", "collisions": "soft", "lifelong": False, "finished": "remove"}
     assert data["observation"]["goals"] == "own"
     assert run(["evaluate", str(path), "--level", "maze:8..10", "--robots", "4", "--episodes", "4", "--goals", "own",
                 "--collisions", "soft"]) == 0

@@ -263,6 +263,14 @@ def check_goal_flags(goals: str, lifelong: bool) -> None:
         raise ValueError("--lifelong: new targets replace reached ones, so it needs --goals own")
 
 
+def check_finished_flag(goals: str, lifelong: bool, finished: str) -> None:
+    """``--finished stay`` keeps robots on their own targets: it needs ``--goals own`` without ``--lifelong`` (said
+    as the race's own check says it, by flag)."""
+    if finished == "stay" and (goals != "own" or lifelong):
+        got = "--lifelong" if goals == "own" else f"--goals {goals}"
+        raise ValueError(f"--finished: 'stay' keeps robots on their own targets (--goals own, no --lifelong), got {got}")
+
+
 # what a run's robots go for, by --goals: how an error names a saved policy's task and this run's
 GOAL_TASKS = {"exit": "the race to the exits (--goals exit)", "own": "own targets (--goals own)"}
 
@@ -280,6 +288,17 @@ def trained_goals(name: str) -> str | None:
         if isinstance(where, dict) and where.get("goals") in GOAL_TASKS:
             return where["goals"]
     return "exit"
+
+
+def trained_finished(name: str) -> str:
+    """The rule the saved policy at ``name`` was trained under at its target: ``"stay"`` when its file records
+    ``finished: stay``, else ``"remove"`` (files from before the rule was recorded, scripted policies, your keys)."""
+    from ..training.policy import load_checkpoint
+
+    if name in (*policies.POLICY_NAMES, "keys"):
+        return "remove"
+    env = load_checkpoint(name).get("env")
+    return "stay" if isinstance(env, dict) and env.get("finished") == "stay" else "remove"
 
 
 def check_policy_goals(names: list[str], goals: str, flag: str) -> None:
@@ -319,6 +338,7 @@ def check_train_goals(args: argparse.Namespace) -> None:
     """``train``'s own goals: the fast trainer's policies that read local windows learn them (the target channel
     and the hint toward it); ``--lifelong`` needs them."""
     check_goal_flags(args.goals, args.lifelong)
+    check_finished_flag(args.goals, args.lifelong, args.finished)
     if args.goals == "own" and args.backend != "fast":
         raise ValueError("--goals own: only the fast backend trains own goals; drop --backend sb3")
     if args.goals == "own" and args.observe != "local":

@@ -18,6 +18,7 @@ from .checks import (
     output_path,
     positive_int,
     seed_int,
+    trained_finished,
     trained_goals,
 )
 from .common import add_goal_args, add_level_arg
@@ -45,10 +46,11 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--collisions", choices=COLLISION_MODES, default="block",
                    help="collision rule; soft: POGEMA's (default: block)")
     add_goal_args(p, policy_default=True)
-    p.add_argument("--finished", choices=("remove", "stay"), default="remove",
-                   help="with --goals own: remove (default): a robot leaves the board at its target; stay: it stays there, "
+    p.add_argument("--finished", choices=("remove", "stay"), default=None,
+                   help="with --goals own: remove: a robot leaves the board at its target; stay: it stays there, "
                    "racing on and blocking, and counts if it stands on its target when the episode ends, which ends early "
-                   "only when every robot does (POGEMA's on_target='nothing', the rule of its published maze runs)")
+                   "only when every robot does (POGEMA's on_target='nothing', the rule of its published maze runs); default: the "
+                   "rule a saved policy was trained under, else remove")
     p.add_argument("--plot", type=output_path, default=None, metavar="PATH",
                    help="also draw the metrics with their intervals to this PNG image (matplotlib: the plot extra)")
     p.add_argument("--greedy", action="store_true",
@@ -64,6 +66,8 @@ def run(args: argparse.Namespace, out: TextIO) -> int:
     if not given:  # a saved policy is evaluated on the task it learnt (its file read once for it)
         args.goals = trained_goals(args.policy) or "exit"
     check_goal_flags(args.goals, args.lifelong)
+    if args.finished is None:  # a saved policy of own goals is evaluated under the rule it learnt at its target
+        args.finished = trained_finished(args.policy) if args.goals == "own" and not args.lifelong else "remove"
     if given:
         check_policy_goals([args.policy], args.goals, "POLICY")  # what a saved policy was trained for
     check_race_flags(args.level, args.robots, args.collisions, args.goals, args.lifelong, args.finished)
@@ -110,6 +114,8 @@ def _trained_with(spec: str) -> str:
 
     data = load_checkpoint(spec)
     settings = ", ".join(f"{k} {data['config'][k]:g}" for k in _SHOWN if k in data["config"])
+    if data.get("env", {}).get("finished") == "stay":
+        settings += "; robots stayed on their targets (--finished stay)"
     return (f"{spec}: trained {data['timesteps']:,} timesteps on {data['level_name'] or 'its level'} with "
             f"{data['n_robots']} robot(s); {settings}")
 

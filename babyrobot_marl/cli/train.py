@@ -66,7 +66,8 @@ def run(args: argparse.Namespace, out: TextIO) -> int:
     check_train_args(args, _rollout(args)[0], family is not None)  # the user's mistakes first, with or without torch
     check_train_goals(args)
     if args.robots > 1 or args.goals == "own":  # robots that fit on the level, named by flag, before asking for torch
-        check_race_flags(args.level, args.robots, args.collisions or "block", args.goals, args.lifelong)
+        check_race_flags(args.level, args.robots, args.collisions or "block", args.goals, args.lifelong,
+                         args.finished)
     # a missing package: MissingTrainExtraError, one line from the CLI's main (exit 2); called through the
     # package (training.require_train), where tests put a stand-in
     training.require_train(*(("torch", "tqdm") if args.backend == "fast" else ()))
@@ -188,6 +189,8 @@ def _env_kwargs(args: argparse.Namespace) -> dict[str, Any]:
     kwargs: dict[str, Any] = {} if args.collisions is None else {"collisions": args.collisions}
     if args.goals == "own":  # each robot its own target (and a new one on reaching it, lifelong)
         kwargs.update(goals="own", lifelong=args.lifelong)
+        if args.finished == "stay":  # robots stay on their targets, racing on (the default leaves them out)
+            kwargs["finished"] = "stay"
     return kwargs
 
 
@@ -245,6 +248,7 @@ def _family(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> d
     reads = f"view_radius {config.view_radius}{', hint' if config.hint else ''}{', memory' if config.memory else ''}"
     reads += f", a GRU of {config.hidden} units" if config.recurrent else ""
     reads += f", own goals{', lifelong' if args.lifelong else ''}" if args.goals == "own" else ""
+    reads += ", finished stay" if args.finished == "stay" else ""
     reads += f", collisions {args.collisions}" if args.collisions else ""
     lifelong = f", throughput {score['throughput']:.3f} targets per step" if "throughput" in score else ""
     out.write(f"fast PPO, one policy for {args.robots} robot(s) reading local windows ({reads}{_crowd_note(args)}"

@@ -6,7 +6,7 @@ import argparse
 
 from ..core.goals import GOAL_MODES
 from ..core.rules import COLLISION_MODES
-from ..training.checks import MAX_NEAR_RADIUS
+from ..training.checks import FINISHED_RULES, MAX_NEAR_RADIUS
 from ..training.crowd import CROWD_DEFAULTS, said
 from .checks import (
     SEED_HELP,
@@ -64,6 +64,10 @@ def add_train_arguments(p: argparse.ArgumentParser) -> None:
                    "and, with --hint, the hint toward its own target); saved with the policy")
     p.add_argument("--lifelong", action="store_true",
                    help="with --goals own: a robot on its target gets a new one and keeps going until the step limit")
+    p.add_argument("--finished", choices=FINISHED_RULES, default="remove",
+                   help="with --goals own: remove (default): a robot leaves the board at its target; stay: it stays there, "
+                   "racing on and blocking, and an episode ends early only when every robot stands on its target "
+                   "(POGEMA's on_target='nothing', the rule of its published maze runs); saved with the policy")
     p.add_argument("--backend", choices=BACKENDS, default="fast",
                    help="fast: PPO on the batch engine (default); sb3: Stable-Baselines3")
     p.add_argument("--algo", choices=("ppo", "dqn"), default="ppo", help="dqn: single robot, --backend sb3 only (default: ppo)")

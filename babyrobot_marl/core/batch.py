@@ -123,7 +123,10 @@ class BatchRace:
     (``goals``, drawn at reset after the starts, as ``race_v0`` draws them), finishes on it with the
     exit reward (no bonus), and its observation rows end with the goal's columns. ``lifelong``
     (with own goals): a robot on its target gets a new one from its env's generator instead and keeps
-    going (``reached`` counts the targets); the race ends at ``max_steps``.
+    going (``reached`` counts the targets); the race ends at ``max_steps``. ``stay`` (own goals, not lifelong,
+    ``race_v0``'s ``finished="stay"``): a robot on its target earns the exit reward and races on (it may leave
+    again and blocks others); when all of an env's robots stand on their targets at once they all finish that
+    step, staying on the board, and the env's race is over (one robot: reaching its target ends it, as ever).
     """
 
     def __init__(
@@ -140,6 +143,7 @@ class BatchRace:
         pools: Sequence[int] | None = None,
         goal_columns: GoalColumns | None = None,
         lifelong: bool = False,
+        stay: bool = False,
     ):
         if start not in START_MODES:
             raise ValueError(f"start: must be one of {START_MODES}, got {start!r}")
@@ -165,7 +169,10 @@ class BatchRace:
         self.goals = np.zeros((n_envs, n_robots), dtype=np.int64) if goal_columns is not None else None
         self.given_goals: np.ndarray | None = None
         self.lifelong = bool(lifelong) and self.goals is not None
-        self.reached = np.zeros((n_envs, n_robots), dtype=np.int64)  # own goals: targets reached this episode
+        if stay and (self.goals is None or self.lifelong):
+            raise ValueError("stay: robots stay on their own targets: it needs goal_columns (own goals), not lifelong")
+        self.stay = bool(stay)
+        self.reached = np.zeros((n_envs, n_robots), dtype=np.int64)  # own goals: targets reached this episode (stay: 0)
         self._drawn_rng: np.random.Generator | None = None  # reset_drawn's generator: lifelong draws for its envs
         self.mode = table.rules.collisions
         e, n = n_envs, n_robots
@@ -306,7 +313,8 @@ class BatchRace:
             rewards += np.where(finishing & first[:, None], self.win_bonus, 0.0)
             self.rank = np.where(finishing, (self.n_finished + 1)[:, None], self.rank)
             self.n_finished += finishing.sum(axis=1, dtype=np.int32)
-            self.racing = self.racing & ~finishing
+            if not self.stay:  # staying robots end the race on the board, as the env shows them
+                self.racing = self.racing & ~finishing
             racing = racing & ~finishing
         self.cells = final
         self.t += ~self.over
@@ -351,8 +359,11 @@ class BatchRace:
 
     def _on_goals(self, on_goal: np.ndarray, final: np.ndarray, rewards: np.ndarray) -> np.ndarray:
         """Robots standing on their own targets (``(E, R)``): the exit reward, counted; the ones that finish
-        (all of them, or none with ``lifelong``: they get new targets, drawn env by env, in robot order)."""
+        (all of them; with ``stay``, all of an env's robots when each stands on its target, else none; none with
+        ``lifelong``: they get new targets, drawn env by env, in robot order)."""
         rewards[on_goal] = self.table.rules.exit_reward
+        if self.stay:  # racing robots are all of a running env's robots: nobody is parked
+            return on_goal & on_goal.all(axis=1)[:, None]
         self.reached += on_goal
         if not self.lifelong:
             return on_goal

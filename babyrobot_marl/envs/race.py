@@ -387,15 +387,12 @@ class RaceEnv(RaceGoals, RaceLevels, RaceReadouts, OverlayMethods, ParallelEnv):
         return racing
 
     def batch(self, n_envs: int) -> BatchRace:
-        """``n_envs`` copies of this race as one batch engine (the ``finished="freeze"`` view):
+        """``n_envs`` copies of this race as one batch engine (the ``finished="freeze"`` view, or ``"stay"``'s):
         env ``i`` plays exactly the races of this env seeded the same way."""
         self.levels.check_one_level("the batch engine (and the vector envs)")
-        if self.finished_mode == "stay":
-            raise ValueError("finished: the batch engine parks finished robots (finished='freeze'); "
-                             "races with finished='stay' step as parallel_env")  # fmt: skip
         return BatchRace(
             self.table, n_envs, self.n_robots, self.max_cycles, self._fixed_starts, self._free, self.start, self.rules.win_bonus,
-            observer=self._observer, goal_columns=self._goal_columns, lifelong=self.lifelong,
+            observer=self._observer, goal_columns=self._goal_columns, lifelong=self.lifelong, stay=self.finished_mode == "stay",
         )
 
     @property

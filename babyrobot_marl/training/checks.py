@@ -27,7 +27,9 @@ TRAINED_ON = {"observe": "global", "obs_encoding": "multidiscrete"}
 # of the saved ``view_radius`` (training.ppo.window.WindowForm)
 GLOBAL_FORM = {**TRAINED_ON, "hint": False}
 LOCAL_FORM_KEYS = ("observe", "obs_encoding", "view_radius", "hint")
-ENV_SETTINGS = {"goals": "exit", "collisions": "block", "lifelong": False}  # a saved policy's env settings, defaults
+FINISHED_RULES = ("remove", "stay")  # a policy's own goals: robots leave at their targets, or stay racing there
+# a saved policy's env settings, with their defaults
+ENV_SETTINGS = {"goals": "exit", "collisions": "block", "lifelong": False, "finished": "remove"}
 
 
 # ---------------------------------------------------------------------------- PPO's settings
@@ -142,16 +144,18 @@ def check_observation_form(form: Any) -> None:
 
 
 def check_env_settings(env: Any) -> None:
-    """A version-4 file's ``env``: the goals mode, collision rule and lifelong flag it was trained under."""
+    """A version-4 file's ``env``: the goals mode, collision rule, lifelong flag and finished rule it was trained
+    under (files from before ``finished`` existed leave it out: ``"remove"``)."""
     from ..core.goals import GOAL_MODES
     from ..core.rules import COLLISION_MODES
 
-    ok = isinstance(env, dict) and set(env) <= {"goals", "collisions", "lifelong"} and (
+    ok = isinstance(env, dict) and set(env) <= set(ENV_SETTINGS) and (
         env.get("goals", "exit") in GOAL_MODES and env.get("collisions", "block") in COLLISION_MODES
-        and isinstance(env.get("lifelong", False), bool))
+        and isinstance(env.get("lifelong", False), bool) and env.get("finished", "remove") in FINISHED_RULES)
     if not ok:
         raise ValueError(f"env: the settings trained under, {{'goals': one of {GOAL_MODES}, 'collisions': one of "
-                         f"{COLLISION_MODES}, 'lifelong': True/False}}, got {shown(env)}")
+                         f"{COLLISION_MODES}, 'lifelong': True/False, 'finished': one of {FINISHED_RULES}}}, "
+                         f"got {shown(env)}")
 
 
 def _int_field(data: dict[str, Any], key: str, lo: int, hi: int | None) -> int:

@@ -80,6 +80,6 @@ class TrainResult:
 
 
 def trained_env(env_kwargs: dict[str, Any] | None) -> dict[str, Any]:
-    """The env settings a policy was trained under (goals, collisions, lifelong), each named with its default."""
+    """The env settings a policy was trained under (goals, collisions, lifelong, finished), each named with its default."""
     kwargs = env_kwargs or {}
     return {k: kwargs.get(k, default) for k, default in ENV_SETTINGS.items()}

@@ -197,8 +197,8 @@ class Atlas:
     """``levels`` stacked into one compiled table (``stack_levels``) with each level's window patterns and
     start pools: ``batch(...)`` steps envs on all of them, ``keys``/``rows`` are the trainer's inputs."""
 
-    def __init__(self, levels: Sequence[Level], rules: Rules, form: WindowForm, lifelong: bool = False):
-        self.levels, self.form, self.lifelong = list(levels), form, lifelong
+    def __init__(self, levels: Sequence[Level], rules: Rules, form: WindowForm, lifelong: bool = False, stay: bool = False):
+        self.levels, self.form, self.lifelong, self.stay = list(levels), form, lifelong, stay  # stay: finished="stay"
         self.level, tops = stack_levels(self.levels)
         compiled = own_goal_table if form.own else (lambda t: t)  # own goals: the exits are floor
         self.table: Table = compiled(compile_level(self.level, rules))
@@ -239,12 +239,12 @@ class Atlas:
         return (len(self.patterns) << len(f.near)) * f.goal_values * (N_ACTIONS + 1 if f.memory else 1)
 
     def batch(self, n_envs: int, n_robots: int, max_steps: int, start: str = "random") -> BatchRace:
-        """``n_envs`` races of ``n_robots`` on the atlas (``finished="freeze"``), each episode on a level drawn at its
-        reset; own goals: each robot's target drawn after the starts, as ``race_v0`` draws them."""
+        """``n_envs`` races of ``n_robots`` on the atlas (``finished="freeze"``, or ``"stay"``'s), each episode on a
+        level drawn at its reset; own goals: each robot's target drawn after the starts, as ``race_v0`` draws them."""
         own = GoalColumns(None, False, self.level.width, self.level.height) if self.form.own else None
         return BatchRace(self.table, n_envs, n_robots, max_steps, (), self.free, "single" if n_robots == 1 else start,
                          self.table.rules.win_bonus if n_robots > 1 else 0.0, pools=self.pools, goal_columns=own,
-                         lifelong=self.lifelong)
+                         lifelong=self.lifelong, stay=self.stay)
 
     def near_bits(self, cells: np.ndarray, racing: np.ndarray) -> np.ndarray:
         """``(E, R, m)``: a racing robot of the same env on each near cell of each robot."""
@@ -313,7 +313,7 @@ class Family:
         w, h = getattr(source, "largest", (first.width, first.height))
         largest = Level(w, h, exits=[(0, 0)])  # the step limit of the family's envs: their largest level's
         self.max_steps = int(max_cycles) if max_cycles is not None else default_max_steps(largest)
-        self.goals, self.lifelong = probe.goals_mode, probe.lifelong
+        self.goals, self.lifelong, self.stay = probe.goals_mode, probe.lifelong, probe.finished_mode == "stay"
         if n_robots > 1 and cfg.near_radius > cfg.view_radius:
             raise ValueError(f"near_radius: a robot sees the robots within its window; near_radius {cfg.near_radius} "
                              f"exceeds view_radius {cfg.view_radius}")
@@ -330,7 +330,7 @@ class Family:
     def atlas(self, size: int) -> Atlas:
         """An atlas of ``size`` levels drawn from the family, at most ``atlas_capacity`` of them."""
         levels = [self.source(self.rng) for _ in range(min(size, self.atlas_capacity))]
-        return Atlas(levels, self.rules, self.form, self.lifelong)
+        return Atlas(levels, self.rules, self.form, self.lifelong, self.stay)
 
     def play(self, net: Any, episodes: int, mazes: int, rng: np.random.Generator, deterministic: bool = True) -> dict[str, float]:
         """``play_atlas`` over ``episodes`` episodes on ``mazes`` levels drawn from the family: in chunks of
@@ -351,8 +351,9 @@ def atlas_capacity(width: int, height: int) -> int:
 def play_atlas(net: Any, atlas: Atlas, n_robots: int, n_envs: int, max_steps: int, rng: np.random.Generator,
                deterministic: bool = True) -> dict[str, float]:
     """One episode in each of ``n_envs`` envs on ``atlas`` with the net's policy (greedy or sampled): the share
-    of robots that reached the exit or their own target (``success_rate``), of episodes where all did, and the mean
-    makespan; lifelong (``atlas.lifelong``), also ``throughput``: targets reached per step."""
+    of robots that reached the exit or their own target (``success_rate``; ``atlas.stay``: that stand on their
+    target at the end), of episodes where all did, and the mean makespan; lifelong (``atlas.lifelong``), also
+    ``throughput``: targets reached per step."""
     from ..deps import torch_module, torch_threads
 
     with torch_threads(1):  # on a busy machine torch's own threads wait on each other
@@ -385,7 +386,7 @@ def _play(net: Any, atlas: Atlas, n_robots: int, n_envs: int, max_steps: int, rn
         batch.step(actions.reshape(n_envs, n_robots))
         ended = batch.over & ~was
         done_at[ended] = batch.t[ended]
-    reached = batch.rank > 0
+    reached = batch.cells == batch.goals if atlas.stay else batch.rank > 0  # staying robots may have left again
     score = {"success_rate": float(reached.mean()), "all_reached_rate": float(reached.all(axis=1).mean()),
              "makespan": float(done_at.mean())}
     if atlas.lifelong:
