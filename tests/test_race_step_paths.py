@@ -161,7 +161,7 @@ def test_finishing_steps_build_their_dicts_by_zip_as_the_loop_over_agents_does(m
     def checked(reported, rows, rewards, outcome, blocked, finishing, xy, ranks, over, parked_done):
         rows, xy, ranks = list(rows), list(xy), list(ranks)
         got = race_module_racing_outputs(reported, rows, rewards, outcome, blocked, finishing, xy, ranks, over, parked_done)
-        want = env._outputs_with_parked(list(env._agent_ids), outcome, blocked, rewards, over, parked_done)
+        want = race_module.outputs_with_parked(env, list(env._agent_ids), outcome, blocked, rewards, over, parked_done)
         assert [{a: np.asarray(v).tolist() for a, v in d.items()} for d in got[:4]] == [
             {a: np.asarray(v).tolist() for a, v in d.items()} for d in want[:4]
         ]

@@ -15,10 +15,10 @@ from pettingzoo import ParallelEnv
 from ..core.actions import N_ACTIONS
 from ..core.batch import BatchRace
 from ..core.checks import check_action, check_choice, check_count, check_global_view, check_seed, check_view_numbers
-from ..core.goals import GOAL_MODES, GoalColumns
+from ..core.goals import GOAL_MODES, GoalColumns, channel_marks, goal_offsets, row_starts
 from ..core.level import Cell, Level
 from ..core.observe import global_gather, make_observer, with_hint
-from ..core.outcomes import FINISHED, START
+from ..core.outcomes import START
 from ..core.race import race_step
 from ..core.rng import new_key
 from ..core.rules import COLLISION_MODES, Rules, resolve_rules
@@ -37,9 +37,9 @@ from .checks import (
 )
 from .drawing import EnvDrawing, OverlayMethods
 from .encodings import Encoder
-from .race_goals import RaceGoals
+from .race_goals import RaceGoals, next_goals, staying_outputs
 from .race_levels import RaceLevels, cell_arrays
-from .race_outputs import racing_outputs
+from .race_outputs import outputs_with_parked, racing_outputs
 from .race_readouts import RaceReadouts
 from .single import default_max_steps
 from .starts import new_generator
@@ -252,7 +252,9 @@ class RaceEnv(RaceGoals, RaceLevels, RaceReadouts, OverlayMethods, ParallelEnv):
             self._live_bumps = list(map(operator.add, self._live_bumps, blocked))
         if True in finishing or t >= self.max_cycles or not self._reported_live or reached:
             if reached and self.finished_mode == "stay":  # robots on their targets: they stay, racing
-                out = self._staying_outputs(cells, here, outcome, blocked, reached, marks)
+                out, self._live_returns, over = staying_outputs(self, cells, here, outcome, blocked, reached, marks)
+                if over:
+                    self._set_agents([])
             else:
                 rewards = list(map(self._reward_at.__getitem__, cells))
                 if reached:  # lifelong: the target's step earns the exit reward
@@ -310,38 +312,45 @@ class RaceEnv(RaceGoals, RaceLevels, RaceReadouts, OverlayMethods, ParallelEnv):
             out = racing_outputs(reported, rows, rewards, outcome, blocked, finishing, xy, map(ranks.__getitem__, ids), over,
                                  parked_done)  # fmt: skip
         else:
-            out = self._outputs_with_parked(live, outcome, blocked, rewards, over, parked_done)
+            out = outputs_with_parked(self, live, outcome, blocked, rewards, over, parked_done)
         if over:
             self._set_agents([])
         elif self.finished_mode == "remove":
             self._set_agents(self._live)
         return out
 
-    def _outputs_with_parked(
-        self, live: list[int], outcome: Sequence[int], blocked: list[bool], rewards: list[float], over: bool,
-        parked_done: bool,
-    ) -> tuple[dict, dict, dict, dict, dict]:  # fmt: skip
-        """``_step_general``'s dicts when robots parked before this step are reported too (``finished="freeze"``);
-        ``live``: the robots racing before the step, whose ``outcome``, ``blocked`` and ``rewards`` these are."""
-        reported, ids, ranks, racing_now, all_cells = self.agents, self._agent_ids, self._rank, self._live_set, self._cells
-        was_live = dict(zip(live, range(len(live))))  # robot -> its place among the racing robots
-        xy = self._cell_xy.take([all_cells[i] for i in ids], axis=0)  # infos' "cell": rows of one fresh array
-        obs, rews, terms, truncs, infos = {}, {}, {}, {}, {}  # in one pass
-        for a, i, row, cell in zip(reported, ids, self._observations(), xy):
-            k = was_live.get(i)  # None: parked before this step (it earns nothing)
-            racing = i in racing_now
-            obs[a] = row
-            rews[a] = 0.0 if k is None else rewards[k]
-            terms[a] = not racing and parked_done
-            truncs[a] = over and racing
-            infos[a] = {
-                "cell": cell,
-                "outcome": FINISHED if k is None else outcome[k],
-                "blocked": k is not None and blocked[k],
-                "finished": not racing,
-                "rank": ranks[i],
-            }
-        return obs, rews, terms, truncs, infos
+    def _own_goals_step(self, live: list[int], cells: Sequence[int], here: np.ndarray | None, finishing: list[bool]) -> tuple:
+        """After a step's moves, own goals: ``(finishing, reached, marks)``, the robots finishing on their
+        targets (lifelong: ``reached`` them, new targets drawn, nobody finishing; ``finished="stay"``:
+        ``reached`` the robots standing on their targets, nobody finishing) and, when nobody is on its
+        target or robots stay, where the "local" rows' target channel has its 1s (``core.goals.channel_marks``).
+        ``here``: ``cells`` as an array, if the step made one; ``finishing``: the moves' (none)."""
+        keys, starts = self._live_goal_keys, self._channel_starts
+        if keys is None:  # kept until the racing robots or their targets change (_set_layout)
+            keys = self._live_goal_keys = self._cell_key.take(self._racing_goals())
+        offsets = goal_offsets(self._cell_key, cells if here is None else here, keys)  # 0: on its target
+        nobody_on = np.count_nonzero(offsets) == len(offsets)
+        if nobody_on or self.finished_mode == "stay":  # the common step, or robots that stay on their targets
+            if self._channel is None:
+                marks = None
+            else:
+                if starts is None:
+                    starts = self._channel_starts = row_starts(len(live), *self._channel[1:])
+                marks = channel_marks(offsets, self._channel[0], starts)
+            return finishing, None if nobody_on else (offsets == 0).tolist(), marks
+        finishing, reached = (offsets == 0).tolist(), None
+        for i, f in zip(live, finishing):
+            self._reached[i] += f
+        if self.lifelong:  # a new target instead, and the robot keeps going
+            reached, finishing = finishing, [False] * len(finishing)
+            self._goal_arr = next_goals(self.np_random, self.table, self._goal_of, live, cells, reached)
+            self._live_goals = self._live_goal_keys = None
+        return finishing, reached, None
+
+    def _racing_goals(self) -> np.ndarray:  # own goals: the racing robots' targets, kept until either changes
+        if self._live_goals is None:
+            self._live_goals = self._goal_arr if len(self._live) == self.n_robots else self._goal_arr[self._live]
+        return self._live_goals
 
     def _set_agents(self, ids: list[int]) -> None:
         """The robots reported in ``agents``, by robot number, and what steps precompute for them."""

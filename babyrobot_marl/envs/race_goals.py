@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from ..core.goals import cell_keys, channel_marks, draw_goals, goal_offsets, goal_step, next_goal, row_starts
+from ..core.goals import cell_keys, draw_goals, goal_step, next_goal
 from .checks import check_cells, check_goal_cells, check_goals_reach
 from .race_outputs import racing_outputs
 
@@ -36,6 +36,31 @@ def next_goals(rng: np.random.Generator, table: Any, goal_of: list[int], live: l
     return np.array(goal_of, dtype=np.int64)
 
 
+def staying_outputs(race: Any, cells: Sequence[int], here: np.ndarray | None, outcome: Sequence[int], blocked: list[bool],
+                    on: list[bool], marks: np.ndarray | None) -> tuple[tuple, list[float], bool]:  # fmt: skip
+    """A step of ``finished="stay"`` in ``race`` after which some robots stand on their targets (``on``): the five
+    dicts, the racing robots' returns and whether the race is over. Robots on their targets earn the exit reward
+    (0 by default) and race on; when all of them stand on theirs at once the race ends, each robot terminated
+    (POGEMA's ``on_target="nothing"``), else at ``max_cycles`` each robot is truncated. Infos' ``"finished"``:
+    on its target now."""
+    reported, rewards, reward_on = race.agents, list(map(race._reward_at.__getitem__, cells)), race.rules.exit_reward
+    for k in compress(range(len(on)), on):
+        rewards[k] = reward_on
+    returns = list(map(operator.add, race._live_returns, rewards))
+    xy, rows = race._cell_xy.take(cells if here is None else here, axis=0), race._observations(here, marks)
+    solved = False not in on
+    if solved or race._t >= race.max_cycles:  # the race's end
+        out = racing_outputs(reported, rows, rewards, outcome, blocked, on if solved else [False] * len(on), xy,
+                             repeat(0), True, solved, finished=on)  # fmt: skip
+        return out, returns, True
+    infos = {  # as the common step's, each robot's "finished" its own
+        a: {"cell": c, "outcome": o, "blocked": b, "finished": f, "rank": 0}
+        for a, c, o, b, f in zip(reported, xy, outcome, blocked, on)
+    }
+    no = race._none_done
+    return (dict(zip(reported, rows)), dict(zip(reported, rewards)), no.copy(), no.copy(), infos), returns, False
+
+
 class OwnGoalShortest:
     """The shortest-path robot of own goals acting on its observation row: a ``"global"`` or ``"nearest"`` row
     of an own-goal race (no hint, ``"multidiscrete"``) starts with the robot's ``[x, y]`` and ends with its
@@ -53,62 +78,6 @@ class OwnGoalShortest:
 
 class RaceGoals:
     """``RaceEnv``'s own-goal steps, stateless (the env holds the state): ``_cell_options``, ``_goals_for``, ...."""
-
-    def _own_goals_step(self, live: list[int], cells: Sequence[int], here: np.ndarray | None, finishing: list[bool]) -> tuple:
-        """After a step's moves, own goals: ``(finishing, reached, marks)``, the robots finishing on their
-        targets (lifelong: ``reached`` them, new targets drawn, nobody finishing; ``finished="stay"``:
-        ``reached`` the robots standing on their targets, nobody finishing) and, when nobody is on its
-        target or robots stay, where the "local" rows' target channel has its 1s (``core.goals.channel_marks``).
-        ``here``: ``cells`` as an array, if the step made one; ``finishing``: the moves' (none)."""
-        keys, starts = self._live_goal_keys, self._channel_starts
-        if keys is None:  # kept until the racing robots or their targets change (_set_layout)
-            keys = self._live_goal_keys = self._cell_key.take(self._racing_goals())
-        offsets = goal_offsets(self._cell_key, cells if here is None else here, keys)  # 0: on its target
-        nobody_on = np.count_nonzero(offsets) == len(offsets)
-        if nobody_on or self.finished_mode == "stay":  # the common step, or robots that stay on their targets
-            if self._channel is None:
-                marks = None
-            else:
-                if starts is None:
-                    starts = self._channel_starts = row_starts(len(live), *self._channel[1:])
-                marks = channel_marks(offsets, self._channel[0], starts)
-            return finishing, None if nobody_on else (offsets == 0).tolist(), marks
-        finishing, reached = (offsets == 0).tolist(), None
-        for i, f in zip(live, finishing):
-            self._reached[i] += f
-        if self.lifelong:  # a new target instead, and the robot keeps going
-            reached, finishing = finishing, [False] * len(finishing)
-            self._goal_arr = next_goals(self.np_random, self.table, self._goal_of, live, cells, reached)
-            self._live_goals = self._live_goal_keys = None
-        return finishing, reached, None
-
-    def _racing_goals(self) -> np.ndarray:  # own goals: the racing robots' targets, kept until either changes
-        if self._live_goals is None:
-            self._live_goals = self._goal_arr if len(self._live) == self.n_robots else self._goal_arr[self._live]
-        return self._live_goals
-
-    def _staying_outputs(self, cells: Sequence[int], here: np.ndarray | None, outcome: Sequence[int], blocked: list[bool],
-                         on: list[bool], marks: np.ndarray | None) -> tuple:  # fmt: skip
-        """A step of ``finished="stay"`` after which some robots stand on their targets (``on``): those earn the exit
-        reward (0 by default) and race on; when all of them do at once the race ends, each robot terminated
-        (POGEMA's ``on_target="nothing"``), else at ``max_cycles`` each robot is truncated. Infos' ``"finished"``:
-        on its target now."""
-        reported, rewards, reward_on = self.agents, list(map(self._reward_at.__getitem__, cells)), self.rules.exit_reward
-        for k in compress(range(len(on)), on):
-            rewards[k] = reward_on
-        self._live_returns = list(map(operator.add, self._live_returns, rewards))
-        xy, rows = self._cell_xy.take(cells if here is None else here, axis=0), self._observations(here, marks)
-        solved = False not in on
-        if solved or self._t >= self.max_cycles:  # the race's end
-            self._set_agents([])
-            return racing_outputs(reported, rows, rewards, outcome, blocked, on if solved else [False] * len(on), xy,
-                                  repeat(0), True, solved, finished=on)  # fmt: skip
-        infos = {  # as the common step's, each robot's "finished" its own
-            a: {"cell": c, "outcome": o, "blocked": b, "finished": f, "rank": 0}
-            for a, c, o, b, f in zip(reported, xy, outcome, blocked, on)
-        }
-        no = self._none_done
-        return dict(zip(reported, rows)), dict(zip(reported, rewards)), no.copy(), no.copy(), infos
 
     def _goal_tables(self) -> tuple[np.ndarray, tuple | None]:
         """Own goals' per-level tables, read every step: the cells' keys (``goal_offsets``) and, for "local"
