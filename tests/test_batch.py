@@ -9,6 +9,7 @@ from hypothesis import strategies as st
 
 from babyrobot_marl import BabyRobotEnv, levels, race_v0
 from babyrobot_marl.core.batch import resolve_collisions_array
+from tests.batch_twins import batch_beside
 from tests.strategies import resolve_all_robots
 
 MODES = ("block", "bounce", "pass", "soft")
@@ -51,11 +52,7 @@ def _batch_matches_envs(level, n_robots, start, mode, kw):
         race_v0.parallel_env(level=level, n_robots=n_robots, collisions=mode, finished="freeze", start=start, **kw)
         for _ in range(n_envs)
     ]
-    batch = envs[0].batch(n_envs)
-    batch.seed([seed0 + i for i in range(n_envs)])
-    batch.reset_envs(range(n_envs))
-    for i, env in enumerate(envs):
-        env.reset(seed=seed0 + i)
+    batch = batch_beside(envs, seed0)
     rng = np.random.default_rng(7)
     resets = blocked_seen = finished_seen = 0
     for _ in range(250):

@@ -11,6 +11,7 @@ from babyrobot_marl.core.level import Level
 from babyrobot_marl.envs.race_goals import towards_own_goal
 from babyrobot_marl.experiments import evaluate
 from babyrobot_marl.planning import goal_actions
+from tests.batch_twins import batch_beside
 
 ROW = Level.from_grid(".....")
 STAY, EAST, WEST = 0, 2, 4
@@ -116,11 +117,7 @@ STAY_RACES = [  # level, robots, step limit, observation; each under three colli
 def test_the_batch_engine_plays_the_staying_races_of_parallel_env_step_for_step(level, n_robots, limit, kw, collisions):
     n_envs, seed0 = 4, 30
     envs = [staying(level, n_robots, collisions=collisions, max_cycles=limit, **kw) for _ in range(n_envs)]
-    batch = envs[0].batch(n_envs)
-    batch.seed([seed0 + i for i in range(n_envs)])
-    batch.reset_envs(range(n_envs))
-    for i, env in enumerate(envs):
-        env.reset(seed=seed0 + i)
+    batch = batch_beside(envs, seed0)
     rng = np.random.default_rng(5)
     solved = truncated = left = 0
     for _ in range(300):  # toward each robot's target, now and then a random step (rarely on it): robots arrive, leave
