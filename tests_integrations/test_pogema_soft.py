@@ -17,7 +17,9 @@ import json
 import os
 import subprocess
 from collections import deque
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pytest
@@ -106,6 +108,26 @@ def same_robots(t: int, ours: list[tuple[int, int, bool]], theirs: list[tuple[in
     )
 
 
+def step_beside(env, pogema: Pogema, steps: int, actions_for: Callable[[], list[int]],
+                ours: Callable[[Any], list[tuple[int, int, bool]]]) -> tuple[int, list[dict]]:  # fmt: skip
+    """Steps ``env`` and POGEMA with the same joint actions (``actions_for()``, one per robot) until ``steps`` or
+    the race's end, the robots compared after every step (``ours(env)``: ours as POGEMA reports its agents);
+    the last step's index and every step's infos."""
+    seen, t = [], -1
+    try:
+        assert pogema.first == on_board(env)
+        for t in range(steps):
+            if not env.agents:
+                break
+            actions = actions_for()
+            _, _, _, _, infos = env.step({a: actions[i] for i, a in enumerate(env.possible_agents) if a in env.agents})
+            seen.append(infos)
+            same_robots(t, ours(env), pogema.step(actions))
+    finally:
+        pogema.close()
+    return t, seen
+
+
 @pytest.mark.parametrize(("n_robots", "side", "steps"), [(8, 16, 1500), (32, 24, 1000), (64, 32, 600), (256, 48, 400)])
 def test_soft_collisions_step_as_pogema_does(n_robots, side, steps):
     rows = random_map(side, seed=n_robots)
@@ -114,21 +136,10 @@ def test_soft_collisions_step_as_pogema_does(n_robots, side, steps):
     level = Level(width=grid.width, height=grid.height, blocked=grid.blocked, exits={target})
     env = race_v0.parallel_env(level=level, n_robots=n_robots, collisions="soft", start="random", max_cycles=steps + 1)
     env.reset(seed=n_robots)
-    starts = list(env.robot_cells)
-    pogema = Pogema(rows, starts, target)
+    pogema = Pogema(rows, list(env.robot_cells), target)
     g = np.random.default_rng(n_robots)
-    blocked = 0
-    try:
-        assert pogema.first == on_board(env)
-        for t in range(steps):
-            if not env.agents:
-                break
-            actions = g.integers(0, 5, n_robots).tolist()
-            _, _, _, _, infos = env.step({a: actions[i] for i, a in enumerate(env.possible_agents) if a in env.agents})
-            blocked += sum(info["blocked"] for info in infos.values())
-            same_robots(t, on_board(env), pogema.step(actions))
-    finally:
-        pogema.close()
+    t, seen = step_beside(env, pogema, steps, lambda: g.integers(0, 5, n_robots).tolist(), on_board)
+    blocked = sum(info["blocked"] for infos in seen for info in infos.values())
     finished = n_robots - len(env.agents)
     print(f"{n_robots} robots, {side}x{side}: {t + 1} steps equal, {blocked} stops by robots, {finished} finished")
     assert t + 1 >= min(steps, 300) and blocked >= 100  # long runs, robots stopped by robots all along
@@ -147,22 +158,17 @@ def test_robots_that_stay_on_their_own_goals_step_as_pogemas_on_target_nothing(n
     towards = [goal_actions(level, g) for g in goals]  # [y, x, action]: optimal moves towards each goal
     pogema = Pogema(rows, list(env.robot_cells), goals, on_target="nothing")
     g = np.random.default_rng(n_robots)
-    on_goal = 0
-    try:
-        assert pogema.first == on_board(env)
-        for t in range(steps):
-            if not env.agents:
-                break
-            actions = []
-            for k, (x, y) in enumerate(env.robot_cells):
-                best = np.flatnonzero(towards[k][y, x])
-                actions.append(int(best[0]) if best.size and g.random() < 0.8 else int(g.integers(0, 5)))
-            _, _, _, _, infos = env.step(dict(zip(env.possible_agents, actions)))
-            on_goal += sum(info["finished"] for info in infos.values())
-            # nobody leaves the board (the race may end: every robot on its goal)
-            same_robots(t, [(x, y, True) for x, y in env.robot_cells], pogema.step(actions))
-        assert env.agents or list(env.robot_cells) == goals  # ended early only when every robot stood on its goal
-    finally:
-        pogema.close()
+
+    def actions() -> list[int]:
+        chosen = []
+        for k, (x, y) in enumerate(env.robot_cells):
+            best = np.flatnonzero(towards[k][y, x])
+            chosen.append(int(best[0]) if best.size and g.random() < 0.8 else int(g.integers(0, 5)))
+        return chosen
+
+    # nobody leaves the board (the race may end: every robot on its goal)
+    t, seen = step_beside(env, pogema, steps, actions, lambda e: [(x, y, True) for x, y in e.robot_cells])
+    assert env.agents or list(env.robot_cells) == goals  # ended early only when every robot stood on its goal
+    on_goal = sum(info["finished"] for infos in seen for info in infos.values())
     print(f"{n_robots} robots, {side}x{side}: {t + 1} steps equal, {on_goal} robot-steps on their goals")
     assert (t + 1 >= min(steps, 100) or not env.agents) and on_goal >= 10 * n_robots  # on their goals, racing on
