@@ -39,7 +39,7 @@ import numpy as np
 
 from babyrobot_marl import race_v0
 from babyrobot_marl.core.level import Level
-from babyrobot_marl.experiments.evaluate import METRICS, Episode, crowd_metrics
+from babyrobot_marl.experiments.evaluate import METRICS, Episode, arrivals, crowd_metrics
 from babyrobot_marl.planning import goal_actions
 
 HERE = Path(__file__).resolve().parent
@@ -80,17 +80,6 @@ def path_actions(grid: str, goal: tuple[int, int]) -> np.ndarray:
     """``int[H, W]``: a shortest-path robot's action toward ``goal`` (the lowest optimal; STAY on it)."""
     best = goal_actions(level_of(grid), goal)
     return np.where(best.any(axis=2), best.argmax(axis=2), 0)
-
-
-def arrivals(finish: list[int], infos: dict[str, dict], names: dict[str, int], t: int) -> None:
-    """Each robot's step of arrival on its goal, in ``finish`` (0: not on it): a robot that stays on its
-    goal may leave it again, and then its arrival is forgotten (POGEMA's sum of costs counts the last)."""
-    for a, info in infos.items():
-        k = names[a]
-        if not info["finished"]:
-            finish[k] = 0
-        elif not finish[k]:
-            finish[k] = t
 
 
 def race(grid: str, starts: list[tuple[int, int]], goals: list[tuple[int, int]], finished: str = "stay") -> Episode:

@@ -8,6 +8,7 @@ from typing import Any, TextIO
 
 from ..core.rules import COLLISION_MODES
 from ..policies import POLICY_NAMES
+from ..training.checks import FINISHED_RULES
 from .checks import (
     SEED_HELP,
     check_goal_flags,
@@ -46,7 +47,7 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--collisions", choices=COLLISION_MODES, default="block",
                    help="collision rule; soft: POGEMA's (default: block)")
     add_goal_args(p, policy_default=True)
-    p.add_argument("--finished", choices=("remove", "stay"), default=None,
+    p.add_argument("--finished", choices=FINISHED_RULES, default=None,
                    help="with --goals own: remove: a robot leaves the board at its target; stay: it stays there, "
                    "racing on and blocking, and counts if it stands on its target when the episode ends, which ends early "
                    "only when every robot does (POGEMA's on_target='nothing', the rule of its published maze runs); default: the "

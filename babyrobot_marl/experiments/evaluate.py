@@ -209,6 +209,15 @@ def evaluate(
     return Evaluation(label, n_robots, envs[BASELINES[0]].collisions, limit, runs, metrics, policy_name, baseline)
 
 
+def arrivals(finish: list[int], infos: Mapping[str, Mapping[str, Any]], index: Mapping[str, int], t: int) -> None:
+    """Each robot's step of arrival on its exit or target after step ``t``, kept in ``finish`` (0: not there): a
+    robot that stays on its target may leave it again, and then its arrival is forgotten (POGEMA's sum of costs
+    counts the last one)."""
+    for a, info in infos.items():
+        k = index[a]
+        finish[k] = (finish[k] or t) if info["finished"] else 0
+
+
 def _episode(env: RaceEnv, crowd: Policy | str, seed: int, i: int) -> Episode:
     obs, _ = env.reset(seed=seed)
     # after the reset: a drawn level changes the table the scripted robots plan on
@@ -222,7 +231,5 @@ def _episode(env: RaceEnv, crowd: Policy | str, seed: int, i: int) -> Episode:
     finish = [0] * env.n_robots
     while env.agents:
         obs, _, _, _, infos = env.step({a: int(acting[index[a]](obs[a])) for a in env.agents})
-        for a, info in infos.items():  # the last arrival: a robot that stays on its target may leave it again
-            k = index[a]
-            finish[k] = (finish[k] or env.elapsed_steps) if info["finished"] else 0
+        arrivals(finish, infos, index, env.elapsed_steps)
     return Episode(seed, env.level.name, env.elapsed_steps, finish, sum(env.goals_reached))
