@@ -301,3 +301,40 @@ def test_in_a_shell_ctrl_z_gives_the_terminal_back_and_fg_resumes_the_game(tmux)
     tmux.wait_for("policy keys, seed 0, episode 1: 2 steps")
     tmux.keys("clear; " + modes, "Enter")
     assert "icanon echo <MODES>" in tmux.wait_for("<MODES>")
+
+
+class _WokenError(Exception):
+    pass
+
+
+def test_a_signal_taken_by_another_thread_still_reaches_a_game_waiting_for_a_key():
+    # Linux may hand Ctrl-C's SIGINT to any thread (numpy's, say); that does not wake the main
+    # thread's select, so a game waiting for a key without end would never run its handler.
+    import io
+    import threading
+
+    from babyrobot_marl.play.terminal import Keyboard
+
+    def woken(*_: object) -> None:
+        raise _WokenError
+
+    master, slave = os.openpty()
+    previous = signal.signal(signal.SIGUSR1, woken)
+
+    guard = threading.Event()
+
+    def elsewhere():
+        time.sleep(0.3)  # let the main thread wait in select first
+        signal.pthread_kill(threading.get_ident(), signal.SIGUSR1)
+        time.sleep(GUARD)
+        guard.set()
+        os.write(master, b" \n")  # a guard: the key that ends an unending wait
+
+    threading.Thread(target=elsewhere, daemon=True).start()
+    try:
+        with pytest.raises(_WokenError):
+            Keyboard(slave, io.StringIO()).read(None)
+        assert not guard.is_set(), "the handler ran only when a key came"
+    finally:
+        signal.signal(signal.SIGUSR1, previous)
+        os.close(slave)

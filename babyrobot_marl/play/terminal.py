@@ -28,6 +28,7 @@ from .watch import schedule, settled_step
 
 WATCH_ONE = "give --policy shortest"  # play's advice without a terminal
 ESC_WAIT = 0.05  # seconds to wait for the rest of an escape sequence cut between two reads
+SIGNAL_SLICE = 0.5  # seconds: how long a wait for a key goes before Python looks at its signals
 
 
 def require_terminal(stdin: Any, stdout: Any, what: str, instead: str) -> int:
@@ -130,11 +131,17 @@ class Keyboard:
         return commands
 
     def _ready(self, timeout: float | None) -> bool:
+        # Waiting without end is done in slices: a signal taken by another thread (numpy's may run)
+        # does not wake this select, and Python runs its handler (Ctrl-C) only when select returns.
         while True:
+            wait = SIGNAL_SLICE if timeout is None else timeout
             try:
-                return bool(select.select([self.fd], [], [], timeout)[0])
+                if select.select([self.fd], [], [], wait)[0]:
+                    return True
             except InterruptedError:  # a signal (Ctrl-Z and fg): wait again
                 continue
+            if timeout is not None:
+                return False
 
 
 def _exit_on_signal(signum: int, _frame: object) -> None:
