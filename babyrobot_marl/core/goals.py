@@ -70,6 +70,7 @@ class Reach:
     member_arrays: tuple[np.ndarray, ...]  # ``members`` as arrays: a shuffled part is one gather
     free: tuple[int, ...]
     neighbours: tuple[tuple[int, ...], ...]  # the cells one move leads to from each cell
+    part_of: tuple[int, ...]  # ``component`` as Python ints: read once per robot when goals are drawn
 
 
 @lru_cache(maxsize=COMPILED_CACHE)
@@ -104,7 +105,7 @@ def reach(table: Table) -> Reach:
     arrays = tuple(np.array(m, dtype=np.int64) for m in members)
     for a in arrays:
         a.setflags(write=False)
-    return Reach(comp, members, arrays, free, neighbours)
+    return Reach(comp, members, arrays, free, neighbours, tuple(component))
 
 
 def draw_goals(rng: np.random.Generator, table: Table, starts: Sequence[int]) -> list[int]:
@@ -116,36 +117,39 @@ def draw_goals(rng: np.random.Generator, table: Table, starts: Sequence[int]) ->
     a part has no cell left for a robot.
     """
     r = reach(table)
-    order: dict[int, list[int]] = {}  # part -> its cells, shuffled
-    taken: dict[int, int] = {}  # part -> cells handed out
-    owner: dict[int, list[int]] = {}  # part -> robots given a goal there
+    part_of, member_arrays = r.part_of, r.member_arrays
+    parts: dict[int, list] = {}  # part -> [its cells shuffled, cells handed out, robots given a goal there]
     goals = [0] * len(starts)
     for i, s in enumerate(starts):
-        k = int(r.component[s])
-        cells = order.get(k)
-        if cells is None:
-            part = r.member_arrays[k]
-            cells = order[k] = part.take(rng.permutation(len(part))).tolist()
-            taken[k], owner[k] = 0, []
-        p = taken[k]
-        if p < len(cells) and cells[p] == s:  # its own start: take the next, leaving the start for others
+        k = part_of[s]
+        part = parts.get(k)
+        if part is None:
+            cells = member_arrays[k]
+            part = parts[k] = [cells.take(rng.permutation(len(cells))).tolist(), 0, []]
+        cells, p, owner = part
+        if p < len(cells) and cells[p] != s:  # the common case: the next cell
+            goals[i] = cells[p]
+            part[1] = p + 1
+            owner.append(i)
+            continue
+        if p < len(cells):  # its own start: take the next, leaving the start for others
             if p + 1 < len(cells):
                 cells[p], cells[p + 1] = cells[p + 1], cells[p]
-            elif owner[k]:  # the last cell left is its start: trade with a robot served before
-                j = owner[k][0]
+            elif owner:  # the last cell left is its start: trade with a robot served before
+                j = owner[0]
                 goals[i], goals[j] = goals[j], s
-                taken[k] += 1
-                owner[k].append(i)
+                part[1] = p + 1
+                owner.append(i)
                 continue
         if p >= len(cells) or cells[p] == s:
             x, y = table.cell_xy(s)
             raise ValueError(
                 f"goals: no free cell is left for the robot starting at ({x}, {y}): its part of the level has "
-                f"{len(cells)} free cells for {len(owner[k]) + 1} robots' goals"
+                f"{len(cells)} free cells for {len(owner) + 1} robots' goals"
             )
         goals[i] = cells[p]
-        taken[k] += 1
-        owner[k].append(i)
+        part[1] = p + 1
+        owner.append(i)
     return goals
 
 
