@@ -15,7 +15,7 @@ from pettingzoo import ParallelEnv
 from ..core.actions import N_ACTIONS
 from ..core.batch import BatchRace
 from ..core.checks import check_action, check_choice, check_count, check_global_view, check_seed, check_view_numbers
-from ..core.goals import GOAL_MODES, GoalColumns, channel_marks, goal_offsets, row_starts
+from ..core.goals import GOAL_MODES, GoalColumns, row_starts
 from ..core.level import Cell, Level
 from ..core.observe import global_gather, make_observer, with_hint
 from ..core.outcomes import START
@@ -325,19 +325,19 @@ class RaceEnv(RaceGoals, RaceLevels, RaceReadouts, OverlayMethods, ParallelEnv):
         ``reached`` the robots standing on their targets, nobody finishing) and, when nobody is on its
         target or robots stay, where the "local" rows' target channel has its 1s (``core.goals.channel_marks``).
         ``here``: ``cells`` as an array, if the step made one; ``finishing``: the moves' (none)."""
-        keys, starts = self._live_goal_keys, self._channel_starts
+        keys = self._live_goal_keys
         if keys is None:  # kept until the racing robots or their targets change (_set_layout)
             keys = self._live_goal_keys = self._cell_key.take(self._racing_goals())
-        offsets = goal_offsets(self._cell_key, cells if here is None else here, keys)  # 0: on its target
+        offsets = keys - self._cell_key.take(cells if here is None else here)  # 0: on its target (goal_offsets)
         nobody_on = np.count_nonzero(offsets) == len(offsets)
         if nobody_on or self.finished_mode == "stay":  # the common step, or robots that stay on their targets
+            reached = None if nobody_on else (offsets == 0).tolist()
             if self._channel is None:
-                marks = None
-            else:
-                if starts is None:
-                    starts = self._channel_starts = row_starts(len(live), *self._channel[1:])
-                marks = channel_marks(offsets, self._channel[0], starts)
-            return finishing, None if nobody_on else (offsets == 0).tolist(), marks
+                return finishing, reached, None
+            starts = self._channel_starts
+            if starts is None:
+                starts = self._channel_starts = row_starts(len(live), *self._channel[1:])
+            return finishing, reached, self._channel[0].take(offsets) + starts  # channel_marks, inline: every step
         finishing, reached = (offsets == 0).tolist(), None
         for i, f in zip(live, finishing):
             self._reached[i] += f
@@ -453,6 +453,8 @@ class RaceEnv(RaceGoals, RaceLevels, RaceReadouts, OverlayMethods, ParallelEnv):
         """One row per reported agent, in ``agents`` order (a fresh array per step, rows never shared);
         ``here``: the racing robots' cells as an array, if the step made one (own goals: ``marks`` too)."""
         if self._goal_columns is not None:
+            if marks is not None and self._reported_live and not self._goal_columns.hint:  # a "local" step's own rows
+                return self.encoder(self._observer(here, self._all_racing[: len(here)], self._goal_columns.size, None, marks))
             return self._goal_observations(here, marks)
         if self._observer is not None:
             if self._reported_live:  # the racing robots' rows alone: finished robots are in nobody's view
