@@ -118,37 +118,39 @@ def draw_goals(rng: np.random.Generator, table: Table, starts: Sequence[int]) ->
     """
     r = reach(table)
     part_of, member_arrays = r.part_of, r.member_arrays
-    parts: dict[int, list] = {}  # part -> [its cells shuffled, cells handed out, robots given a goal there]
-    goals = [0] * len(starts)
+    # part -> [the first of its cells shuffled, its size, cells handed out, robots given a goal there]; robots
+    # take at most one more cell than there are robots, so only those are listed
+    parts: dict[int, list] = {}
+    goals, most = [0] * len(starts), len(starts) + 1
     for i, s in enumerate(starts):
         k = part_of[s]
         part = parts.get(k)
         if part is None:
             cells = member_arrays[k]
-            part = parts[k] = [cells.take(rng.permutation(len(cells))).tolist(), 0, []]
-        cells, p, owner = part
-        if p < len(cells) and cells[p] != s:  # the common case: the next cell
+            part = parts[k] = [cells.take(rng.permutation(len(cells))[:most]).tolist(), len(cells), 0, []]
+        cells, size, p, owner = part
+        if p < size and cells[p] != s:  # the common case: the next cell
             goals[i] = cells[p]
-            part[1] = p + 1
+            part[2] = p + 1
             owner.append(i)
             continue
-        if p < len(cells):  # its own start: take the next, leaving the start for others
-            if p + 1 < len(cells):
+        if p < size:  # its own start: take the next, leaving the start for others
+            if p + 1 < size:
                 cells[p], cells[p + 1] = cells[p + 1], cells[p]
             elif owner:  # the last cell left is its start: trade with a robot served before
                 j = owner[0]
                 goals[i], goals[j] = goals[j], s
-                part[1] = p + 1
+                part[2] = p + 1
                 owner.append(i)
                 continue
-        if p >= len(cells) or cells[p] == s:
+        if p >= size or cells[p] == s:
             x, y = table.cell_xy(s)
             raise ValueError(
                 f"goals: no free cell is left for the robot starting at ({x}, {y}): its part of the level has "
-                f"{len(cells)} free cells for {len(owner) + 1} robots' goals"
+                f"{size} free cells for {len(owner) + 1} robots' goals"
             )
         goals[i] = cells[p]
-        part[1] = p + 1
+        part[2] = p + 1
         owner.append(i)
     return goals
 
