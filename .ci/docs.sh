@@ -5,10 +5,15 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-venv=.venv-docs-ci
-rm -rf "$venv" site
-python3 -m venv "$venv"
-.ci/locked "$venv/bin/python" -m pip install -q --upgrade pip
+# DOCS_VENV=DIR: add the docs extra to that venv instead of making a fresh one (.ci/run passes the
+# notebook stage's venv, which already holds the notebook extra the docs extra includes)
+venv=${DOCS_VENV:-.venv-docs-ci}
+rm -rf site
+if [ -z "${DOCS_VENV:-}" ]; then
+    rm -rf "$venv"
+    python3 -m venv "$venv"
+    .ci/locked "$venv/bin/python" -m pip install -q --upgrade pip
+fi
 .ci/locked "$venv/bin/pip" install -q -e ".[docs]" pytest playwright
 "$venv/bin/pip" check
 

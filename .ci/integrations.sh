@@ -3,7 +3,7 @@
 # - .venv-ci-integrations: TorchRL 0.11.1 + BenchMARL 1.5.2 (its pin), Tianshou 2.0.1, SuperSuit, SB3.
 #   BenchMARL requires torchvision, which would pull torch 2.14.1 with CUDA: it imports none of it, so it
 #   is installed with --no-deps after its real requirements (torchrl, tensordict, hydra-core, tqdm, av).
-# - .venv-ci-agilerl: AgileRL 2.58 (pins pettingzoo < 1.27 and tensordict 0.13, imports peft at start-up).
+# - AgileRL runs in .ci/agilerl.sh's venv (it pins pettingzoo < 1.27 and tensordict 0.13).
 # - RLlib runs in .ci/rllib.sh's venv (ray[rllib] pins gymnasium 1.2.2).
 # - .venv-ci-pogema: POGEMA 1.4 alone (it pins gymnasium 0.28.1), stepped beside the race for collisions="soft";
 #   pogema-toolbox's maze generator added to check the maze benchmark's shipped data.
@@ -40,9 +40,4 @@ POGEMA_PYTHON="$PWD/$pdir/bin/python" "$dir/bin/python" -m pytest -q -p no:cache
 .ci/locked "$pdir/bin/pip" install -q --no-deps "pogema-toolbox==0.1.1" && .ci/locked "$pdir/bin/pip" install -q "pyyaml<=6.0.1"
 "$dir/bin/python" benchmarks/bench_pogema_mazes.py --regenerate --quick --in-pogema --pogema-python "$pdir/bin/python"
 
-adir=.venv-ci-agilerl
-venv "$adir"
-.ci/locked "$adir/bin/pip" install -q "agilerl==2.58.0" peft pytest -e .
-"$adir/bin/python" -c "import torch, agilerl; assert '+cpu' in torch.__version__, torch.__version__"
-"$adir/bin/python" -m pytest -q -p no:cacheprovider tests_integrations/test_agilerl.py
 echo "integrations: $((SECONDS - start)) s in all"

@@ -13,17 +13,21 @@ python3 -m venv "$venv"
 .ci/locked "$venv/bin/pip" install -q -e ".[notebook]" nbclient
 "$venv/bin/pip" check
 echo "notebooks: venv ready after $((SECONDS - start)) s"
-# run from a temporary folder: whatever a notebook writes stays out of the checkout
+# run from a temporary folder: whatever a notebook writes stays out of the checkout. With
+# BABYROBOT_EXECUTED_NOTEBOOKS=DIR the executed notebooks are written to DIR too: the site build that follows
+# in the same CI run (.ci/docs.sh) renders those instead of running every notebook again.
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-"$venv/bin/python" - "$PWD/notebooks" "$work" <<'PY'
+out=${BABYROBOT_EXECUTED_NOTEBOOKS:-}
+if [ -n "$out" ]; then rm -rf "$out" && mkdir -p "$out"; fi
+"$venv/bin/python" - "$PWD/notebooks" "$work" "$out" <<'PY'
 import sys
 from pathlib import Path
 
 import nbclient
 import nbformat
 
-folder, work = Path(sys.argv[1]), sys.argv[2]
+folder, work, out = Path(sys.argv[1]), sys.argv[2], sys.argv[3]
 names = sorted(folder.glob("*.ipynb"))
 assert names, f"no notebook in {folder}"
 for path in names:
@@ -33,6 +37,8 @@ for path in names:
     # a missing extra that a notebook catches prints the package's "pip install '...'" hint: not a pass
     assert "pip install" not in text, f"{path.name} fell back on a missing package:\n{text}"
     assert f"{path.stem} notebook: done" in text, f"{path.name} did not print its last line"
+    if out:
+        nbformat.write(nb, Path(out) / path.name)
     print(f"notebooks: {path.name} ran top to bottom")
 print(f"{len(names)} passed, 0 failed")
 PY

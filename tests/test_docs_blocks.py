@@ -285,12 +285,47 @@ def test_shell_block_runs_and_prints_what_the_page_claims(block, tmp_path):
     }
     printed = ""
     for cmd in commands:
+        key = run_key(cmd, required_extras(block), tmp_path)
+        if key in RUNS:  # the same command on the same files ran for another block: its output and files
+            out, written = RUNS[key]
+            for name, data in written.items():
+                (tmp_path / name).parent.mkdir(parents=True, exist_ok=True)
+                (tmp_path / name).write_bytes(data)
+            printed += out
+            continue
+        before = folder_files(tmp_path)
         # a guard against a hung command, not a speed target
         script = ["bash", "-c", SHELL_PRELUDE + cmd]
         got = subprocess.run(script, capture_output=True, text=True, cwd=tmp_path, env=env, timeout=1800)
         assert got.returncode == 0, f"{block.id}: '{cmd}' exited {got.returncode}:\n{got.stdout[-2000:]}\n{got.stderr[-3000:]}"
         printed += got.stdout
+        if key is not None:
+            after = folder_files(tmp_path)
+            RUNS[key] = (got.stdout, {name: data for name, data in after.items() if before.get(name) != data})
     check_claims(block, printed)
+
+
+# Two pages may show the same command word for word (README's quick start and the fast trainer's
+# guide train the same policy): it runs once, and the second block gets that run's output and the
+# files it wrote, against which its own expectations are checked. Only babyrobot-marl commands are
+# kept: they read no file but those they name, so the key (the command, the block's extras and the
+# contents of the folder's files the command names) says everything the run depended on.
+RUNS: dict[tuple, tuple[str, dict[str, bytes]]] = {}
+
+
+def run_key(command: str, extras: list[str], folder: Path) -> tuple | None:
+    """What a run of ``command`` in ``folder`` depends on, or None: a command whose run is not kept."""
+    if not re.match(r"babyrobot-marl\b", command) or re.search(r"[|<>;`$]", command):
+        return None
+    words = {part for word in command.split() for part in re.split(r"[=,]", word)}
+    named = sorted(w for w in words if w and (folder / w).is_file())
+    return (command, tuple(extras), tuple((w, (folder / w).read_bytes()) for w in named))
+
+
+def folder_files(folder: Path) -> dict[str, bytes]:
+    """The files under ``folder`` by relative path (os.walk does not enter the links to examples/ and benchmarks/)."""
+    return {str((Path(top) / name).relative_to(folder)): (Path(top) / name).read_bytes()
+            for top, _, names in os.walk(folder) for name in names if not (Path(top) / name).is_symlink()}
 
 
 def test_readme_picture_is_what_its_command_draws():
@@ -409,3 +444,51 @@ def test_every_result_table_names_the_command_that_produced_it(path):
     for caption, table in found:
         named = [c for c in cli_commands(caption + "\n" + table) if len(c.split()) > 2]
         assert named, f"{path.relative_to(ROOT)}: no babyrobot-marl command above or in the table:\n{table[:300]}"
+
+
+def test_a_kept_run_is_keyed_by_the_command_its_extras_and_the_files_it_names(tmp_path):
+    (tmp_path / "ppo.pt").write_bytes(b"one")
+    key = run_key("babyrobot-marl play --policy ppo.pt", ["train"], tmp_path)
+    assert key == run_key("babyrobot-marl play --policy ppo.pt", ["train"], tmp_path)
+    assert key != run_key("babyrobot-marl play --policy ppo.pt", [], tmp_path)
+    assert key != run_key("babyrobot-marl play --policy ppo.pt --no-delay", ["train"], tmp_path)
+    (tmp_path / "ppo.pt").write_bytes(b"two")  # the file it reads changed: another run
+    assert key != run_key("babyrobot-marl play --policy ppo.pt", ["train"], tmp_path)
+    assert ("ppo.pt", b"two") in run_key("babyrobot-marl race --policies ppo.pt,random", [], tmp_path)[2]
+    assert ("ppo.pt", b"two") in run_key("babyrobot-marl race --policies=ppo.pt", [], tmp_path)[2]
+    assert run_key("python examples/train_fast.py", [], tmp_path) is None  # a script may read any file
+    assert run_key("babyrobot-marl levels | head -3", [], tmp_path) is None
+
+
+def test_a_command_two_blocks_show_runs_once_and_each_block_checks_its_claims(tmp_path, monkeypatch):
+    calls = []
+
+    def fake_run(script, cwd, **kwargs):  # a "training" that saves a file and prints a line
+        calls.append(script[-1])
+        (Path(cwd) / "out.pt").write_bytes(b"weights")
+        return subprocess.CompletedProcess(script, 0, stdout="trained 5 timesteps\n", stderr="")
+
+    monkeypatch.setattr(subprocess, "run", fake_run)
+    monkeypatch.setattr(sys.modules[__name__], "RUNS", {})
+    command = "babyrobot-marl train --steps 5 --save out.pt\n"
+    first = Block(ROOT / "docs" / "a.md", 1, "bash", command, ("^trained 5 timesteps$",))
+    second = Block(ROOT / "README.md", 1, "bash", command, ("^trained 5 timesteps$",))
+    (tmp_path / "a").mkdir(), (tmp_path / "b").mkdir(), (tmp_path / "c").mkdir()
+    test_shell_block_runs_and_prints_what_the_page_claims(first, tmp_path / "a")
+    test_shell_block_runs_and_prints_what_the_page_claims(second, tmp_path / "b")
+    assert len(calls) == 1 and (tmp_path / "b" / "out.pt").read_bytes() == b"weights"
+    wrong = Block(ROOT / "README.md", 9, "bash", command, ("^trained 6 timesteps$",))
+    with pytest.raises(AssertionError, match="trained 6 timesteps"):
+        test_shell_block_runs_and_prints_what_the_page_claims(wrong, tmp_path / "c")
+    assert len(calls) == 1
+
+
+def test_the_readme_trains_with_the_fast_trainer_guides_command():
+    # the quick start repeats the guide's first command word for word: one run serves both pages
+    def trainings(name: str) -> set[str]:
+        return {cmd for b in SHELL_RUN if b.path.name == name for cmd, why in shell_commands(b)
+                if why is None and cmd.startswith("babyrobot-marl train")}
+
+    assert trainings("README.md") and trainings("README.md") <= trainings("fast-trainer.md")
+    races = {cmd for cmd in trainings("training.md") if "--level race-4" in cmd}  # and the training guide's race
+    assert races and races <= trainings("fast-trainer.md")
