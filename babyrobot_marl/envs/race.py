@@ -15,7 +15,7 @@ from pettingzoo import ParallelEnv
 from ..core.actions import N_ACTIONS
 from ..core.batch import BatchRace
 from ..core.checks import check_action, check_choice, check_count, check_global_view, check_seed, check_view_numbers
-from ..core.goals import GOAL_MODES, GoalColumns, row_starts
+from ..core.goals import GOAL_MODES, GoalColumns, channel_marks, goal_offsets, row_starts
 from ..core.level import Cell, Level
 from ..core.observe import global_gather, make_observer, with_hint
 from ..core.outcomes import START
@@ -328,7 +328,7 @@ class RaceEnv(RaceGoals, RaceLevels, RaceReadouts, OverlayMethods, ParallelEnv):
         keys = self._live_goal_keys
         if keys is None:  # kept until the racing robots or their targets change (_set_layout)
             keys = self._live_goal_keys = self._cell_key.take(self._racing_goals())
-        offsets = keys - self._cell_key.take(cells if here is None else here)  # 0: on its target (goal_offsets)
+        offsets = goal_offsets(self._cell_key, cells if here is None else here, keys)  # 0: on its target
         nobody_on = np.count_nonzero(offsets) == len(offsets)
         if nobody_on or self.finished_mode == "stay":  # the common step, or robots that stay on their targets
             reached = None if nobody_on else (offsets == 0).tolist()
@@ -337,7 +337,7 @@ class RaceEnv(RaceGoals, RaceLevels, RaceReadouts, OverlayMethods, ParallelEnv):
             starts = self._channel_starts
             if starts is None:
                 starts = self._channel_starts = row_starts(len(live), *self._channel[1:])
-            return finishing, reached, self._channel[0].take(offsets) + starts  # channel_marks, inline: every step
+            return finishing, reached, channel_marks(offsets, self._channel[0], starts)
         finishing, reached = (offsets == 0).tolist(), None
         for i, f in zip(live, finishing):
             self._reached[i] += f
