@@ -10,9 +10,7 @@ cd "$(dirname "$0")/.."
 venv=${DOCS_VENV:-.venv-docs-ci}
 rm -rf site
 if [ -z "${DOCS_VENV:-}" ]; then
-    rm -rf "$venv"
-    python3 -m venv "$venv"
-    .ci/locked "$venv/bin/python" -m pip install -q --upgrade pip
+    .ci/venv "$venv"
 fi
 .ci/locked "$venv/bin/pip" install -q -e ".[docs]" pytest playwright
 "$venv/bin/pip" check

@@ -11,15 +11,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 start=$SECONDS
 
-venv() {  # venv DIR: a fresh venv with torch's CPU build
-    rm -rf "$1"
-    python3 -m venv "$1"
-    .ci/locked "$1/bin/python" -m pip install -q --upgrade pip
-    .ci/locked "$1/bin/pip" install -q torch==2.13.0
-}
-
 dir=.venv-ci-integrations
-venv "$dir"
+.ci/venv "$dir" torch
 .ci/locked "$dir/bin/pip" install -q "torchrl==0.11.1" "tensordict>=0.11,<0.12" hydra-core tqdm "av<14" "tianshou==2.0.1" pytest -e ".[train]"
 .ci/locked "$dir/bin/pip" install -q --no-deps "benchmarl==1.5.2"
 "$dir/bin/python" -c "import torch, torchrl, benchmarl, tianshou; assert '+cpu' in torch.__version__, torch.__version__"
@@ -29,8 +22,7 @@ echo "integrations venv ready after $((SECONDS - start)) s"
 # POGEMA 1.4 (pins gymnasium 0.28.1) in a venv of its own, no torch: the soft-collision test runs in the
 # integrations venv and drives POGEMA in a subprocess of this one (tests_integrations/pogema/driver.py)
 pdir=.venv-ci-pogema
-rm -rf "$pdir"
-python3 -m venv "$pdir"
+.ci/venv "$pdir"
 .ci/locked "$pdir/bin/pip" install -q "pogema==1.4.*"
 POGEMA_PYTHON="$PWD/$pdir/bin/python" "$dir/bin/python" -m pytest -q -p no:cacheprovider tests_integrations/test_pogema_soft.py
 "$dir/bin/python" benchmarks/bench_pogema.py --quick --pogema-python "$pdir/bin/python"  # the race beside POGEMA: smoke run

@@ -7,9 +7,7 @@ cd "$(dirname "$0")/.."
 start=$SECONDS
 
 venv=${NOTEBOOK_VENV:-.venv-ci-notebook}
-rm -rf "$venv"
-python3 -m venv "$venv"
-.ci/locked "$venv/bin/python" -m pip install -q --upgrade pip
+.ci/venv "$venv"
 .ci/locked "$venv/bin/pip" install -q -e ".[notebook]" nbclient
 "$venv/bin/pip" check
 echo "notebooks: venv ready after $((SECONDS - start)) s"

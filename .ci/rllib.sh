@@ -6,10 +6,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 dir=.venv-ci-rllib
-rm -rf "$dir"
-python3 -m venv "$dir"
-.ci/locked "$dir/bin/python" -m pip install -q --upgrade pip
-.ci/locked "$dir/bin/pip" install -q torch==2.13.0
+.ci/venv "$dir" torch
 .ci/locked "$dir/bin/pip" install -q -e ".[rllib,test]"
 "$dir/bin/python" -c "import gymnasium, ray; print('ray', ray.__version__, 'gymnasium', gymnasium.__version__)"
 # tests_rllib starts one local Ray (2 CPUs) and shuts it down; a few minutes at most
