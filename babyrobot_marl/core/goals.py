@@ -129,20 +129,12 @@ def draw_goals(rng: np.random.Generator, table: Table, starts: Sequence[int]) ->
             cells = member_arrays[k]
             part = parts[k] = [cells.take(rng.permutation(len(cells))[:most]).tolist(), len(cells), 0, []]
         cells, size, p, owner = part
-        if p < size and cells[p] != s:  # the common case: the next cell
-            goals[i] = cells[p]
-            part[2] = p + 1
-            owner.append(i)
-            continue
-        if p < size:  # its own start: take the next, leaving the start for others
+        if p < size and cells[p] == s:  # its own start: take the next, leaving the start for others
             if p + 1 < size:
                 cells[p], cells[p + 1] = cells[p + 1], cells[p]
             elif owner:  # the last cell left is its start: trade with a robot served before
                 j = owner[0]
-                goals[i], goals[j] = goals[j], s
-                part[2] = p + 1
-                owner.append(i)
-                continue
+                cells[p], goals[j] = goals[j], s
         if p >= size or cells[p] == s:
             x, y = table.cell_xy(s)
             raise ValueError(

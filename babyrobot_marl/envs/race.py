@@ -453,8 +453,6 @@ class RaceEnv(RaceGoals, RaceLevels, RaceReadouts, OverlayMethods, ParallelEnv):
         """One row per reported agent, in ``agents`` order (a fresh array per step, rows never shared);
         ``here``: the racing robots' cells as an array, if the step made one (own goals: ``marks`` too)."""
         if self._goal_columns is not None:
-            if marks is not None and self._reported_live and not self._goal_columns.hint:  # a "local" step's own rows
-                return self.encoder(self._observer(here, self._all_racing[: len(here)], self._goal_columns.size, None, marks))
             return self._goal_observations(here, marks)
         if self._observer is not None:
             if self._reported_live:  # the racing robots' rows alone: finished robots are in nobody's view
