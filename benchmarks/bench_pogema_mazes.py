@@ -2,6 +2,7 @@
 
     python benchmarks/bench_pogema_mazes.py            # 128 mazes x 8, 16, 32, 48, 64 robots
     python benchmarks/bench_pogema_mazes.py --quick    # 4 mazes, 8 robots (no POGEMA needed)
+    python benchmarks/bench_pogema_mazes.py --pibt     # PIBT's crowd beside (a centralised planner)
     python benchmarks/bench_pogema_mazes.py --in-pogema --pogema-python PATH    # the same robots in POGEMA too
     python benchmarks/bench_pogema_mazes.py --regenerate --pogema-python PATH   # check the shipped data
 
@@ -40,7 +41,7 @@ import numpy as np
 from babyrobot_marl import race_v0
 from babyrobot_marl.core.level import Level
 from babyrobot_marl.experiments.evaluate import METRICS, Episode, arrivals, crowd_metrics
-from babyrobot_marl.planning import goal_actions
+from babyrobot_marl.planning import PIBT, goal_actions
 
 HERE = Path(__file__).resolve().parent
 DATA = HERE / "data" / "pogema_mazes.json"
@@ -82,26 +83,32 @@ def path_actions(grid: str, goal: tuple[int, int]) -> np.ndarray:
     return np.where(best.any(axis=2), best.argmax(axis=2), 0)
 
 
-def race(grid: str, starts: list[tuple[int, int]], goals: list[tuple[int, int]], finished: str = "stay") -> Episode:
-    """One episode of shortest-path robots: each robot's arrival step (0: not on its goal at the end)."""
+def race(grid: str, starts: list[tuple[int, int]], goals: list[tuple[int, int]], finished: str = "stay",
+         pibt: bool = False) -> Episode:
+    """One episode of shortest-path robots (``pibt``: PIBT's planned moves instead): each robot's arrival
+    step (0: not on its goal at the end)."""
     env = race_v0.parallel_env(level=level_of(grid), n_robots=len(starts), goals="own", collisions="soft",
                                observe="nearest", k=1, start="random", max_cycles=STEPS, finished=finished)
     env.reset(seed=0, options={"starts": starts, "goals": goals})
     tables = [path_actions(grid, g) for g in goals]
+    planner = PIBT(level_of(grid), goals, seed=0) if pibt else None
     finish = [0] * len(starts)
     names = {a: i for i, a in enumerate(env.possible_agents)}
     t = 0
     while env.agents:
         t += 1
-        moves = {a: int(tables[names[a]][env.robot_cells[names[a]][::-1]]) for a in env.agents}
+        planned = planner.actions(env.robot_cells) if planner else None
+        moves = {a: planned[names[a]] if planned else int(tables[names[a]][env.robot_cells[names[a]][::-1]])
+                 for a in env.agents}
         arrivals(finish, env.step(moves)[4], names, t)
     return Episode(seed=0, level=grid, steps=t, finish_steps=finish)
 
 
-def episodes(mazes: list[dict], robots: tuple[int, ...], finished: str = "stay") -> dict[int, list[Episode]]:
-    """The shortest-path crowd's episode on every maze, per robot count."""
-    return {n: [race(m["grid"], cells(m["scenarios"][str(n)]["starts"]), cells(m["scenarios"][str(n)]["goals"]), finished)
-                for m in mazes] for n in robots}
+def episodes(mazes: list[dict], robots: tuple[int, ...], finished: str = "stay",
+             pibt: bool = False) -> dict[int, list[Episode]]:
+    """The shortest-path crowd's episode on every maze, per robot count (``pibt``: PIBT's crowd)."""
+    return {n: [race(m["grid"], cells(m["scenarios"][str(n)]["starts"]), cells(m["scenarios"][str(n)]["goals"]), finished,
+                     pibt) for m in mazes] for n in robots}
 
 
 def run(mazes: list[dict], robots: tuple[int, ...], finished: str = "stay") -> dict[int, dict[str, float]]:
@@ -131,8 +138,11 @@ def table(results: dict[int, dict[str, float]], n_mazes: int,
     lines += ["", f"CSR at 32 / 64 robots ({SOURCE}):"]
     for name, (a, b) in PUBLISHED.items():
         lines.append(f"  {name:<28}{a:.2f} / {b:.2f}")
-    learnt = [res for name, res in (others or {}).items() if name.startswith("learnt")]
-    for name, res in zip(("shortest-path robots (ours)", "learnt policy (ours)"), [results, *learnt]):
+    ours = {"shortest-path robots (ours)": results}
+    for name, res in (others or {}).items():
+        if name.startswith(("learnt", "PIBT")):
+            ours[name.split(" (")[0] + (" (ours)" if name.startswith("learnt") else " (ours, centralised)")] = res
+    for name, res in ours.items():
         if any(n in res for n in (32, 64)):
             shown = " / ".join(_shown(res[n], "all_reached_rate", 2) if n in res else "-" for n in (32, 64))
             lines.append(f"  {name:<28}{shown}")
@@ -309,6 +319,8 @@ def main(argv: list[str] | None = None) -> int:
                    help="also a policy saved by 'babyrobot-marl train --goals own --observe local' (its row below)")
     p.add_argument("--greedy", action="store_true", help="--policy: the likeliest action (default: sampled, --seed)")
     p.add_argument("--seed", type=int, default=0, help="--policy: the seed of its sampled actions (default: 0)")
+    p.add_argument("--pibt", action="store_true",
+                   help="also PIBT's crowd (a centralised planner, babyrobot_marl.planning.PIBT; robots that stay)")
     p.add_argument("--finished", choices=tuple(ON_TARGET), default="stay",
                    help="a robot at its goal stays there, blocking (default, as the published runs), or leaves the board")
     p.add_argument("--json", action="store_true", help="end with one JSON line of the metrics")
@@ -325,6 +337,8 @@ def main(argv: list[str] | None = None) -> int:
         policy, refused = load_crowd_policy(args.policy)
         if refused:
             p.exit(2, refused + "\n")
+    if args.pibt and args.finished != "stay":
+        p.error("--pibt: PIBT plans robots that stay on their targets; use it with --finished stay")
     if (args.regenerate or args.in_pogema) and (not args.pogema_python or not Path(args.pogema_python).is_file()):
         p.error(f"--pogema-python: the python of a venv with pogema 1.4 (and pogema-toolbox for --regenerate), "
                 f"got {args.pogema_python!r}")
@@ -339,6 +353,8 @@ def main(argv: list[str] | None = None) -> int:
     if policy is not None:
         learnt = metrics(policy_episodes(policy, mazes, robots, args.seed, args.greedy, args.finished))
         others[f"learnt policy ({'greedy' if args.greedy else 'sampled'})"] = learnt
+    if args.pibt:
+        others["PIBT (centralised planner)"] = metrics(episodes(mazes, robots, args.finished, pibt=True))
     if args.in_pogema:
         theirs = {rule: in_pogema(args.pogema_python, mazes, robots, rule) for rule in ("nothing", "finish")}
         matching = ON_TARGET[args.finished]

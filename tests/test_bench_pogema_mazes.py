@@ -99,6 +99,21 @@ def test_the_table_shows_our_figures_with_intervals_beside_the_published_ones(b)
     assert "shortest-path robots (ours)" in text.splitlines()[-1]
 
 
+def test_pibts_crowd_passes_where_shortest_path_robots_stop_each_other(b):
+    # two robots trade sides of a ring: both shortest paths go round the top and meet there; PIBT sends one
+    # the other way
+    grid = "...\n.#.\n..."
+    assert b.race(grid, [(0, 1), (2, 1)], [(2, 1), (0, 1)]).finish_steps == [0, 0]
+    episode = b.race(grid, [(0, 1), (2, 1)], [(2, 1), (0, 1)], pibt=True)
+    assert all(episode.finish_steps) and episode.steps < b.STEPS
+
+
+def test_pibts_row_is_printed_beside_ours(b, capsys):
+    assert b.main(["--quick", "--pibt"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert any(line.startswith("PIBT (centralised planner)") and "     8  " in line for line in lines)
+
+
 def test_quick_mode_needs_no_pogema(b, capsys):
     assert b.main(["--quick", "--json"]) == 0
     out = capsys.readouterr().out
@@ -108,7 +123,8 @@ def test_quick_mode_needs_no_pogema(b, capsys):
 @pytest.mark.parametrize(("argv", "flag"), [(["--robots", "7"], "--robots"), (["--robots", "8,x"], "--robots"),
                                              (["--mazes", "0"], "--mazes"), (["--mazes", "129"], "--mazes"),
                                              (["--regenerate", "--pogema-python", "/no/such/python"], "--pogema-python"),
-                                             (["--in-pogema", "--pogema-python", "/no/such/python"], "--pogema-python")])
+                                             (["--in-pogema", "--pogema-python", "/no/such/python"], "--pogema-python"),
+                                             (["--pibt", "--finished", "remove"], "--pibt")])
 def test_bad_flags_are_one_line_naming_the_flag(b, capsys, argv, flag):
     with pytest.raises(SystemExit) as stop:
         b.main(argv)

@@ -1,0 +1,87 @@
+"""PIBT (``planning.pibt``): its moves never collide, each robot reaches its target on a map of loops, and
+the same seed gives the same plan."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from babyrobot_marl import race_v0
+from babyrobot_marl.core.actions import DELTAS
+from babyrobot_marl.planning.pibt import PIBT
+
+MAZE = "\n".join([
+    "...#.......",
+    ".#.#.#####.",
+    ".#...#.....",
+    ".####.##.#.",
+    "......#..#.",
+    ".##.#.#.##.",
+    "....#......",
+])
+
+
+def free_cells(grid: str) -> list[tuple[int, int]]:
+    return [(x, y) for y, row in enumerate(grid.splitlines()) for x, ch in enumerate(row) if ch == "."]
+
+
+def crowd(grid: str, n: int, seed: int) -> tuple[list[tuple[int, int]], list[tuple[int, int]]]:
+    rng, cells = np.random.default_rng(seed), free_cells(grid)
+    starts = [cells[i] for i in rng.permutation(len(cells))[:n]]
+    while True:  # distinct goals, none on its own robot's start (the env refuses those)
+        goals = [cells[i] for i in rng.permutation(len(cells))[:n]]
+        if all(g != s for g, s in zip(goals, starts)):
+            return starts, goals
+
+
+@pytest.mark.parametrize(("n", "seed"), [(4, 0), (12, 1), (24, 2), (40, 3)])
+def test_planned_moves_never_share_a_cell_nor_swap_and_the_env_carries_them_all_out(n, seed):
+    starts, goals = crowd(MAZE, n, seed)
+    env = race_v0.parallel_env(level=MAZE, n_robots=n, goals="own", collisions="block", observe="nearest", k=1,
+                               start="random", max_cycles=60, finished="stay")
+    env.reset(seed=seed, options={"starts": starts, "goals": goals})
+    planner = PIBT(MAZE, goals, seed=seed)
+    while env.agents:
+        here = [tuple(c) for c in env.robot_cells]
+        actions = planner.actions(here)
+        there = [(x + DELTAS[a][0], y + DELTAS[a][1]) for (x, y), a in zip(here, actions)]
+        assert len(set(there)) == n  # no two robots in one cell
+        assert not any(there[i] == here[j] and there[j] == here[i] for i in range(n) for j in range(i) if here[i] != there[i])
+        env.step({a: actions[i] for i, a in enumerate(env.possible_agents) if a in env.agents})
+        assert [tuple(c) for c in env.robot_cells] == there  # under the strictest rule every planned move happens
+
+
+OPEN = "\n".join([".......", ".#.#.#.", ".......", ".#.#.#.", ".......", ".#.#.#.", "......."])  # every cell on a loop
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_every_robot_reaches_its_target_on_a_map_of_loops(seed):
+    # PIBT's guarantee where every cell lies on a loop: each robot stands on its target at some step (not
+    # all at once: two robots can take turns on a cell one needs to pass, which LaCAM's search resolves)
+    starts, goals = crowd(OPEN, 16, seed)
+    planner, cells, reached = PIBT(OPEN, goals, seed=0), list(starts), set()
+    for _ in range(200):
+        cells = [(x + DELTAS[a][0], y + DELTAS[a][1]) for (x, y), a in zip(cells, planner.actions(cells))]
+        reached |= {i for i, (c, g) in enumerate(zip(cells, goals)) if c == g}
+    assert reached == set(range(16))
+
+
+def test_the_same_seed_gives_the_same_plan_and_another_may_differ():
+    starts, goals = crowd(MAZE, 20, 7)
+
+    def plan(seed: int) -> list[list[int]]:
+        planner, cells, out = PIBT(MAZE, goals, seed=seed), list(starts), []
+        for _ in range(30):
+            out.append(planner.actions(cells))
+            cells = [(x + DELTAS[a][0], y + DELTAS[a][1]) for (x, y), a in zip(cells, out[-1])]
+        return out
+
+    assert plan(3) == plan(3)
+    assert any(plan(3) != plan(s) for s in range(4, 12))
+
+
+def test_a_wrong_number_of_cells_is_one_line_naming_cells():
+    planner = PIBT(MAZE, [(0, 0), (10, 6)])
+    with pytest.raises(ValueError, match=r"^cells: one \(x, y\) per robot, 2 robots; got 1$"):
+        planner.actions([(0, 0)])
+    assert len(planner.actions([(0, 0), (10, 6)])) == 2  # still usable
