@@ -50,6 +50,7 @@ STEPS = 128
 ON_TARGET = {"stay": "nothing", "remove": "finish"}  # our finished= and POGEMA's on_target, the same rule
 ROBOTS = (8, 16, 32, 48, 64)
 QUICK_MAZES, QUICK_ROBOTS = 4, (8,)
+SUMMARY_LABELS = {"learnt": "learnt policy (ours)", "PIBT": "PIBT (ours, centralised)"}  # other crowds' rows, by name
 SOURCE = "POGEMA's benchmark results (2025), 128 validation mazes, 128 steps, soft collisions"
 PUBLISHED = {  # CSR (all robots reached) at 32 / 64 robots
     "LaCAM": (1.00, 0.91),
@@ -90,17 +91,16 @@ def race(grid: str, starts: list[tuple[int, int]], goals: list[tuple[int, int]],
     env = race_v0.parallel_env(level=level_of(grid), n_robots=len(starts), goals="own", collisions="soft",
                                observe="nearest", k=1, start="random", max_cycles=STEPS, finished=finished)
     env.reset(seed=0, options={"starts": starts, "goals": goals})
-    tables = [path_actions(grid, g) for g in goals]
     planner = PIBT(level_of(grid), goals, seed=0) if pibt else None
+    tables = None if pibt else [path_actions(grid, g) for g in goals]
     finish = [0] * len(starts)
     names = {a: i for i, a in enumerate(env.possible_agents)}
     t = 0
     while env.agents:
         t += 1
-        planned = planner.actions(env.robot_cells) if planner else None
-        moves = {a: planned[names[a]] if planned else int(tables[names[a]][env.robot_cells[names[a]][::-1]])
-                 for a in env.agents}
-        arrivals(finish, env.step(moves)[4], names, t)
+        cells = env.robot_cells
+        chosen = planner.actions(cells) if planner else [int(tab[y, x]) for tab, (x, y) in zip(tables, cells)]
+        arrivals(finish, env.step({a: chosen[names[a]] for a in env.agents})[4], names, t)
     return Episode(seed=0, level=grid, steps=t, finish_steps=finish)
 
 
@@ -140,8 +140,7 @@ def table(results: dict[int, dict[str, float]], n_mazes: int,
         lines.append(f"  {name:<28}{a:.2f} / {b:.2f}")
     ours = {"shortest-path robots (ours)": results}
     for name, res in (others or {}).items():
-        if name.startswith(("learnt", "PIBT")):
-            ours[name.split(" (")[0] + (" (ours)" if name.startswith("learnt") else " (ours, centralised)")] = res
+        ours.update({label: res for start, label in SUMMARY_LABELS.items() if name.startswith(start)})
     for name, res in ours.items():
         if any(n in res for n in (32, 64)):
             shown = " / ".join(_shown(res[n], "all_reached_rate", 2) if n in res else "-" for n in (32, 64))

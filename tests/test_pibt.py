@@ -8,6 +8,7 @@ import pytest
 
 from babyrobot_marl import race_v0
 from babyrobot_marl.core.actions import DELTAS
+from babyrobot_marl.core.level import Level
 from babyrobot_marl.planning.pibt import PIBT
 
 MAZE = "\n".join([
@@ -21,12 +22,8 @@ MAZE = "\n".join([
 ])
 
 
-def free_cells(grid: str) -> list[tuple[int, int]]:
-    return [(x, y) for y, row in enumerate(grid.splitlines()) for x, ch in enumerate(row) if ch == "."]
-
-
 def crowd(grid: str, n: int, seed: int) -> tuple[list[tuple[int, int]], list[tuple[int, int]]]:
-    rng, cells = np.random.default_rng(seed), free_cells(grid)
+    rng, cells = np.random.default_rng(seed), Level.from_grid(grid).free_cells()
     starts = [cells[i] for i in rng.permutation(len(cells))[:n]]
     while True:  # distinct goals, none on its own robot's start (the env refuses those)
         goals = [cells[i] for i in rng.permutation(len(cells))[:n]]
