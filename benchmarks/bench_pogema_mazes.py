@@ -3,6 +3,7 @@
     python benchmarks/bench_pogema_mazes.py            # 128 mazes x 8, 16, 32, 48, 64 robots
     python benchmarks/bench_pogema_mazes.py --quick    # 4 mazes, 8 robots (no POGEMA needed)
     python benchmarks/bench_pogema_mazes.py --pibt     # PIBT's crowd beside (a centralised planner)
+    python benchmarks/bench_pogema_mazes.py --policy FILE --shield   # a learnt crowd, alone and shielded by PIBT
     python benchmarks/bench_pogema_mazes.py --in-pogema --pogema-python PATH    # the same robots in POGEMA too
     python benchmarks/bench_pogema_mazes.py --regenerate --pogema-python PATH   # check the shipped data
 
@@ -50,7 +51,8 @@ STEPS = 128
 ON_TARGET = {"stay": "nothing", "remove": "finish"}  # our finished= and POGEMA's on_target, the same rule
 ROBOTS = (8, 16, 32, 48, 64)
 QUICK_MAZES, QUICK_ROBOTS = 4, (8,)
-SUMMARY_LABELS = {"learnt": "learnt policy (ours)", "PIBT": "PIBT (ours, centralised)"}  # other crowds' rows, by name
+SUMMARY_LABELS = {"learnt": "learnt policy (ours)", "shielded": "learnt + PIBT shield (ours)",
+                  "PIBT": "PIBT (ours, centralised)"}  # other crowds' rows, by the start of their names
 SOURCE = "POGEMA's benchmark results (2025), 128 validation mazes, 128 steps, soft collisions"
 PUBLISHED = {  # CSR (all robots reached) at 32 / 64 robots
     "LaCAM": (1.00, 0.91),
@@ -250,9 +252,11 @@ def load_crowd_policy(path: str) -> tuple[Any, str | None]:
 
 
 def policy_race(policy: Any, grid: str, starts: list[tuple[int, int]], goals: list[tuple[int, int]],
-                rng: np.random.Generator, greedy: bool, finished: str = "stay") -> Episode:
+                rng: np.random.Generator, greedy: bool, finished: str = "stay", shield: bool = False) -> Episode:
     """One episode of the learnt crowd: every robot reads its local window (target channel, hint) as
-    ``race_v0`` shows it, the net runs once per distinct row; actions sampled (``greedy``: the likeliest)."""
+    ``race_v0`` shows it, the net runs once per distinct row; actions sampled (``greedy``: the likeliest).
+    ``shield``: PIBT takes each robot's actions in the policy's order (the chosen one first, then by
+    probability) and keeps them from colliding."""
     import torch
 
     from babyrobot_marl.training.ppo.window import NO_ACTION
@@ -264,6 +268,7 @@ def policy_race(policy: Any, grid: str, starts: list[tuple[int, int]], goals: li
     obs, _ = env.reset(seed=0, options={"starts": starts, "goals": goals})
     names = {a: i for i, a in enumerate(env.possible_agents)}
     finish, last, t = [0] * len(starts), np.full(len(starts), NO_ACTION), 0
+    planner = PIBT(level_of(grid), goals, seed=0) if shield else None
     while env.agents:
         t += 1
         who = [names[a] for a in env.agents]
@@ -273,6 +278,9 @@ def policy_race(policy: Any, grid: str, starts: list[tuple[int, int]], goals: li
             p = torch.softmax(policy.net.actor(torch.from_numpy(uniq)), 1).double().numpy()[inv.reshape(-1)]
         sampled = np.minimum((rng.random((len(p), 1)) >= np.cumsum(p, axis=1)).sum(axis=1), 4)  # inverse CDF
         moves = p.argmax(axis=1) if greedy else sampled
+        if planner is not None:  # robots that stay on their targets stay in the race: all of them are here
+            p[np.arange(len(p)), moves] += 1.0
+            moves = np.array(planner.actions(env.robot_cells, p))
         last[who] = moves
         obs, _, _, _, infos = env.step(dict(zip(env.agents, moves.tolist())))
         arrivals(finish, infos, names, t)
@@ -280,14 +288,14 @@ def policy_race(policy: Any, grid: str, starts: list[tuple[int, int]], goals: li
 
 
 def policy_episodes(policy: Any, mazes: list[dict], robots: tuple[int, ...], seed: int,
-                    greedy: bool, finished: str = "stay") -> dict[int, list[Episode]]:
+                    greedy: bool, finished: str = "stay", shield: bool = False) -> dict[int, list[Episode]]:
     """The learnt crowd's episode on every maze, per robot count (one generator, seeded: same run, same figures)."""
     from babyrobot_marl.training.deps import torch_threads
 
     rng = np.random.default_rng(seed)
     with torch_threads(1):  # more threads stall on a busy machine, and a net this small gains nothing from them
         return {n: [policy_race(policy, m["grid"], cells(m["scenarios"][str(n)]["starts"]),
-                                cells(m["scenarios"][str(n)]["goals"]), rng, greedy, finished) for m in mazes]
+                                cells(m["scenarios"][str(n)]["goals"]), rng, greedy, finished, shield) for m in mazes]
                 for n in robots}
 
 
@@ -320,6 +328,8 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--seed", type=int, default=0, help="--policy: the seed of its sampled actions (default: 0)")
     p.add_argument("--pibt", action="store_true",
                    help="also PIBT's crowd (a centralised planner, babyrobot_marl.planning.PIBT; robots that stay)")
+    p.add_argument("--shield", action="store_true",
+                   help="--policy: also the policy with PIBT as its collision shield (robots that stay)")
     p.add_argument("--finished", choices=tuple(ON_TARGET), default="stay",
                    help="a robot at its goal stays there, blocking (default, as the published runs), or leaves the board")
     p.add_argument("--json", action="store_true", help="end with one JSON line of the metrics")
@@ -336,8 +346,11 @@ def main(argv: list[str] | None = None) -> int:
         policy, refused = load_crowd_policy(args.policy)
         if refused:
             p.exit(2, refused + "\n")
-    if args.pibt and args.finished != "stay":
-        p.error("--pibt: PIBT plans robots that stay on their targets; use it with --finished stay")
+    if args.shield and args.policy is None:
+        p.error("--shield: shields a learnt crowd; give its file with --policy FILE")
+    if (args.pibt or args.shield) and args.finished != "stay":
+        p.error(f"--{'pibt' if args.pibt else 'shield'}: PIBT plans robots that stay on their targets; "
+                "use it with --finished stay")
     if (args.regenerate or args.in_pogema) and (not args.pogema_python or not Path(args.pogema_python).is_file()):
         p.error(f"--pogema-python: the python of a venv with pogema 1.4 (and pogema-toolbox for --regenerate), "
                 f"got {args.pogema_python!r}")
@@ -351,7 +364,11 @@ def main(argv: list[str] | None = None) -> int:
     results, others = metrics(ours), {}
     if policy is not None:
         learnt = metrics(policy_episodes(policy, mazes, robots, args.seed, args.greedy, args.finished))
-        others[f"learnt policy ({'greedy' if args.greedy else 'sampled'})"] = learnt
+        how = "greedy" if args.greedy else "sampled"
+        others[f"learnt policy ({how})"] = learnt
+        if args.shield:
+            others[f"shielded by PIBT ({how})"] = metrics(policy_episodes(policy, mazes, robots, args.seed, args.greedy,
+                                                                          args.finished, shield=True))
     if args.pibt:
         others["PIBT (centralised planner)"] = metrics(episodes(mazes, robots, args.finished, pibt=True))
     if args.in_pogema:
