@@ -255,8 +255,8 @@ def policy_race(policy: Any, grid: str, starts: list[tuple[int, int]], goals: li
                 rng: np.random.Generator, greedy: bool, finished: str = "stay", shield: bool = False) -> Episode:
     """One episode of the learnt crowd: every robot reads its local window (target channel, hint) as
     ``race_v0`` shows it, the net runs once per distinct row; actions sampled (``greedy``: the likeliest).
-    ``shield``: PIBT takes each robot's actions in the policy's order (the chosen one first, then by
-    probability) and keeps them from colliding."""
+    ``shield``: PIBT tries each robot's chosen action first, then its other moves nearest first, and keeps
+    them from colliding."""
     import torch
 
     from babyrobot_marl.training.ppo.window import NO_ACTION
@@ -279,8 +279,9 @@ def policy_race(policy: Any, grid: str, starts: list[tuple[int, int]], goals: li
         sampled = np.minimum((rng.random((len(p), 1)) >= np.cumsum(p, axis=1)).sum(axis=1), 4)  # inverse CDF
         moves = p.argmax(axis=1) if greedy else sampled
         if planner is not None:  # robots that stay on their targets stay in the race: all of them are here
-            p[np.arange(len(p)), moves] += 1.0
-            moves = np.array(planner.actions(env.robot_cells, p))
+            chosen = np.zeros_like(p)
+            chosen[np.arange(len(p)), moves] = 1.0
+            moves = np.array(planner.actions(env.robot_cells, chosen))
         last[who] = moves
         obs, _, _, _, infos = env.step(dict(zip(env.agents, moves.tolist())))
         arrivals(finish, infos, names, t)

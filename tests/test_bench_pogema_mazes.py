@@ -124,7 +124,8 @@ def test_quick_mode_needs_no_pogema(b, capsys):
                                              (["--mazes", "0"], "--mazes"), (["--mazes", "129"], "--mazes"),
                                              (["--regenerate", "--pogema-python", "/no/such/python"], "--pogema-python"),
                                              (["--in-pogema", "--pogema-python", "/no/such/python"], "--pogema-python"),
-                                             (["--pibt", "--finished", "remove"], "--pibt")])
+                                             (["--pibt", "--finished", "remove"], "--pibt"),
+                                             (["--shield"], "--shield")])
 def test_bad_flags_are_one_line_naming_the_flag(b, capsys, argv, flag):
     with pytest.raises(SystemExit) as stop:
         b.main(argv)
@@ -158,7 +159,8 @@ def test_a_policy_trained_for_the_exits_is_refused_before_any_episode(b, capsys,
 
 def test_a_policy_of_own_goals_gets_its_row_beside_the_shortest_path_robots(b, capsys, tmp_path):
     """A policy trained with own goals on the package's mazes runs on POGEMA's mazes (the benchmark's starts and
-    goals): its row in the table and the JSON, the same figures for the same --seed."""
+    goals): its row in the table and the JSON, and its row shielded by PIBT (--shield); the same figures for the
+    same --seed."""
     pytest.importorskip("torch", reason="needs the train extra")
     import json
 
@@ -169,10 +171,11 @@ def test_a_policy_of_own_goals_gets_its_row_beside_the_shortest_path_robots(b, c
     train_ppo("maze:8..10", 4, 2048, seed=0, config=config, env_kwargs={"goals": "own", "collisions": "soft"}).save(path)
     runs = []
     for _ in range(2):
-        assert b.main(["--policy", str(path), "--mazes", "2", "--robots", "8,32", "--json"]) == 0
+        assert b.main(["--policy", str(path), "--mazes", "2", "--robots", "8,32", "--json", "--shield"]) == 0
         runs.append(capsys.readouterr().out)
     assert runs[0] == runs[1]
     figures = json.loads(runs[0].splitlines()[-1])
     assert set(figures) == {"shortest", "policy"} and set(figures["policy"]) == {"8", "32"}
     assert 0 <= figures["policy"]["8"]["success_rate"] <= 1
     assert "learnt policy (sampled)" in runs[0] and "learnt policy (ours)" in runs[0]
+    assert "shielded by PIBT (sampled)" in runs[0] and "learnt + PIBT shield (ours)" in runs[0]

@@ -17,9 +17,9 @@ front backs off, pulling the other behind it, until a junction lets them trade p
 maze benchmark this lifts the share of episodes in which all 32 robots arrive from 0.41 to 0.98.
 
 ``actions(cells, preferences)`` takes one score per action for each robot (a policy's action
-probabilities): each robot then tries its cells in that order instead of nearest first, and the
-planner only keeps the moves from colliding (a collision shield over a learnt crowd, as CS-PIBT,
-Veerapaneni et al. 2024).
+probabilities, or one for the action it chose): each robot then tries its cells in that order,
+equal scores nearest first, and the planner only keeps the moves from colliding (a collision
+shield over a learnt crowd, as CS-PIBT, Veerapaneni et al. 2024).
 
 A centralised planner, not a learnt crowd: it is the yardstick the learnt ones are read against on
 POGEMA's maze benchmark (``benchmarks/bench_pogema_mazes.py --pibt``). Same seed, same plan (ties
@@ -65,7 +65,8 @@ class PIBT:
 
         ``preferences``: one score per action for each robot (``[n_robots, 5]``, higher first: a policy's
         action probabilities, say); each robot then tries its cells in that order instead of nearest first,
-        and the planner only keeps the moves from colliding (a collision shield over a learnt policy)."""
+        equal scores nearest first, and the planner only keeps the moves from colliding (a collision shield
+        over a learnt policy: give the action it chose a score of one and the others zero)."""
         if len(cells) != len(self.goals):
             raise ValueError(f"cells: one (x, y) per robot, {len(self.goals)} robots; got {len(cells)}")
         here = [self.table.cell_id(tuple(c)) for c in cells]
@@ -108,10 +109,13 @@ class _Step:
     def plan(self, i: int) -> bool:
         """Give robot ``i`` a cell, asking whoever stands there to move first; False if it must stay."""
         here = self.here[i]
-        key = self.dist[i] if self.rank is None else self.rank[i]
+        dist, rank = self.dist[i], None if self.rank is None else self.rank[i]
         options = self.moves[here]
-        order = self.rng.permutation(len(options)).tolist()  # ties drawn, then nearest (or preferred) first
-        options = [options[k] for k in sorted(order, key=lambda k: key[options[k]])]
+        order = self.rng.permutation(len(options)).tolist()  # ties drawn, then nearest first (preferred first)
+        if rank is None:
+            options = [options[k] for k in sorted(order, key=lambda k: dist[options[k]])]
+        else:
+            options = [options[k] for k in sorted(order, key=lambda k: (rank[options[k]], dist[options[k]]))]
         partner = self._swap_partner(i, options[0]) if self.goals is not None else None
         if partner is not None:  # a head-on meeting in a corridor: back off, pulling the other robot along
             options.reverse()
