@@ -26,6 +26,7 @@ from typing import Any
 
 import numpy as np
 
+from ..core.level import Level
 from ..core.rules import Rules
 from .pibt import FAR, PIBT, _Step
 
@@ -55,7 +56,7 @@ class LaCAM:
     ``max_nodes``: how many PIBT steps one search may try before it gives up (``solve`` returns None);
     ``swap``: PIBT's swap technique in those steps (see ``PIBT``)."""
 
-    def __init__(self, level: Any, goals: Sequence[tuple[int, int]], seed: int | None = None,
+    def __init__(self, level: str | Level, goals: Sequence[tuple[int, int]], seed: int | None = None,
                  max_nodes: int = 20_000, horizon: int | None = None, rules: Rules | dict[str, Any] | None = None,
                  swap: bool = True):
         if isinstance(max_nodes, bool) or not isinstance(max_nodes, int) or max_nodes < 1:
@@ -92,9 +93,9 @@ class LaCAM:
         horizon = FAR if self.horizon is None else self.horizon
         self.nodes = 0
         while open_ and (best is None or best.g > horizon) and self.nodes < self.max_nodes:
-            node = open_[-1]
             if best is not None and self.rng.random() < 0.01:  # LaCAM3: refine from elsewhere now and then
-                node = open_[int(self.rng.integers(len(open_)))]
+                open_.append(open_[int(self.rng.integers(len(open_)))])
+            node = open_[-1]
             if best is not None and node.g + node.h >= best.g:  # no shorter plan through it
                 open_.pop()
                 continue
