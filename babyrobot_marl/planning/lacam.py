@@ -10,12 +10,17 @@ Each node of the search is a configuration (one cell per robot). PIBT's step fro
 one; when that leads nowhere new, the search comes back and tries the step again with one more robot
 held to a cell of its choosing (first the robot of highest priority, each of its cells in turn, then the
 next robot as well, ...), so in the end every combination of moves can be tried. Depth first: the
-newest configuration is searched next, and one already seen is searched again rather than added twice.
-The search stops at the first configuration with every robot on its target; the plan is the way there.
+newest configuration is searched next, and one already seen is searched again rather than added twice
+(or, one time in ten, the search starts over from the first, as LaCAM3 does: it gets out of a crowded
+corner sooner). The search stops at the first configuration with every robot on its target; the plan is
+the way there. With ``horizon=`` a plan longer than that many steps is searched on (LaCAM*: the
+shortest known way to each configuration is kept up to date) until one is short enough.
 
 PIBT alone can circle for ever (two robots taking turns on a cell one of them needs to pass); LaCAM
 finds a plan whenever one exists, given enough search. The search is capped by ``max_nodes``, the
-number of PIBT steps it may try, not by time: the same seed gives the same plan on any machine.
+number of PIBT steps it may try, not by time: the same seed gives the same plan on any machine. On
+POGEMA's 128 maze episodes (``benchmarks/bench_pogema_mazes.py --lacam``) it finds a plan within the 128
+steps for every one, at 8 to 64 robots (PIBT alone: all robots arrive in 80% of them at 64 robots).
 """
 
 from __future__ import annotations
@@ -54,7 +59,9 @@ class LaCAM:
     """The planner of one episode: the level, each robot's target, the search's budget and its seed.
 
     ``max_nodes``: how many PIBT steps one search may try before it gives up (``solve`` returns None);
-    ``swap``: PIBT's swap technique in those steps (see ``PIBT``)."""
+    ``horizon``: search on, within ``max_nodes``, while the plan found is longer than this many steps (the
+    episode's length, say; None: the first plan found); ``swap``: PIBT's swap technique in those steps
+    (see ``PIBT``)."""
 
     def __init__(self, level: str | Level, goals: Sequence[tuple[int, int]], seed: int | None = None,
                  max_nodes: int = 20_000, horizon: int | None = None, rules: Rules | dict[str, Any] | None = None,
