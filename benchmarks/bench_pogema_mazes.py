@@ -3,6 +3,7 @@
     python benchmarks/bench_pogema_mazes.py            # 128 mazes x 8, 16, 32, 48, 64 robots
     python benchmarks/bench_pogema_mazes.py --quick    # 4 mazes, 8 robots (no POGEMA needed)
     python benchmarks/bench_pogema_mazes.py --pibt     # PIBT's crowd beside (a centralised planner)
+    python benchmarks/bench_pogema_mazes.py --lacam    # LaCAM's plans beside (a search over PIBT's steps)
     python benchmarks/bench_pogema_mazes.py --policy FILE --shield   # a learnt crowd, alone and shielded by PIBT
     python benchmarks/bench_pogema_mazes.py --in-pogema --pogema-python PATH    # the same robots in POGEMA too
     python benchmarks/bench_pogema_mazes.py --regenerate --pogema-python PATH   # check the shipped data
@@ -42,7 +43,7 @@ import numpy as np
 from babyrobot_marl import race_v0
 from babyrobot_marl.core.level import Level
 from babyrobot_marl.experiments.evaluate import METRICS, Episode, arrivals, crowd_metrics
-from babyrobot_marl.planning import PIBT, goal_actions
+from babyrobot_marl.planning import PIBT, LaCAM, goal_actions
 
 HERE = Path(__file__).resolve().parent
 DATA = HERE / "data" / "pogema_mazes.json"
@@ -51,8 +52,10 @@ STEPS = 128
 ON_TARGET = {"stay": "nothing", "remove": "finish"}  # our finished= and POGEMA's on_target, the same rule
 ROBOTS = (8, 16, 32, 48, 64)
 QUICK_MAZES, QUICK_ROBOTS = 4, (8,)
+LACAM_NODES = 20_000  # LaCAM's budget per episode, in PIBT steps tried (not time: same figures on any machine)
 SUMMARY_LABELS = {"learnt": "learnt policy (ours)", "shielded": "learnt + PIBT shield (ours)",
-                  "PIBT": "PIBT (ours, centralised)"}  # other crowds' rows, by the start of their names
+                  "PIBT": "PIBT (ours, centralised)",
+                  "LaCAM": "LaCAM (ours, centralised)"}  # other crowds' rows, by the start of their names
 SOURCE = "POGEMA's benchmark results (2025), 128 validation mazes, 128 steps, soft collisions"
 PUBLISHED = {  # CSR (all robots reached) at 32 / 64 robots
     "LaCAM": (1.00, 0.91),
@@ -87,30 +90,38 @@ def path_actions(grid: str, goal: tuple[int, int]) -> np.ndarray:
 
 
 def race(grid: str, starts: list[tuple[int, int]], goals: list[tuple[int, int]], finished: str = "stay",
-         pibt: bool = False) -> Episode:
-    """One episode of shortest-path robots (``pibt``: PIBT's planned moves instead): each robot's arrival
-    step (0: not on its goal at the end)."""
+         planner: str | None = None, nodes: int = LACAM_NODES) -> Episode:
+    """One episode of shortest-path robots (``planner``: ``"pibt"`` or ``"lacam"``, that planner's moves
+    instead; ``nodes``: LaCAM's budget): each robot's arrival step (0: not on its goal at the end)."""
     env = race_v0.parallel_env(level=level_of(grid), n_robots=len(starts), goals="own", collisions="soft",
                                observe="nearest", k=1, start="random", max_cycles=STEPS, finished=finished)
     env.reset(seed=0, options={"starts": starts, "goals": goals})
-    planner = PIBT(level_of(grid), goals, seed=0) if pibt else None
-    tables = None if pibt else [path_actions(grid, g) for g in goals]
+    plans = None if planner is None else planner_of(planner, grid, goals, nodes)
+    tables = None if plans else [path_actions(grid, g) for g in goals]
     finish = [0] * len(starts)
     names = {a: i for i, a in enumerate(env.possible_agents)}
     t = 0
     while env.agents:
         t += 1
         cells = env.robot_cells
-        chosen = planner.actions(cells) if planner else [int(tab[y, x]) for tab, (x, y) in zip(tables, cells)]
+        chosen = plans.actions(cells) if plans else [int(tab[y, x]) for tab, (x, y) in zip(tables, cells)]
         arrivals(finish, env.step({a: chosen[names[a]] for a in env.agents})[4], names, t)
     return Episode(seed=0, level=grid, steps=t, finish_steps=finish)
 
 
-def episodes(mazes: list[dict], robots: tuple[int, ...], finished: str = "stay",
-             pibt: bool = False) -> dict[int, list[Episode]]:
-    """The shortest-path crowd's episode on every maze, per robot count (``pibt``: PIBT's crowd)."""
+def planner_of(name: str, grid: str, goals: list[tuple[int, int]], nodes: int = LACAM_NODES) -> PIBT | LaCAM:
+    """The planner ``name`` (``"pibt"`` or ``"lacam"``) for one episode; LaCAM searches on for a plan that fits
+    in the episode's steps."""
+    if name == "lacam":
+        return LaCAM(level_of(grid), goals, seed=0, max_nodes=nodes, horizon=STEPS)
+    return PIBT(level_of(grid), goals, seed=0)
+
+
+def episodes(mazes: list[dict], robots: tuple[int, ...], finished: str = "stay", planner: str | None = None,
+             nodes: int = LACAM_NODES) -> dict[int, list[Episode]]:
+    """The shortest-path crowd's episode on every maze, per robot count (``planner``: that planner's crowd)."""
     return {n: [race(m["grid"], cells(m["scenarios"][str(n)]["starts"]), cells(m["scenarios"][str(n)]["goals"]), finished,
-                     pibt) for m in mazes] for n in robots}
+                     planner, nodes) for m in mazes] for n in robots}
 
 
 def run(mazes: list[dict], robots: tuple[int, ...], finished: str = "stay") -> dict[int, dict[str, float]]:
@@ -318,6 +329,12 @@ def n_mazes(text: str) -> int:
     return int(text)
 
 
+def budget(text: str) -> int:
+    if not text.isdigit() or int(text) < 1:
+        raise argparse.ArgumentTypeError(f"a whole number of PIBT steps, at least 1; got {text!r}")
+    return int(text)
+
+
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--robots", type=counts, default=ROBOTS, help="robot counts (default: 8,16,32,48,64)")
@@ -329,6 +346,10 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--seed", type=int, default=0, help="--policy: the seed of its sampled actions (default: 0)")
     p.add_argument("--pibt", action="store_true",
                    help="also PIBT's crowd (a centralised planner, babyrobot_marl.planning.PIBT; robots that stay)")
+    p.add_argument("--lacam", action="store_true",
+                   help="also LaCAM's crowd (babyrobot_marl.planning.LaCAM: plans each episode before its first step)")
+    p.add_argument("--lacam-nodes", type=budget, metavar="N",
+                   help=f"--lacam: the PIBT steps its search may try per episode (default: {LACAM_NODES})")
     p.add_argument("--shield", action="store_true",
                    help="--policy: also the policy with PIBT as its collision shield (robots that stay)")
     p.add_argument("--finished", choices=tuple(ON_TARGET), default="stay",
@@ -349,9 +370,12 @@ def main(argv: list[str] | None = None) -> int:
             p.exit(2, refused + "\n")
     if args.shield and args.policy is None:
         p.error("--shield: shields a learnt crowd; give its file with --policy FILE")
-    if (args.pibt or args.shield) and args.finished != "stay":
-        p.error(f"--{'pibt' if args.pibt else 'shield'}: PIBT plans robots that stay on their targets; "
-                "use it with --finished stay")
+    if args.lacam_nodes is not None and not args.lacam:
+        p.error("--lacam-nodes: the budget of LaCAM's search; add --lacam")
+    planners = [flag for flag in ("pibt", "lacam", "shield") if getattr(args, flag)]
+    if planners and args.finished != "stay":
+        p.error(f"--{planners[0]}: {'LaCAM' if planners[0] == 'lacam' else 'PIBT'} plans robots that stay on their "
+                "targets; use it with --finished stay")
     if (args.regenerate or args.in_pogema) and (not args.pogema_python or not Path(args.pogema_python).is_file()):
         p.error(f"--pogema-python: the python of a venv with pogema 1.4 (and pogema-toolbox for --regenerate), "
                 f"got {args.pogema_python!r}")
@@ -371,7 +395,10 @@ def main(argv: list[str] | None = None) -> int:
             others[f"shielded by PIBT ({how})"] = metrics(policy_episodes(policy, mazes, robots, args.seed, args.greedy,
                                                                           args.finished, shield=True))
     if args.pibt:
-        others["PIBT (centralised planner)"] = metrics(episodes(mazes, robots, args.finished, pibt=True))
+        others["PIBT (centralised planner)"] = metrics(episodes(mazes, robots, args.finished, "pibt"))
+    if args.lacam:
+        others["LaCAM (centralised planner)"] = metrics(episodes(mazes, robots, args.finished, "lacam",
+                                                                 args.lacam_nodes or LACAM_NODES))
     if args.in_pogema:
         theirs = {rule: in_pogema(args.pogema_python, mazes, robots, rule) for rule in ("nothing", "finish")}
         matching = ON_TARGET[args.finished]

@@ -104,7 +104,7 @@ def test_pibts_crowd_passes_where_shortest_path_robots_stop_each_other(b):
     # the other way
     grid = "...\n.#.\n..."
     assert b.race(grid, [(0, 1), (2, 1)], [(2, 1), (0, 1)]).finish_steps == [0, 0]
-    episode = b.race(grid, [(0, 1), (2, 1)], [(2, 1), (0, 1)], pibt=True)
+    episode = b.race(grid, [(0, 1), (2, 1)], [(2, 1), (0, 1)], planner="pibt")
     assert all(episode.finish_steps) and episode.steps < b.STEPS
 
 
@@ -112,6 +112,21 @@ def test_pibts_row_is_printed_beside_ours(b, capsys):
     assert b.main(["--quick", "--pibt"]) == 0
     lines = capsys.readouterr().out.splitlines()
     assert any(line.startswith("PIBT (centralised planner)") and "     8  " in line for line in lines)
+
+
+def test_lacams_row_is_printed_beside_ours_and_in_the_summary(b, capsys):
+    assert b.main(["--mazes", "2", "--robots", "32", "--lacam", "--lacam-nodes", "2000"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    row = next(line for line in lines if line.startswith("LaCAM (centralised planner)"))
+    assert "    32  1.00 [" in row  # 32 robots on 2 mazes: both episodes solved
+    assert any(line.strip().startswith("LaCAM (ours, centralised)   1.00 [") for line in lines)
+
+
+def test_lacam_plans_the_episode_and_the_env_carries_it_out(b):
+    # the ring of the PIBT test above, one more robot: LaCAM's plan, stepped under the soft rule
+    grid = "...\n.#.\n..."
+    episode = b.race(grid, [(0, 1), (2, 1), (1, 0)], [(2, 1), (0, 1), (1, 2)], planner="lacam")
+    assert all(episode.finish_steps) and episode.steps < b.STEPS
 
 
 def test_quick_mode_needs_no_pogema(b, capsys):
@@ -125,7 +140,11 @@ def test_quick_mode_needs_no_pogema(b, capsys):
                                              (["--regenerate", "--pogema-python", "/no/such/python"], "--pogema-python"),
                                              (["--in-pogema", "--pogema-python", "/no/such/python"], "--pogema-python"),
                                              (["--pibt", "--finished", "remove"], "--pibt"),
-                                             (["--shield"], "--shield")])
+                                             (["--shield"], "--shield"),
+                                             (["--lacam", "--finished", "remove"], "--lacam"),
+                                             (["--lacam", "--lacam-nodes", "0"], "--lacam-nodes"),
+                                             (["--lacam", "--lacam-nodes", "x"], "--lacam-nodes"),
+                                             (["--lacam-nodes", "100"], "--lacam-nodes")])
 def test_bad_flags_are_one_line_naming_the_flag(b, capsys, argv, flag):
     with pytest.raises(SystemExit) as stop:
         b.main(argv)

@@ -106,6 +106,15 @@ class _Step:
         self.taken: dict[int, int] = {}  # cell -> the robot that goes there
         self.to = [-1] * len(here)
 
+    def pin(self, i: int, cell: int) -> bool:
+        """Send robot ``i`` to ``cell`` before anyone plans (LaCAM's constraints); False if another robot
+        already goes there or comes into ``i``'s cell from it."""
+        j = self.standing.get(cell)
+        if cell in self.taken or (j is not None and j != i and self.to[j] == self.here[i]):
+            return False
+        self.to[i], self.taken[cell] = cell, i
+        return True
+
     def plan(self, i: int) -> bool:
         """Give robot ``i`` a cell, asking whoever stands there to move first; False if it must stay."""
         here = self.here[i]
