@@ -28,8 +28,8 @@ POGEMA_PYTHON="$PWD/$pdir/bin/python" "$dir/bin/python" -m pytest -q -p no:cache
 "$dir/bin/python" benchmarks/bench_pogema.py --quick --pogema-python "$pdir/bin/python"  # the race beside POGEMA: smoke run
 # POGEMA's maze benchmark: the shipped mazes, starts and goals made again by pogema-toolbox (its maze generator
 # only: --no-deps skips its plotting and logging stack) and POGEMA, compared; a smoke run, its episodes
-# stepped in POGEMA too (equal with on_target="nothing"), and PIBT's crowd beside them
+# stepped in POGEMA too (equal with on_target="nothing"), and PIBT's and LaCAM's crowds beside them
 .ci/locked "$pdir/bin/pip" install -q --no-deps "pogema-toolbox==0.1.1" && .ci/locked "$pdir/bin/pip" install -q "pyyaml<=6.0.1"
-"$dir/bin/python" benchmarks/bench_pogema_mazes.py --regenerate --quick --in-pogema --pibt --pogema-python "$pdir/bin/python"
+"$dir/bin/python" benchmarks/bench_pogema_mazes.py --regenerate --quick --in-pogema --pibt --lacam --pogema-python "$pdir/bin/python"
 
 echo "integrations: $((SECONDS - start)) s in all"
