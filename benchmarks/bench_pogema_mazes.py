@@ -265,7 +265,8 @@ def load_crowd_policy(path: str) -> tuple[Any, str | None]:
 def policy_race(policy: Any, grid: str, starts: list[tuple[int, int]], goals: list[tuple[int, int]],
                 rng: np.random.Generator, greedy: bool, finished: str = "stay", shield: bool = False) -> Episode:
     """One episode of the learnt crowd: every robot reads its local window (target channel, hint) as
-    ``race_v0`` shows it, the net runs once per distinct row; actions sampled (``greedy``: the likeliest).
+    ``race_v0`` shows it, the net runs once per distinct row (a recurrent net's cell once per robot, its state
+    kept per robot); actions sampled (``greedy``: the likeliest).
     ``shield``: PIBT tries each robot's chosen action first, then its other moves nearest first, and keeps
     them from colliding."""
     import torch
@@ -280,13 +281,20 @@ def policy_race(policy: Any, grid: str, starts: list[tuple[int, int]], goals: li
     names = {a: i for i, a in enumerate(env.possible_agents)}
     finish, last, t = [0] * len(starts), np.full(len(starts), NO_ACTION), 0
     planner = PIBT(level_of(grid), goals, seed=0) if shield else None
+    net = policy.net
+    memory = net.initial_state(len(starts)) if getattr(net, "recurrent", False) else None  # a GRU's state per robot
     while env.agents:
         t += 1
         who = [names[a] for a in env.agents]
         rows = form.rows_of_observations(np.stack([obs[a] for a in env.agents]), last[who])
         uniq, inv = np.unique(rows, axis=0, return_inverse=True)
         with torch.no_grad():
-            p = torch.softmax(policy.net.actor(torch.from_numpy(uniq)), 1).double().numpy()[inv.reshape(-1)]
+            if memory is None:
+                p = torch.softmax(net.actor(torch.from_numpy(uniq)), 1).double().numpy()[inv.reshape(-1)]
+            else:  # the input part of the gates once per distinct row, the step per robot
+                at = torch.tensor(who)
+                memory[at] = net.step(net.gate_inputs(torch.from_numpy(uniq))[torch.from_numpy(inv.reshape(-1))], memory[at])
+                p = torch.softmax(net.heads(memory[at])[0], 1).double().numpy()
         sampled = np.minimum((rng.random((len(p), 1)) >= np.cumsum(p, axis=1)).sum(axis=1), 4)  # inverse CDF
         moves = p.argmax(axis=1) if greedy else sampled
         if planner is not None:  # robots that stay on their targets stay in the race: all of them are here

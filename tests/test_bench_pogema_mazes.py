@@ -198,3 +198,47 @@ def test_a_policy_of_own_goals_gets_its_row_beside_the_shortest_path_robots(b, c
     assert 0 <= figures["policy"]["8"]["success_rate"] <= 1
     assert "learnt policy (sampled)" in runs[0] and "learnt policy (ours)" in runs[0]
     assert "shielded by PIBT (sampled)" in runs[0] and "learnt + PIBT shield (ours)" in runs[0]
+
+
+def test_a_recurrent_policy_acts_as_each_robot_bound_to_the_env_would(b, tmp_path, monkeypatch):
+    """A recurrent crowd (a GRU's state per robot, and its last action) steps the benchmark's episode as the
+    package's own policy bound to each robot does: the same actions, step by step and robot by robot."""
+    pytest.importorskip("torch", reason="needs the train extra")
+    import numpy as np
+    import torch
+
+    from babyrobot_marl import race_v0
+    from babyrobot_marl.training.policy import load_policy
+    from babyrobot_marl.training.ppo import PPOConfig, train_ppo
+
+    path = tmp_path / "rec.pt"
+    config = PPOConfig(n_envs=16, n_steps=16, batch_size=256, eval_every=0, atlas_size=2, recurrent=True, memory=True)
+    train_ppo("maze:8..10", 4, 4096, seed=0, config=config, env_kwargs={"goals": "own", "collisions": "soft"}).save(path)
+    policy, maze = load_policy(path), b.load_mazes()[0]
+    torch.manual_seed(0)
+    with torch.no_grad():  # weights drawn at random: a policy this briefly trained mostly stays put
+        for weight in policy.net.parameters():
+            weight.normal_(0.0, 1.0)
+    starts, goals = (b.cells(maze["scenarios"]["8"][k]) for k in ("starts", "goals"))
+    taken: list[list[dict]] = [[], []]
+    real = race_v0.parallel_env
+
+    def recorded(**kwargs):
+        env = real(**kwargs)
+        step = env.step
+        env.step = lambda actions: taken[0].append(dict(actions)) or step(actions)
+        return env
+
+    monkeypatch.setattr(race_v0, "parallel_env", recorded)
+    b.policy_race(policy, maze["grid"], starts, goals, np.random.default_rng(0), greedy=True, finished="remove")
+    monkeypatch.setattr(race_v0, "parallel_env", real)
+
+    env = race_v0.parallel_env(level=b.level_of(maze["grid"]), n_robots=8, goals="own", collisions="soft",
+                               observe="local", view_radius=policy.form.radius, hint=policy.form.hint, start="random",
+                               max_cycles=b.STEPS, finished="remove")
+    obs, _ = env.reset(seed=0, options={"starts": starts, "goals": goals})
+    robots = {a: policy.for_env(env) for a in env.possible_agents}
+    while env.agents:
+        taken[1].append({a: robots[a](obs[a]) for a in env.agents})
+        obs = env.step(taken[1][-1])[0]
+    assert len(taken[1]) > 10 and taken[0] == taken[1]
