@@ -97,14 +97,14 @@ def race(grid: str, starts: list[tuple[int, int]], goals: list[tuple[int, int]],
                                observe="nearest", k=1, start="random", max_cycles=STEPS, finished=finished)
     env.reset(seed=0, options={"starts": starts, "goals": goals})
     plans = None if planner is None else planner_of(planner, grid, goals, nodes)
-    tables = None if plans else [path_actions(grid, g) for g in goals]
+    tables = None if plans is not None else [path_actions(grid, g) for g in goals]
     finish = [0] * len(starts)
     names = {a: i for i, a in enumerate(env.possible_agents)}
     t = 0
     while env.agents:
         t += 1
         cells = env.robot_cells
-        chosen = plans.actions(cells) if plans else [int(tab[y, x]) for tab, (x, y) in zip(tables, cells)]
+        chosen = plans.actions(cells) if plans is not None else [int(tab[y, x]) for tab, (x, y) in zip(tables, cells)]
         arrivals(finish, env.step({a: chosen[names[a]] for a in env.agents})[4], names, t)
     return Episode(seed=0, level=grid, steps=t, finish_steps=finish)
 

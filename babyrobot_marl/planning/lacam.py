@@ -87,7 +87,7 @@ class LaCAM:
         share a cell or trade places), or None if the search tries ``max_nodes`` PIBT steps without one
         (or none exists). With ``horizon``, a plan longer than that is searched on for a shorter one, and
         the shortest found within ``max_nodes`` comes back."""
-        here = self._ids(starts, "starts")
+        here = self._pibt.cell_ids(starts, "starts")
         if len(set(here)) != len(here):
             raise ValueError("starts: one (x, y) per robot, no two the same")
         goal, dist, moves = tuple(self.goals), self._pibt._dist, self._pibt._moves
@@ -154,9 +154,8 @@ class LaCAM:
         (STAY once every robot is on its target). If the robots stand anywhere else than the plan says, it
         plans again from there. If a search finds no plan within ``max_nodes``, this and every later step
         are PIBT's (``fell_back`` turns True)."""
+        ids = self._pibt.cell_ids(cells)
         here = [tuple(c) for c in cells]
-        if len(here) != len(self.goals):
-            raise ValueError(f"cells: one (x, y) per robot, {len(self.goals)} robots; got {len(here)}")
         if self.fell_back:
             return self._pibt.actions(here)
         plan = self._plan
@@ -168,12 +167,7 @@ class LaCAM:
             self._plan = plan
         self._t = min(self._t + 1, len(plan) - 1)
         to, cell_id, action_to = plan[self._t], self.table.cell_id, self._pibt._action_to
-        return [action_to[cell_id(a)][cell_id(b)] for a, b in zip(here, to)]
-
-    def _ids(self, cells: Sequence[tuple[int, int]], name: str) -> list[int]:
-        if len(cells) != len(self.goals):
-            raise ValueError(f"{name}: one (x, y) per robot, {len(self.goals)} robots; got {len(cells)}")
-        return [self.table.cell_id(tuple(c)) for c in cells]
+        return [action_to[c][cell_id(b)] for c, b in zip(ids, to)]
 
     def _next_constraints(self, node: _Node, moves: list[list[int]]) -> tuple[tuple[int, int], ...]:
         """The next constraints to try from ``node``, after queueing each one-robot-longer set behind it."""

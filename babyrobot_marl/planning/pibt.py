@@ -33,6 +33,7 @@ from typing import Any
 
 import numpy as np
 
+from ..core.actions import N_ACTIONS
 from ..core.goals import goal_distances, own_goal_table
 from ..core.level import Level
 from ..core.rules import Rules, resolve_rules
@@ -67,9 +68,7 @@ class PIBT:
         action probabilities, say); each robot then tries its cells in that order instead of nearest first,
         equal scores nearest first, and the planner only keeps the moves from colliding (a collision shield
         over a learnt policy: give the action it chose a score of one and the others zero)."""
-        if len(cells) != len(self.goals):
-            raise ValueError(f"cells: one (x, y) per robot, {len(self.goals)} robots; got {len(cells)}")
-        here = [self.table.cell_id(tuple(c)) for c in cells]
+        here = self.cell_ids(cells)
         for i, (c, g) in enumerate(zip(here, self.goals)):
             self.priority[i] = self.priority[i] + 1 if c != g else self.priority[i] % 1
         rank = None if preferences is None else self._ranks(here, preferences)
@@ -79,12 +78,18 @@ class PIBT:
                 step.plan(i)
         return [self._action_to[c][t] for c, t in zip(here, step.to)]
 
+    def cell_ids(self, cells: Sequence[tuple[int, int]], name: str = "cells") -> list[int]:
+        """The level's cell ids of one (x, y) per robot, checked to be one per robot (``name``: the argument)."""
+        if len(cells) != len(self.goals):
+            raise ValueError(f"{name}: one (x, y) per robot, {len(self.goals)} robots; got {len(cells)}")
+        return [self.table.cell_id(tuple(c)) for c in cells]
+
     def _ranks(self, here: list[int], preferences: Any) -> list[dict[int, float]]:
         """Per robot: each cell it can reach, keyed by minus the best score of the actions that reach it."""
         scores = np.asarray(preferences, dtype=np.float64)
-        if scores.shape != (len(self.goals), 5):
-            raise ValueError(f"preferences: one score per action (5) for each of the {len(self.goals)} robots, "
-                             f"shape ({len(self.goals)}, 5); got shape {scores.shape}")
+        if scores.shape != (len(self.goals), N_ACTIONS):
+            raise ValueError(f"preferences: one score per action ({N_ACTIONS}) for each of the {len(self.goals)} "
+                             f"robots, shape ({len(self.goals)}, {N_ACTIONS}); got shape {scores.shape}")
         targets = self.table.target[here]  # [n, 5]: the cell each action reaches
         rank: list[dict[int, float]] = []
         for row, to in zip(scores.tolist(), targets.tolist()):
