@@ -271,6 +271,7 @@ def policy_race(policy: Any, grid: str, starts: list[tuple[int, int]], goals: li
     them from colliding."""
     import torch
 
+    from babyrobot_marl.training.ppo.trail import Trail
     from babyrobot_marl.training.ppo.window import NO_ACTION
 
     form = policy.form
@@ -283,10 +284,15 @@ def policy_race(policy: Any, grid: str, starts: list[tuple[int, int]], goals: li
     planner = PIBT(level_of(grid), goals, seed=0) if shield else None
     net = policy.net
     memory = net.initial_state(len(starts)) if getattr(net, "recurrent", False) else None  # a GRU's state per robot
+    trails = [Trail() for _ in starts] if form.trail else None  # where each robot has stood
+    table = getattr(env.unwrapped, "race", env.unwrapped).table
     while env.agents:
         t += 1
         who = [names[a] for a in env.agents]
-        rows = form.rows_of_observations(np.stack([obs[a] for a in env.agents]), last[who])
+        seen = np.stack([obs[a] for a in env.agents])
+        trail = None if trails is None else np.array(
+            [trails[i].value(int(o[1]) * table.width + int(o[0]), table.target) for i, o in zip(who, seen)])
+        rows = form.rows_of_observations(seen, last[who], trail)
         uniq, inv = np.unique(rows, axis=0, return_inverse=True)
         with torch.no_grad():
             if memory is None:

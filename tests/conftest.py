@@ -47,7 +47,7 @@ HEAVY_TESTS = frozenset({
     "test_batch.py::test_array_collisions_equal_the_scalar_rules_on_random_crowds",
     "test_batch.py::test_batch_with_own_goals_matches_separate_race_envs_step_by_step",
     "test_bench_pogema_mazes.py::test_a_policy_trained_for_the_exits_is_refused_before_any_episode",
-    "test_bench_pogema_mazes.py::test_a_recurrent_policy_acts_as_each_robot_bound_to_the_env_would",
+    "test_bench_pogema_mazes.py::test_a_remembering_policy_acts_as_each_robot_bound_to_the_env_would",
     "test_bench_pogema_mazes.py::test_the_table_shows_our_figures_with_intervals_beside_the_published_ones",
     "test_benchmark_floors.py::test_the_batch_benchmark_exits_1_below_make_vecs_25x_floor_and_reports_the_infos_cost",
     "test_canvas.py::test_a_browser_redraw_after_a_replay_shows_the_replayed_scene_not_the_live_one",

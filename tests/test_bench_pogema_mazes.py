@@ -200,9 +200,12 @@ def test_a_policy_of_own_goals_gets_its_row_beside_the_shortest_path_robots(b, c
     assert "shielded by PIBT (sampled)" in runs[0] and "learnt + PIBT shield (ours)" in runs[0]
 
 
-def test_a_recurrent_policy_acts_as_each_robot_bound_to_the_env_would(b, tmp_path, monkeypatch):
-    """A recurrent crowd (a GRU's state per robot, and its last action) steps the benchmark's episode as the
-    package's own policy bound to each robot does: the same actions, step by step and robot by robot."""
+@pytest.mark.parametrize("memory", [{"recurrent": True}, {"trail": True}, {"recurrent": True, "trail": True}],
+                         ids=["recurrent", "trail", "recurrent-trail"])
+def test_a_remembering_policy_acts_as_each_robot_bound_to_the_env_would(b, tmp_path, monkeypatch, memory):
+    """A crowd that remembers (a GRU's state per robot, its trail, and its last action) steps the benchmark's
+    episode as the package's own policy bound to each robot does: the same actions, step by step and robot by
+    robot."""
     pytest.importorskip("torch", reason="needs the train extra")
     import numpy as np
     import torch
@@ -212,7 +215,7 @@ def test_a_recurrent_policy_acts_as_each_robot_bound_to_the_env_would(b, tmp_pat
     from babyrobot_marl.training.ppo import PPOConfig, train_ppo
 
     path = tmp_path / "rec.pt"
-    config = PPOConfig(n_envs=16, n_steps=16, batch_size=256, eval_every=0, atlas_size=2, recurrent=True, memory=True)
+    config = PPOConfig(n_envs=16, n_steps=16, batch_size=256, eval_every=0, atlas_size=2, memory=True, **memory)
     train_ppo("maze:8..10", 4, 4096, seed=0, config=config, env_kwargs={"goals": "own", "collisions": "soft"}).save(path)
     policy, maze = load_policy(path), b.load_mazes()[0]
     torch.manual_seed(0)

@@ -203,10 +203,10 @@ def check_train_args(args: argparse.Namespace, n_envs: int, family: bool = False
         raise ValueError(f"--observe: a level family ({args.level}) trains a policy that reads local windows (its [x, y] "
                          "mean another place on every maze): pass --observe local")
     for flag, on in (("--hint", args.hint), ("--view-radius", args.view_radius is not None), ("--memory", args.memory),
-                     ("--recurrent", args.recurrent)):
+                     ("--trail", args.trail), ("--recurrent", args.recurrent)):
         if on and args.observe != "local":
             raise ValueError(f"{flag}: only with --observe local (the local window's goal hint and radius, the last action, "
-                             "a recurrent net)")
+                             "the trail, a recurrent net)")
     if args.hidden is not None and not args.recurrent:
         raise ValueError("--hidden: the GRU's size, only with --recurrent; add --recurrent or drop --hidden")
     if args.collisions is not None and args.robots == 1:

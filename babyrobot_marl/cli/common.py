@@ -28,9 +28,13 @@ class Parser(argparse.ArgumentParser):
 
 
 def add_memory_args(p: argparse.ArgumentParser) -> None:
-    """``train``'s ways for a robot to remember: its last action (``--memory``), or a recurrent net."""
+    """``train``'s ways for a robot to remember: its last action (``--memory``), its trail (``--trail``), or a
+    recurrent net."""
     p.add_argument("--memory", action="store_true",
                    help="--observe local: the net also reads the robot's own last action (it can tell the way it came)")
+    p.add_argument("--trail", action="store_true",
+                   help="--observe local: the net also reads the robot's trail, the order in which it stood on the "
+                   "cells next to it this episode (it can tell where it has not been)")
     p.add_argument("--recurrent", action="store_true",
                    help="--observe local: a recurrent net (a GRU between the input layers and the heads): each robot "
                    "remembers its whole episode")
@@ -48,8 +52,8 @@ def one_line(err: BaseException | str, limit: int = 1000) -> str:
 FLAGS = {
     "n_robots": "--robots", "max_cycles": "--max-cycles", "max_steps": "--max-steps", "view_radius": "--view-radius",
     "near_radius": "--near-radius", "collisions": "--collisions", "start": "--start", "observe": "--observe",
-    "hint": "--hint", "memory": "--memory", "recurrent": "--recurrent", "hidden": "--hidden", "seed": "--seed",
-    "level": "--level", "goals": "--goals", "lifelong": "--lifelong", "finished": "--finished",
+    "hint": "--hint", "memory": "--memory", "trail": "--trail", "recurrent": "--recurrent", "hidden": "--hidden",
+    "seed": "--seed", "level": "--level", "goals": "--goals", "lifelong": "--lifelong", "finished": "--finished",
 }
 # the flag that names a policy, by command (a saved policy's errors start "policy:"); `levels` takes a NAME
 POLICY_FLAGS = {"play": "--policy", "race": "--policies", "evaluate": "POLICY", "train": "--load"}

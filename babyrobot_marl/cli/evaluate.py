@@ -115,6 +115,11 @@ def _trained_with(spec: str) -> str:
 
     data = load_checkpoint(spec)
     settings = ", ".join(f"{k} {data['config'][k]:g}" for k in _SHOWN if k in data["config"])
+    config = data["config"]
+    remembers = [what for name, what in (("memory", "its last action"), ("trail", "its trail")) if config.get(name)]
+    remembers += [f"a GRU of {config.get('hidden', 32)} units"] if config.get("recurrent") else []
+    if remembers:
+        settings += "; each robot remembers " + " and ".join(remembers)
     if data.get("env", {}).get("finished") == "stay":
         settings += "; robots stayed on their targets (--finished stay)"
     return (f"{spec}: trained {data['timesteps']:,} timesteps on {data['level_name'] or 'its level'} with "

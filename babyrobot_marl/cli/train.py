@@ -212,7 +212,8 @@ def _family(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> d
     knobs["eval_every"] = args.eval_every or FAMILY_EVAL_EVERY
     knobs.setdefault("n_envs", FAMILY_ENVS)
     config = PPOConfig(threads=args.threads or None, view_radius=2 if args.view_radius is None else args.view_radius,
-                       hint=args.hint, memory=args.memory, recurrent=args.recurrent, hidden=args.hidden or 32, **knobs)
+                       hint=args.hint, memory=args.memory, trail=args.trail, recurrent=args.recurrent,
+                       hidden=args.hidden or 32, **knobs)
     one_level = parse_level_family(args.level) is None
     if one_level:  # an atlas of that one level
         config = config.replace(atlas_size=1)
@@ -246,6 +247,7 @@ def _family(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> d
     score = judge.play(result.net, episodes, mazes, np.random.default_rng(args.seed + 2))
     where = _name(level, args) if one_level else f"{args.level}, mazes of the evaluation seeds"
     reads = f"view_radius {config.view_radius}{', hint' if config.hint else ''}{', memory' if config.memory else ''}"
+    reads += ", trail" if config.trail else ""
     reads += f", a GRU of {config.hidden} units" if config.recurrent else ""
     reads += f", own goals{', lifelong' if args.lifelong else ''}" if args.goals == "own" else ""
     reads += ", finished stay" if args.finished == "stay" else ""

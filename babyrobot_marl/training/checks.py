@@ -41,7 +41,7 @@ def check_config(cfg: Any, start_choices: Sequence[str]) -> tuple[int, ...]:
     check_int(cfg.near_radius, "near_radius", 0, MAX_NEAR_RADIUS)
     check_int(cfg.view_radius, "view_radius", 0)
     check_int(cfg.hidden, "hidden", 1, MAX_LAYER_SIZE)
-    for name in ("hint", "memory", "recurrent"):
+    for name in ("hint", "memory", "trail", "recurrent"):
         if not isinstance(getattr(cfg, name), bool):
             raise ValueError(f"{name}: must be True or False, got {shown(getattr(cfg, name))}")
     if cfg.threads is not None:

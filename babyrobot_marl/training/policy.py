@@ -23,7 +23,6 @@ from __future__ import annotations
 import copy
 import os
 import warnings
-from collections import OrderedDict
 from dataclasses import asdict
 from pathlib import Path
 from typing import Any
@@ -35,11 +34,13 @@ from ..core.table import Table
 from ..envs.encodings import Encoder
 from .checks import ENV_SETTINGS, GLOBAL_FORM, check_fields, check_weights
 from .deps import torch_module, torch_threads
+from .lru import LastUsed
 from .ppo.config import PPOConfig
 from .ppo.inputs import Inputs, near_offsets
 from .ppo.net import make_net, weight_shapes
 from .ppo.recurrent import make_recurrent_net, recurrent_weight_shapes
 from .ppo.sampler import PerKey
+from .ppo.trail import Trail
 from .ppo.window import NO_ACTION, WindowForm
 
 FORMAT = "babyrobot_marl.ppo"
@@ -192,34 +193,13 @@ class TrainedPolicy:
 PROBS_CACHE = 8192  # a window policy's action probabilities kept, the least recently used dropped first (~10 MB)
 
 
-class LastUsed:
-    """A mapping of at most ``size`` entries that drops the least recently used one: memory stays flat
-    however many distinct inputs a long evaluation shows."""
-
-    def __init__(self, size: int):
-        self.size, self._data = size, OrderedDict()
-
-    def __len__(self) -> int:
-        return len(self._data)
-
-    def get(self, key: bytes) -> Any:
-        value = self._data.get(key)
-        if value is not None:
-            self._data.move_to_end(key)
-        return value
-
-    def put(self, key: bytes, value: Any) -> None:
-        self._data[key] = value
-        if len(self._data) > self.size:
-            self._data.popitem(last=False)
-
-
 class WindowPolicy(TrainedPolicy):
     """A level family's policy: acts on ``race_v0``'s ``observe="local"`` rows of its ``view_radius`` (and
     hint bits, if trained with ``hint``), on any level. ``for_env(env)`` checks that ``env`` shows that
     form and undoes its ``obs_encoding``. The net runs once per distinct input (the last ``PROBS_CACHE`` kept).
 
-    Trained with ``memory``, it also reads the action it took last (``last``, none at first); a recurrent
+    Trained with ``memory``, it also reads the action it took last (``last``, none at first); with ``trail``,
+    its robot's trail (``trail``: where it has stood this episode, read on the env's level); a recurrent
     one (``PPOConfig.recurrent``) keeps its GRU's state (``hidden``, zero at first). One instance acts for one
     robot in one episode, so bind a new one (``for_env``) per robot and episode, as ``experiments.evaluate``
     and ``run_races`` do."""
@@ -232,9 +212,17 @@ class WindowPolicy(TrainedPolicy):
         self._probs = LastUsed(PROBS_CACHE)  # shared by the bound copies
         self.last = NO_ACTION  # the action it took last (read with ``memory``)
         self.hidden = self._fresh()  # a recurrent net's state (None: feed-forward)
+        self.trail, self._env = Trail(), None  # where its robot has stood (read with ``trail``) on its env's level
 
     def _fresh(self) -> Any:
         return self.net.initial_state(1) if getattr(self.net, "recurrent", False) else None
+
+    def _bound(self, encoder: Any, env: Any) -> WindowPolicy:
+        """A copy reading through ``encoder`` on ``env``'s level: the same net, cache and generator; a memory of its own."""
+        bound = copy.copy(self)
+        bound.encoder, bound.last, bound.hidden, bound.trail = encoder, NO_ACTION, self._fresh(), Trail()
+        bound._env = env  # its table read at each step: a level family's env draws a new level at reset
+        return bound
 
     @property
     def observation(self) -> dict[str, Any]:
@@ -253,9 +241,7 @@ class WindowPolicy(TrainedPolicy):
         if not hasattr(e, "possible_agents") and self.form.own:
             raise ValueError("policy: trained with goals='own'; a one-robot env has its level's exits")
         if not hasattr(e, "possible_agents"):  # one robot, no race: its window read from the level
-            bound = copy.copy(self)
-            bound.encoder, bound.last, bound.hidden = SingleWindowRows(e, self.form), NO_ACTION, self._fresh()
-            return bound
+            return self._bound(SingleWindowRows(e, self.form), e)
         observer = getattr(e, "_observer", None)
         radius = observer.view.radius if getattr(e, "observe", "global") == "local" else None
         hint = bool(getattr(e, "hint", False))
@@ -269,9 +255,7 @@ class WindowPolicy(TrainedPolicy):
             raise ValueError(f"policy: trained with goals={self.form.goals!r}; this env has goals={e.goals_mode!r}")
         if self.form.near and radius < max(abs(dx) + abs(dy) for dx, dy in self.form.near):
             raise ValueError(f"policy: sees the robots near it within view_radius {radius}")
-        bound = copy.copy(self)  # the same net, cache and generator; a memory of its own
-        bound.encoder, bound.last, bound.hidden = encoder, NO_ACTION, self._fresh()
-        return bound
+        return self._bound(encoder, e)
 
     def rows(self, obs: Any) -> np.ndarray:
         """The net's row of indices for one observation (its encoding undone, its length checked)."""
@@ -283,7 +267,14 @@ class WindowPolicy(TrainedPolicy):
             raise ValueError(f"obs: this policy reads observe='local' rows of view_radius {self.form.radius}"
                              f"{' with the hint' if self.form.hint else ''} ({size} integers), got {len(o)} "
                              f"{o.dtype.name} numbers; bind it to your env with policy.for_env(env)")
-        return self.form.rows_of_observations(o[None, :], np.array([self.last]))
+        trail = None
+        if self.form.trail:
+            if self._env is None:
+                raise ValueError("obs: this policy reads its robot's trail on the env's level; bind it to your env "
+                                 "with policy.for_env(env)")
+            table = self._env.table
+            trail = np.array([self.trail.value(int(o[1]) * table.width + int(o[0]), table.target)])
+        return self.form.rows_of_observations(o[None, :], np.array([self.last]), trail)
 
     def action_probabilities(self, obs: Any) -> np.ndarray:
         return self._next(obs)[0]
@@ -406,8 +397,8 @@ def inputs_of(data: dict[str, Any]) -> Inputs | WindowForm:
     near = near_offsets(data["config"]["near_radius"]) if data["n_robots"] > 1 else ()
     form = data.get("observation", GLOBAL_FORM)
     if form.get("observe") == "local":
-        memory = bool(data["config"].get("memory", False))
-        return WindowForm(form["view_radius"], near, form["hint"], memory, form.get("goals", "exit"))
+        memory, trail = (bool(data["config"].get(name, False)) for name in ("memory", "trail"))
+        return WindowForm(form["view_radius"], near, form["hint"], memory, form.get("goals", "exit"), trail)
     return Inputs(data["width"], data["height"], near)
 
 

@@ -27,7 +27,9 @@ What is different is where the time goes:
 * The first layer, a ``Linear`` on the one-hot, is a look-up of weight rows: the same function
   and gradient as a dense layer, without building the one-hot of every sample.
 * Level families (``train_ppo("maze:8..16", config=PPOConfig(hint=True))``): the net reads the local
-  window and the goal hint instead of the cell (``window``: an atlas of mazes stepped as one level).
+  window and the goal hint instead of the cell (``window``: an atlas of mazes stepped as one level);
+  what a robot remembers rides along: its last action (``memory``), its trail (``trail``: the order in
+  which it stood on the cells next to it) or a GRU's state (``recurrent``).
 * A race robot that has finished is parked until its race ends (``finished="freeze"``): its
   parked steps are no decisions and are left out of the update (SB3 through SuperSuit trains on
   them, reward 0).

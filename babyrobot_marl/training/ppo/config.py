@@ -24,9 +24,10 @@ class PPOConfig:
     Level families (``train_ppo(level="maze:8..16")``): the net reads the local window of
     ``view_radius`` and, with ``hint``, the goal hint (``window.WindowForm``); with ``memory``, also
     the robot's own last action (a memoryless policy loops in a maze: it cannot tell the corridor it
-    came from); with ``recurrent``, a GRU cell of ``hidden`` units between the input layers and the heads
-    (the robot remembers its episode: ``recurrent.py``); the envs step an atlas of ``atlas_size`` mazes,
-    drawn anew every ``atlas_every`` rollouts.
+    came from); with ``trail``, the order in which it stood on the cells next to it (``trail.py``); with
+    ``recurrent``, a GRU cell of ``hidden`` units between the input layers and the heads (the robot
+    remembers its episode: ``recurrent.py``); the envs step an atlas of ``atlas_size`` mazes, drawn anew
+    every ``atlas_every`` rollouts.
     ``eval_every``: timesteps between evaluations (0: only at the end).
     ``blocked_cost``: a race robot's training reward loses this much on a step another robot stops
     its move (``BatchRace.step``'s ``blocked``): each robot's return counts only its own steps, so
@@ -58,6 +59,7 @@ class PPOConfig:
     view_radius: int = 2
     hint: bool = False
     memory: bool = False
+    trail: bool = False
     recurrent: bool = False
     hidden: int = 32
     atlas_size: int = 64

@@ -30,6 +30,7 @@ from .net import log_softmax, make_net
 from .recurrent import Recurrence, make_recurrent_net
 from .result import EvalPoint, TrainResult, trained_env
 from .sampler import PerKey, Sampler, distinct_rows
+from .trail import Trails
 from .update import Samples, clip_grad_norm, gae, grads_of, ppo_gradients
 from .window import NO_ACTION, Family
 
@@ -107,7 +108,7 @@ def train_ppo(
     source = parse_level_family(level, TRAIN_MAZE_SEEDS) if isinstance(level, str) else None
     source = source or level_source(level)
     family = None if source is None else Family(source, n, cfg, seed, env_kwargs or {})
-    for name, what in (("memory", "the last-action input"), ("recurrent", "a recurrent net")):
+    for name, what in (("memory", "the last-action input"), ("trail", "the trail input"), ("recurrent", "a recurrent net")):
         if getattr(cfg, name) and family is None:
             raise ValueError(f"{name}: {what} is read by a level family's policy (level='maze:A..B'), "
                              f"got level {level if isinstance(level, str) else getattr(level, 'name', 'a Level')!r}")
@@ -131,8 +132,11 @@ def train_ppo(
     last = np.full((E, n), NO_ACTION) if cfg.memory else None
     mem = () if last is None else (last,)
     own = family is not None and family.goals == "own"
+    trails = Trails(inputs, E, n) if cfg.trail else None  # where each robot has stood this episode
 
     def keys_now() -> np.ndarray:  # every robot's key now (own goals: its target's part too)
+        if trails is not None:
+            return inputs.keys(batch.cells, batch.racing, last, batch.goals if own else None, trails.values(batch))
         return inputs.keys(batch.cells, batch.racing, *((last, batch.goals) if own else mem))
 
     with torch_threads(cfg.threads), _deterministic(seed):
@@ -190,6 +194,8 @@ def train_ppo(
                 batch = inputs.batch(E, n, family.max_steps)
                 batch.reset_drawn(np.arange(E), reset_rng)
                 ep_return[:] = 0.0
+                if trails is not None:
+                    trails = Trails(inputs, E, n)
                 if last is not None:
                     last[:] = NO_ACTION
                 if rec is not None:
@@ -223,6 +229,8 @@ def train_ppo(
                             if rec is not None:
                                 rec.truncated(final_buf[t], trunc_buf[t])
                         batch.reset_drawn(envs, reset_rng)
+                        if trails is not None:
+                            trails.restart(envs)
                         if last is not None:
                             last[envs] = NO_ACTION
 

@@ -6,7 +6,8 @@ coordinates do not exist on an 8x8 one), so it only helps memorise the training 
 reads (``WindowForm``): each window cell's terrain and its four edges (walls), the goal hint's 5
 bits when the env gives them (``hint=True``), and one bit per cell within ``near_radius`` steps
 saying whether a racing robot stands there (the robots it could bump into), and with ``memory`` the
-robot's own last action (one unit of 5; none at an episode's start). Each feature is
+robot's own last action (one unit of 5; none at an episode's start), and with ``trail`` the order in which
+it stood on the cells next to it (``trail.py``). Each feature is
 multi-hot (one unit per non-zero value), so a row of the net's input is a short list of indices,
 as for the single-level trainer's one-hot.
 
@@ -36,6 +37,7 @@ from ...core.observe import LOCAL_FEATURES, TERRAIN, local_observations, local_v
 from ...core.rules import Rules
 from ...core.table import Table, compile_level
 from .goal_inputs import HINT_VALUES, AtlasDistances, closed_edges, target_units
+from .trail import KINDS, TRAIL_UNITS, TRAIL_VALUES, trail_kinds
 
 _NVEC = (len(TERRAIN), 3, 3, 3, 3)  # terrain, then the edges north, east, south, west (LOCAL_FEATURES without robot)
 _COLUMNS = [i for i, f in enumerate(LOCAL_FEATURES) if f != "robot"]
@@ -50,14 +52,15 @@ NO_ACTION = N_ACTIONS  # a robot's last action at its episode's start: none
 class WindowForm:
     """The net's input read from a local window of ``radius`` (the env's ``view_radius``): every window
     cell's terrain and edges, the hint bits if ``hint``, then one bit per ``near`` offset (a racing
-    robot there), then the last action's unit if ``memory``. ``n_in`` units; a row is ``K`` indices,
-    ``n_in`` for "off" (the net's padding row)."""
+    robot there), then the last action's unit if ``memory``, then the trail's units if ``trail``. ``n_in``
+    units; a row is ``K`` indices, ``n_in`` for "off" (the net's padding row)."""
 
     radius: int
     near: tuple[tuple[int, int], ...]
     hint: bool
     memory: bool = False
     goals: str = "exit"  # "own": the target channel's unit and the hint toward its own target (goal_inputs)
+    trail: bool = False
 
     @property
     def own(self) -> bool:
@@ -88,7 +91,17 @@ class WindowForm:
 
     @property
     def n_in(self) -> int:
+        return self._n_memory + (TRAIL_UNITS if self.trail else 0)
+
+    @property
+    def _n_memory(self) -> int:
+        """Units before the trail's."""
         return self.n_static + self.n_goal + len(self.near) + (N_ACTIONS if self.memory else 0)
+
+    def trail_rows(self, values: np.ndarray) -> np.ndarray:
+        """``(N, 4)`` indices: each move's unit of what the trail says of its cell (``trail.py``), "off" for no move."""
+        kind = trail_kinds(values)
+        return np.where(kind > 0, self._n_memory + np.arange(kind.shape[1]) * (KINDS - 1) + kind - 1, self.n_in)
 
     def memory_rows(self, last: np.ndarray) -> np.ndarray:
         """``(N, 1)`` indices: the unit of each robot's last action (``NO_ACTION``: none, at an episode's start)."""
@@ -132,10 +145,11 @@ class WindowForm:
         """Numbers of one env observation: ``[x, y]``, the window, the target channel (own goals), the hint bits."""
         return 2 + len(LOCAL_FEATURES) * self.n_window + (self.n_window if self.own else 0) + (N_HINT if self.hint else 0)
 
-    def rows_of_observations(self, obs: np.ndarray, last: np.ndarray | None = None) -> np.ndarray:
+    def rows_of_observations(self, obs: np.ndarray, last: np.ndarray | None = None,
+                             trail: np.ndarray | None = None) -> np.ndarray:
         """The net's rows from ``race_v0``'s ``observe="local"`` rows ``(N, obs_size)`` (MultiDiscrete
-        integers) and, with ``memory``, each robot's ``last`` action: the same rows the trainer builds
-        from the batch engine's cells."""
+        integers) and, with ``memory``, each robot's ``last`` action, with ``trail`` its trail number:
+        the same rows the trainer builds from the batch engine's cells."""
         o = np.asarray(obs, dtype=np.int64).reshape(-1, self.obs_size())
         feats = o[:, 2 : 2 + len(LOCAL_FEATURES) * self.n_window].reshape(-1, self.n_window, len(LOCAL_FEATURES))
         hint = o[:, -N_HINT:] if self.hint else None
@@ -150,6 +164,8 @@ class WindowForm:
         parts.append(self.robot_rows(bits))
         if self.memory:
             parts.append(self.memory_rows(np.full(len(o), NO_ACTION) if last is None else last))
+        if self.trail:
+            parts.append(self.trail_rows(np.zeros(len(o), dtype=np.int64) if trail is None else trail))
         return np.concatenate(parts, axis=1)
 
 
@@ -199,7 +215,8 @@ class Atlas:
 
     def __init__(self, levels: Sequence[Level], rules: Rules, form: WindowForm, lifelong: bool = False, stay: bool = False):
         self.levels, self.form, self.lifelong, self.stay = list(levels), form, lifelong, stay  # stay: finished="stay"
-        self.level, tops = stack_levels(self.levels)
+        self.level, self.tops = stack_levels(self.levels)
+        tops = self.tops
         compiled = own_goal_table if form.own else (lambda t: t)  # own goals: the exits are floor
         self.table: Table = compiled(compile_level(self.level, rules))
         w = self.level.width
@@ -236,7 +253,8 @@ class Atlas:
     @property
     def n_keys(self) -> int:
         f = self.form
-        return (len(self.patterns) << len(f.near)) * f.goal_values * (N_ACTIONS + 1 if f.memory else 1)
+        return ((len(self.patterns) << len(f.near)) * f.goal_values * (N_ACTIONS + 1 if f.memory else 1)
+                * (TRAIL_VALUES if f.trail else 1))
 
     def batch(self, n_envs: int, n_robots: int, max_steps: int, start: str = "random") -> BatchRace:
         """``n_envs`` races of ``n_robots`` on the atlas (``finished="freeze"``, or ``"stay"``'s), each episode on a
@@ -259,9 +277,9 @@ class Atlas:
         return (occupied.size > 0) & (occupied[at] == want) if occupied.size else np.zeros(want.shape, dtype=bool)
 
     def keys(self, cells: np.ndarray, racing: np.ndarray, last: np.ndarray | None = None,
-             goals: np.ndarray | None = None) -> np.ndarray:
+             goals: np.ndarray | None = None, trail: np.ndarray | None = None) -> np.ndarray:
         """Every robot's key: its window pattern, then its near bits, then (own goals) where its ``goals`` cell
-        lies and the hint toward it, then (``memory``) its ``last`` action."""
+        lies and the hint toward it, then (``memory``) its ``last`` action, then (``trail``) its trail number."""
         m = len(self.form.near)
         key = self.pattern_of[cells]
         if m:
@@ -273,15 +291,20 @@ class Atlas:
             key = key * self.form.goal_values + part
         if self.form.memory:
             key = key * (N_ACTIONS + 1) + (np.full(np.shape(cells), NO_ACTION) if last is None else last)
+        if self.form.trail:
+            key = key * TRAIL_VALUES + (0 if trail is None else trail)
         return key
 
     def rows(self, keys: np.ndarray) -> np.ndarray:
         """The net's rows for ``keys``: the pattern's indices, then the near bits', then the last action's."""
         keys = np.asarray(keys, dtype=np.int64).reshape(-1)
         parts = []
+        if self.form.trail:
+            keys, trail = np.divmod(keys, TRAIL_VALUES)
+            parts.append(self.form.trail_rows(trail))
         if self.form.memory:
             keys, last = np.divmod(keys, N_ACTIONS + 1)
-            parts.append(self.form.memory_rows(last))
+            parts.insert(0, self.form.memory_rows(last))
         if self.form.own:
             keys, goal = np.divmod(keys, self.form.goal_values)
             parts.insert(0, self.form.goal_rows(goal))
@@ -363,16 +386,19 @@ def play_atlas(net: Any, atlas: Atlas, n_robots: int, n_envs: int, max_steps: in
 def _play(net: Any, atlas: Atlas, n_robots: int, n_envs: int, max_steps: int, rng: np.random.Generator,
           deterministic: bool, torch: Any) -> dict[str, float]:
     from .sampler import PerKey
+    from .trail import Trails
 
     batch = atlas.batch(n_envs, n_robots, max_steps)
     batch.reset_drawn(np.arange(n_envs), rng)
+    trails = Trails(atlas, n_envs, n_robots) if atlas.form.trail else None
     recurrent = getattr(net, "recurrent", False)
     probs = PerKey(atlas, net.gate_inputs if recurrent else lambda rows: torch.softmax(net.actor(rows), 1))
     h = net.initial_state(n_envs * n_robots) if recurrent else None  # one hidden state per robot, zero at the start
     done_at = np.full(n_envs, max_steps)
     last = np.full((n_envs, n_robots), NO_ACTION)
     while not batch.over.all():
-        p = probs(atlas.keys(batch.cells, batch.racing, last, batch.goals).reshape(-1))
+        trail = trails.values(batch) if trails is not None else None
+        p = probs(atlas.keys(batch.cells, batch.racing, last, batch.goals, trail).reshape(-1))
         if recurrent:
             with torch.no_grad():
                 h = net.step(torch.from_numpy(p), h)
@@ -398,4 +424,5 @@ def window_form(cfg: Any, n_robots: int, goals: str = "exit") -> WindowForm:
     """The input a family policy of these settings reads (``goals``: the env's goals mode)."""
     from .inputs import near_offsets
 
-    return WindowForm(cfg.view_radius, near_offsets(cfg.near_radius) if n_robots > 1 else (), cfg.hint, cfg.memory, goals)
+    return WindowForm(cfg.view_radius, near_offsets(cfg.near_radius) if n_robots > 1 else (), cfg.hint, cfg.memory, goals,
+                      cfg.trail)
