@@ -12,6 +12,7 @@ from babyrobot_marl.training.ppo.trail import (
     NEVER,
     NO_MOVE,
     OLDEST,
+    STILL,
     TRAIL_VALUES,
     Trails,
     neighbours,
@@ -33,15 +34,17 @@ SMALL = PPOConfig(n_envs=32, n_steps=8, batch_size=1024, atlas_size=4, atlas_eve
 def test_each_move_reads_what_the_trail_says_of_its_cell():
     # north: no move; east stood on at step 7; south at step 2 (left longest ago); west never
     value = trail_values(np.array([-1, 7, 2, 0]))
-    assert trail_kinds(value).tolist() == [[NO_MOVE, OLDEST + 1, OLDEST, NEVER]]
-    assert trail_kinds(trail_values(np.zeros(4, dtype=int))).tolist() == [[NEVER] * 4]
+    assert trail_kinds(value)[0].tolist() == [[NO_MOVE, OLDEST + 1, OLDEST, NEVER]]
+    assert trail_kinds(trail_values(np.zeros(4, dtype=int)))[0].tolist() == [[NEVER] * 4]
     # every order of the cells stood on among moves that lead somewhere: one number each, read back
     kinds = np.array([k for k in product(range(KINDS), repeat=4)
                       if sorted(v - OLDEST for v in k if v >= OLDEST) == list(range(sum(v >= OLDEST for v in k)))])
     times = np.where(kinds == NO_MOVE, -1, np.where(kinds == NEVER, 0, 10 * kinds))
     values = trail_values(times)
-    assert (trail_kinds(values) == kinds).all() and len(set(values.tolist())) == len(kinds)
-    assert values.max() < TRAIL_VALUES == KINDS**4
+    assert (trail_kinds(values)[0] == kinds).all() and len(set(values.tolist())) == len(kinds)
+    assert values.max() < KINDS**4 and TRAIL_VALUES == KINDS**4 * STILL
+    # the steps stood still: a digit of their own, three or more alike
+    assert [trail_kinds(trail_values(np.array([-1, 7, 2, 0]), s))[1][0] for s in range(6)] == [0, 1, 2, 3, 3, 3]
     # the kinds depend on the order alone: marking the robot's own cell again changes nothing
     assert trail_values(np.array([3, 0, 8, 5])) == trail_values(np.array([30, 0, 80, 50]))
 
@@ -66,7 +69,7 @@ def _walk(atlas: Atlas, episodes: int, max_steps: int, seed: int, oldest: bool =
     batch.reset_drawn(np.arange(episodes), np.random.default_rng(seed))
     trails = Trails(atlas, episodes, 1)
     while not batch.over.all():
-        kind = trail_kinds(trails.values(batch).reshape(-1))  # (E, 4)
+        kind = trail_kinds(trails.values(batch).reshape(-1))[0]  # (E, 4)
         order = np.where(kind == NO_MOVE, 99, np.where(kind == NEVER, 0, kind if oldest else 10 - kind))
         batch.step((order.argmin(axis=1) + 1)[:, None])
     return batch.rank[:, 0] > 0
@@ -143,6 +146,9 @@ def test_trail_is_for_level_families_saved_with_the_policy_and_fresh_per_binding
     bound = policy.for_env(env)
     bound(obs["robot_0"])
     assert bound.trail.t == 1 and policy.for_env(env).trail.t == 0 and policy.trail.t == 0
+    # reading the robot's probabilities marks nothing: acting does
+    bound.action_probabilities(obs["robot_1"])
+    assert bound.trail.t == 1
 
 
 def test_train_with_a_trail_on_the_command_line_then_evaluate_race_and_play(tmp_path, capsys):

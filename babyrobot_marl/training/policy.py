@@ -273,7 +273,8 @@ class WindowPolicy(TrainedPolicy):
                 raise ValueError("obs: this policy reads its robot's trail on the env's level; bind it to your env "
                                  "with policy.for_env(env)")
             table = self._env.table
-            trail = np.array([self.trail.value(int(o[1]) * table.width + int(o[0]), table.target)])
+            self._here = int(o[1]) * table.width + int(o[0])  # marked on the trail when the robot acts
+            trail = np.array([self.trail.peek(self._here, table.target)])
         return self.form.rows_of_observations(o[None, :], np.array([self.last]), trail)
 
     def action_probabilities(self, obs: Any) -> np.ndarray:
@@ -299,6 +300,8 @@ class WindowPolicy(TrainedPolicy):
 
     def __call__(self, obs: Any = None) -> int:
         p, self.hidden = self._next(obs)
+        if self.form.trail:
+            self.trail.mark(self._here)
         self.last = int(np.argmax(p)) if self.deterministic else int(self.rng.choice(len(p), p=p / p.sum()))
         return self.last
 

@@ -99,9 +99,12 @@ class WindowForm:
         return self.n_static + self.n_goal + len(self.near) + (N_ACTIONS if self.memory else 0)
 
     def trail_rows(self, values: np.ndarray) -> np.ndarray:
-        """``(N, 4)`` indices: each move's unit of what the trail says of its cell (``trail.py``), "off" for no move."""
-        kind = trail_kinds(values)
-        return np.where(kind > 0, self._n_memory + np.arange(kind.shape[1]) * (KINDS - 1) + kind - 1, self.n_in)
+        """``(N, 5)`` indices: each move's unit of what the trail says of its cell (``trail.py``), "off" for no
+        move, then the unit of the steps stood still ("off" for none)."""
+        kind, still = trail_kinds(values)
+        at = self._n_memory + np.arange(kind.shape[1]) * (KINDS - 1) + kind - 1
+        last = self._n_memory + kind.shape[1] * (KINDS - 1) + still - 1
+        return np.concatenate([np.where(kind > 0, at, self.n_in), np.where(still > 0, last, self.n_in)[:, None]], axis=1)
 
     def memory_rows(self, last: np.ndarray) -> np.ndarray:
         """``(N, 1)`` indices: the unit of each robot's last action (``NO_ACTION``: none, at an episode's start)."""
