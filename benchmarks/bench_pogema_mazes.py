@@ -290,8 +290,7 @@ def policy_race(policy: Any, grid: str, starts: list[tuple[int, int]], goals: li
         t += 1
         who = [names[a] for a in env.agents]
         seen = np.stack([obs[a] for a in env.agents])
-        here = [int(o[1]) * table.width + int(o[0]) for o in seen]
-        trail = None if trails is None else np.array([trails[i].peek(c, table.target) for i, c in zip(who, here)])
+        trail = None if trails is None else np.array([trails[i].peek(o[0], o[1], table) for i, o in zip(who, seen)])
         rows = form.rows_of_observations(seen, last[who], trail)
         uniq, inv = np.unique(rows, axis=0, return_inverse=True)
         with torch.no_grad():
@@ -308,8 +307,8 @@ def policy_race(policy: Any, grid: str, starts: list[tuple[int, int]], goals: li
             chosen[np.arange(len(p)), moves] = 1.0
             moves = np.array(planner.actions(env.robot_cells, chosen))
         last[who] = moves
-        for i, c in zip(who, here) if trails is not None else ():
-            trails[i].mark(c)
+        for i in who if trails is not None else ():
+            trails[i].mark()
         obs, _, _, _, infos = env.step(dict(zip(env.agents, moves.tolist())))
         arrivals(finish, infos, names, t)
     return Episode(seed=0, level=grid, steps=t, finish_steps=finish)

@@ -272,9 +272,7 @@ class WindowPolicy(TrainedPolicy):
             if self._env is None:
                 raise ValueError("obs: this policy reads its robot's trail on the env's level; bind it to your env "
                                  "with policy.for_env(env)")
-            table = self._env.table
-            self._here = int(o[1]) * table.width + int(o[0])  # marked on the trail when the robot acts
-            trail = np.array([self.trail.peek(self._here, table.target)])
+            trail = np.array([self.trail.peek(o[0], o[1], self._env.table)])  # marked when the robot acts
         return self.form.rows_of_observations(o[None, :], np.array([self.last]), trail)
 
     def action_probabilities(self, obs: Any) -> np.ndarray:
@@ -301,7 +299,7 @@ class WindowPolicy(TrainedPolicy):
     def __call__(self, obs: Any = None) -> int:
         p, self.hidden = self._next(obs)
         if self.form.trail:
-            self.trail.mark(self._here)
+            self.trail.mark()
         self.last = int(np.argmax(p)) if self.deterministic else int(self.rng.choice(len(p), p=p / p.sum()))
         return self.last
 

@@ -130,14 +130,14 @@ def train_ppo(
         batch.reset_drawn(np.arange(E), reset_rng)
     # the robots' last actions (a family policy with memory reads them; NO_ACTION at an episode's start)
     last = np.full((E, n), NO_ACTION) if cfg.memory else None
-    mem = () if last is None else (last,)
     own = family is not None and family.goals == "own"
     trails = Trails(inputs, E, n) if cfg.trail else None  # where each robot has stood this episode
 
-    def keys_now() -> np.ndarray:  # every robot's key now (own goals: its target's part too)
-        if trails is not None:
-            return inputs.keys(batch.cells, batch.racing, last, batch.goals if own else None, trails.values(batch))
-        return inputs.keys(batch.cells, batch.racing, *((last, batch.goals) if own else mem))
+    def keys_now() -> np.ndarray:  # every robot's key now (a family's: own target, last action, trail too)
+        if family is None:
+            return inputs.keys(batch.cells, batch.racing)
+        trail = trails.values(batch) if trails is not None else None
+        return inputs.keys(batch.cells, batch.racing, last, batch.goals if own else None, trail)
 
     with torch_threads(cfg.threads), _deterministic(seed):
         net = make_recurrent_net(inputs.n_in, cfg.net_arch, cfg.hidden) if cfg.recurrent else make_net(inputs.n_in, cfg.net_arch)

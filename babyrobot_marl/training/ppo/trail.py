@@ -93,23 +93,26 @@ class Trails:
 class Trail:
     """One robot's trail in one episode, for a bound policy: the last step it stood on each cell, and how
     long it has stood still. ``peek`` reads it as it would be with the robot's cell marked; ``mark`` marks
-    it, once per step (reading changes nothing)."""
+    that cell, once per step (reading changes nothing)."""
 
     def __init__(self) -> None:
         self.times: dict[int, int] = {}
         self.t, self.cell, self.still = 0, -1, 0
+        self.here = -1  # the cell ``peek`` read last: ``mark`` marks it
 
     def _still(self, cell: int) -> int:
         return min(self.still + 1, STILL - 1) if cell == self.cell else 0
 
-    def peek(self, cell: int, target: np.ndarray) -> int:
-        """The trail number at ``cell`` (``target``: the level's compiled ``target`` table)."""
-        nb = target[cell, 1 : 1 + MOVES]
+    def peek(self, x: int, y: int, table: Any) -> int:
+        """The trail number of a robot at ``(x, y)`` on ``table`` (the level's compiled ``Table``)."""
+        cell = self.here = int(y) * table.width + int(x)
+        nb = table.target[cell, 1 : 1 + MOVES]
         times = [self.times.get(int(c), 0) if c != cell else -1 for c in nb]
         return int(trail_values(np.array(times), self._still(cell)))
 
-    def mark(self, cell: int) -> None:
-        """The robot stands on ``cell`` at the next step."""
+    def mark(self) -> None:
+        """The robot stands at this step on the cell ``peek`` read."""
+        cell = self.here
         self.still, self.cell = self._still(cell), cell
         self.t += 1
         self.times[cell] = self.t

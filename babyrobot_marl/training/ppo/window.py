@@ -218,8 +218,7 @@ class Atlas:
 
     def __init__(self, levels: Sequence[Level], rules: Rules, form: WindowForm, lifelong: bool = False, stay: bool = False):
         self.levels, self.form, self.lifelong, self.stay = list(levels), form, lifelong, stay  # stay: finished="stay"
-        self.level, self.tops = stack_levels(self.levels)
-        tops = self.tops
+        self.level, self.tops = stack_levels(self.levels)  # each level's first row (the trainer's trails read it)
         compiled = own_goal_table if form.own else (lambda t: t)  # own goals: the exits are floor
         self.table: Table = compiled(compile_level(self.level, rules))
         w = self.level.width
@@ -227,7 +226,7 @@ class Atlas:
         static = np.full((n, form.n_window * len(_NVEC) + (N_HINT if form.hint and not form.own else 0)), form.n_in,
                          dtype=np.int64)
         free, pools = [], []
-        for lv, top in zip(self.levels, tops.tolist()):
+        for lv, top in zip(self.levels, self.tops.tolist()):
             t = compiled(compile_level(lv, rules))
             ids = (top + np.arange(lv.n_cells) // lv.width) * w + np.arange(lv.n_cells) % lv.width
             cells = np.arange(lv.n_cells)
