@@ -25,6 +25,12 @@ def test_a_setting_the_user_gave_keeps_its_value():
     assert crowd_defaults(4, "bounce", {"near_radius": 3, "blocked_cost": 0.0}) == {}
 
 
+def test_robots_reading_a_smaller_window_see_the_robots_within_it_by_default():
+    assert crowd_defaults(4, "soft", {}, view_radius=1) == {"near_radius": 1, "blocked_cost": 0.5}
+    assert crowd_defaults(4, "soft", {}, view_radius=3) == CROWD_DEFAULTS
+    assert crowd_defaults(4, "soft", {"near_radius": 0}, view_radius=1) == {"blocked_cost": 0.5}
+
+
 # ---------------------------------------------------------------------------- the command line
 def trained_config(tmp_path, capsys, *flags: str) -> tuple[dict, str]:
     """Train a tiny policy with ``flags``; its saved settings and what train printed."""
@@ -55,6 +61,16 @@ def test_given_settings_and_pass_collisions_train_without_the_crowd_defaults(tmp
     config, out = trained_config(tmp_path, capsys, "--level", "race-2", "--robots", "2", "--blocked-cost", "0")
     assert config["near_radius"] == 2 and config["blocked_cost"] == 0.0
     assert "crowd defaults near_radius 2;" in out  # only the one the user left unset
+
+
+def test_a_crowd_reading_a_3x3_window_trains_seeing_the_robots_in_it_and_a_wider_near_radius_is_refused(tmp_path,
+                                                                                                       capsys):
+    flags = ["--level", "maze:6..6", "--robots", "3", "--observe", "local", "--view-radius", "1"]
+    config, out = trained_config(tmp_path, capsys, *flags)
+    assert config["near_radius"] == 1 and "crowd defaults near_radius 1, blocked_cost 0.5" in out
+    assert run(["train", *flags, "--near-radius", "2", "--steps", "512", *SMALL]) == 2
+    assert "--near-radius: a robot sees the robots within its window; --near-radius 2 exceeds --view-radius 1" in (
+        capsys.readouterr().err)
 
 
 def test_evaluate_shows_the_settings_a_policy_was_trained_with(tmp_path, capsys):

@@ -86,6 +86,18 @@ def test_the_trail_alone_finds_every_exit_of_unseen_mazes():
     assert not _walk(atlas, 64, fam.max_steps, 0, oldest=False).all()
 
 
+def test_a_lone_robot_seeing_3x3_learns_from_its_trail_to_leave_larger_unseen_mazes():
+    """The trail is an input a net learns from: one robot, a 3x3 window and its trail, a short run on mazes
+    of side 5 to 8, then greedy on 200 unseen mazes of side 5 to 12 (up to 1.5 times the side it trained on)."""
+    from babyrobot_marl.training.ppo.window import play_atlas
+
+    cfg = PPOConfig(n_envs=256, n_steps=16, view_radius=1, trail=True, ent_coef=0.003, eval_every=0)
+    result = train_ppo("maze:5..8", n_robots=1, timesteps=1_000_000, seed=0, config=cfg)
+    fam = Family(_source("maze:5..12"), 1, result.config, 5, {})
+    score = play_atlas(result.net, fam.atlas(200), 1, 200, fam.max_steps, np.random.default_rng(0))
+    assert score["success_rate"] >= 0.95, score
+
+
 def _source(spec: str):
     from babyrobot_marl.levels.sources import EVAL_MAZE_SEEDS, parse_level_family
 

@@ -72,7 +72,8 @@ def run(args: argparse.Namespace, out: TextIO) -> int:
     # package (training.require_train), where tests put a stand-in
     training.require_train(*(("torch", "tqdm") if args.backend == "fast" else ()))
     chosen = {"near_radius": args.near_radius, "blocked_cost": args.blocked_cost}
-    args.crowd = crowd_defaults(args.robots, args.collisions, chosen) if args.backend == "fast" else {}
+    window = (2 if args.view_radius is None else args.view_radius) if args.observe == "local" else None
+    args.crowd = crowd_defaults(args.robots, args.collisions, chosen, window) if args.backend == "fast" else {}
     tty = not args.no_progress and isatty(out) and isatty(sys.stderr)
     run = _family if family is not None else _fast if args.backend == "fast" else _sb3
     figures = run(args, level, tty, out)

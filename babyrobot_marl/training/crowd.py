@@ -12,13 +12,17 @@ CROWD_COLLISIONS = ("block", "bounce", "soft")
 CROWD_DEFAULTS: dict[str, Any] = {"near_radius": 2, "blocked_cost": 0.5}
 
 
-def crowd_defaults(n_robots: int, collisions: str | None, chosen: dict[str, Any]) -> dict[str, Any]:
+def crowd_defaults(n_robots: int, collisions: str | None, chosen: dict[str, Any],
+                   view_radius: int | None = None) -> dict[str, Any]:
     """The ``CROWD_DEFAULTS`` that ``chosen`` leaves unset (missing or None), for several robots under a rule
     where they stop each other (``collisions`` None: the env's default, ``"block"``); none for one robot or
-    under ``"pass"``."""
+    under ``"pass"``. Robots that read a window of ``view_radius`` see the robots within it, no farther."""
     if n_robots < 2 or (collisions or "block") not in CROWD_COLLISIONS:
         return {}
-    return {name: value for name, value in CROWD_DEFAULTS.items() if chosen.get(name) is None}
+    defaults = dict(CROWD_DEFAULTS)
+    if view_radius is not None:
+        defaults["near_radius"] = min(defaults["near_radius"], view_radius)
+    return {name: value for name, value in defaults.items() if chosen.get(name) is None}
 
 
 def said(settings: dict[str, Any]) -> str:
