@@ -91,7 +91,7 @@ def add_train_arguments(p: argparse.ArgumentParser) -> None:
     knobs.add_argument("--eval-every", type=positive_int, default=None, metavar="N", help="timesteps between evaluations")
     knobs.add_argument("--near-radius", type=int_in(0, MAX_NEAR_RADIUS), default=None, metavar="N",
                        help="fast backend, race: a robot sees the robots within N steps of it, 0..4 (default: 1; "
-                       f"{CROWD_DEFAULTS['near_radius']} for a crowd: see --blocked-cost)")
+                       f"{CROWD_DEFAULTS['near_radius']} for a crowd, no wider than --view-radius: see --blocked-cost)")
     knobs.add_argument("--blocked-cost", type=non_negative_float, default=None, metavar="X",
                        help="fast backend, race: a robot's training reward loses X on each step another robot stops its "
                        "move (default: 0; a crowd, 2 or more robots under --collisions block, bounce or soft, trains with the "

@@ -34,7 +34,7 @@ class PPOConfig:
     pressing into a robot that stays or contesting a cell otherwise costs it no more than waiting;
     a crowd jams on it. Training only: the figures and returns reported are the env's.
     ``babyrobot-marl train`` trains a crowd (several robots under ``block`` or ``bounce``) with
-    ``near_radius=2`` and ``blocked_cost=0.5`` unless given (``training.crowd.crowd_defaults``); these
+    ``near_radius=2`` (no wider than its window) and ``blocked_cost=0.5`` unless given (``crowd_defaults``); these
     fields' own defaults stay those of one robot.
     """
 
