@@ -35,6 +35,7 @@ import numpy as np
 
 from .. import training
 from ..core.level import Level
+from ..core.observe import DEFAULT_VIEW_RADIUS
 from ..envs.single import BabyRobotEnv
 from ..levels.files import load_level
 from ..levels.sources import parse_level_family
@@ -72,13 +73,18 @@ def run(args: argparse.Namespace, out: TextIO) -> int:
     # package (training.require_train), where tests put a stand-in
     training.require_train(*(("torch", "tqdm") if args.backend == "fast" else ()))
     chosen = {"near_radius": args.near_radius, "blocked_cost": args.blocked_cost}
-    window = (2 if args.view_radius is None else args.view_radius) if args.observe == "local" else None
+    window = _view_radius(args) if args.observe == "local" else None
     args.crowd = crowd_defaults(args.robots, args.collisions, chosen, window) if args.backend == "fast" else {}
     tty = not args.no_progress and isatty(out) and isatty(sys.stderr)
     run = _family if family is not None else _fast if args.backend == "fast" else _sb3
     figures = run(args, level, tty, out)
     out.write(json.dumps(figures) + "\n")  # the last line: machine-readable figures
     return 0
+
+
+def _view_radius(args: argparse.Namespace) -> int:
+    """The window's radius a local-view policy reads: ``--view-radius``, else the env's default."""
+    return DEFAULT_VIEW_RADIUS if args.view_radius is None else args.view_radius
 
 
 def _rollout(args: argparse.Namespace) -> tuple[int, int, int]:
@@ -212,7 +218,7 @@ def _family(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> d
     knobs.update(args.crowd)
     knobs["eval_every"] = args.eval_every or FAMILY_EVAL_EVERY
     knobs.setdefault("n_envs", FAMILY_ENVS)
-    config = PPOConfig(threads=args.threads or None, view_radius=2 if args.view_radius is None else args.view_radius,
+    config = PPOConfig(threads=args.threads or None, view_radius=_view_radius(args),
                        hint=args.hint, memory=args.memory, trail=args.trail, recurrent=args.recurrent,
                        hidden=args.hidden or 32, **knobs)
     one_level = parse_level_family(args.level) is None
