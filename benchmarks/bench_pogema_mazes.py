@@ -271,6 +271,7 @@ def policy_race(policy: Any, grid: str, starts: list[tuple[int, int]], goals: li
     them from colliding."""
     import torch
 
+    from babyrobot_marl.training.ppo.intents import env_intents
     from babyrobot_marl.training.ppo.trail import Trail
     from babyrobot_marl.training.ppo.window import NO_ACTION
 
@@ -291,7 +292,8 @@ def policy_race(policy: Any, grid: str, starts: list[tuple[int, int]], goals: li
         who = [names[a] for a in env.agents]
         seen = np.stack([obs[a] for a in env.agents])
         trail = None if trails is None else np.array([trails[i].peek(o[0], o[1], table) for i, o in zip(who, seen)])
-        rows = form.rows_of_observations(seen, last[who], trail)
+        intents = env_intents(env, form)[who] if form.intents else None  # what the robots near each one intend
+        rows = form.rows_of_observations(seen, last[who], trail, intents)
         uniq, inv = np.unique(rows, axis=0, return_inverse=True)
         with torch.no_grad():
             if memory is None:

@@ -44,6 +44,7 @@ HEAVY_FILES = (
 # Tests of the quick files that take seconds each (random crowds beside a reference, frames against
 # a fresh renderer, evaluations of saved policies): the full suite runs them, the quick loop does not
 HEAVY_TESTS = frozenset({
+    "test_imitation.py::test_a_short_imitation_run_saves_and_evaluates_and_races",
     "test_batch.py::test_array_collisions_equal_the_scalar_rules_on_random_crowds",
     "test_batch.py::test_batch_with_own_goals_matches_separate_race_envs_step_by_step",
     "test_bench_pogema_mazes.py::test_a_policy_trained_for_the_exits_is_refused_before_any_episode",

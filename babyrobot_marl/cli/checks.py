@@ -203,12 +203,16 @@ def check_train_args(args: argparse.Namespace, n_envs: int, family: bool = False
         raise ValueError(f"--observe: a level family ({args.level}) trains a policy that reads local windows (its [x, y] "
                          "mean another place on every maze): pass --observe local")
     for flag, on in (("--hint", args.hint), ("--view-radius", args.view_radius is not None), ("--memory", args.memory),
-                     ("--trail", args.trail), ("--recurrent", args.recurrent)):
+                     ("--trail", args.trail), ("--recurrent", args.recurrent), ("--imitate", args.imitate is not None)):
         if on and args.observe != "local":
             raise ValueError(f"{flag}: only with --observe local (the local window's goal hint and radius, the last action, "
-                             "the trail, a recurrent net)")
+                             "the trail, a recurrent net, a crowd imitating a planner)")
+    if args.imitate is not None:
+        check_imitate_flags(args)
     if args.hidden is not None and not args.recurrent:
         raise ValueError("--hidden: the GRU's size, only with --recurrent; add --recurrent or drop --hidden")
+    if args.max_cycles is not None and args.robots == 1:
+        raise ValueError("--max-cycles: a race's step limit; a lone robot (--robots 1) has its level's, drop --max-cycles")
     if args.collisions is not None and args.robots == 1:
         raise ValueError("--collisions: a lone robot (--robots 1) meets nobody; drop --collisions or race --robots 2 or more")
     if args.observe == "local" and args.load:
@@ -237,6 +241,25 @@ def check_train_args(args: argparse.Namespace, n_envs: int, family: bool = False
     check_batch(n_envs, n, obs, what="--n-envs")
     # the final evaluation plays its episodes (races) at once in one batch: one rule for every robot count
     check_batch(args.episodes or 200, n, obs, what="--episodes")
+
+
+def check_imitate_flags(args: argparse.Namespace) -> None:
+    """``--imitate``: PIBT's task (a crowd of own goals that stays on its targets, POGEMA's soft rule) and a
+    feed-forward net on the fast backend."""
+    need = [flag for flag, ok in (("--goals own", args.goals == "own"), ("--robots 2 or more", args.robots > 1),
+                                  ("--collisions soft", args.collisions == "soft"), ("--finished stay", args.finished == "stay"))
+            if not ok]
+    if need:
+        raise ValueError(f"--imitate: PIBT plans for a crowd of own goals that stays on its targets under POGEMA's rule; "
+                         f"add {', '.join(need)}")
+    ppo_only = [f"--{name.replace('_', '-')}" for name in ("n_envs", "n_steps", "gamma", "gae_lambda", "clip_range", "ent_coef",
+                                                            "blocked_cost") if getattr(args, name, None) is not None]
+    for flag, on in (("--lifelong", args.lifelong), ("--trail", args.trail), ("--recurrent", args.recurrent),
+                     ("--backend sb3", args.backend != "fast"), (ppo_only[0] if ppo_only else "", bool(ppo_only))):
+        if on:
+            raise ValueError(f"--imitate: learns a feed-forward net of the window, the hint, the last action and the "
+                             f"neighbours' intents on the fast backend, by supervised passes (--lr, --batch-size, --n-epochs, "
+                             f"--net-arch); drop {flag}")
 
 
 _RACE_FLAGS = {"n_robots": "--robots", "level": "--level", "collisions": "--collisions"}
@@ -299,6 +322,17 @@ def trained_finished(name: str) -> str:
         return "remove"
     env = load_checkpoint(name).get("env")
     return "stay" if isinstance(env, dict) and env.get("finished") == "stay" else "remove"
+
+
+def trained_collisions(name: str) -> str:
+    """The collision rule the saved policy at ``name`` was trained under (its file's ``env``), else ``"block"``
+    (the race's default; scripted policies, your keys)."""
+    from ..training.policy import load_checkpoint
+
+    if name in (*policies.POLICY_NAMES, "keys"):
+        return "block"
+    env = load_checkpoint(name).get("env")
+    return env.get("collisions", "block") if isinstance(env, dict) else "block"
 
 
 def check_policy_goals(names: list[str], goals: str, flag: str) -> None:

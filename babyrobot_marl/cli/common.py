@@ -52,7 +52,8 @@ def one_line(err: BaseException | str, limit: int = 1000) -> str:
 FLAGS = {
     "n_robots": "--robots", "max_cycles": "--max-cycles", "max_steps": "--max-steps", "view_radius": "--view-radius",
     "near_radius": "--near-radius", "collisions": "--collisions", "start": "--start", "observe": "--observe",
-    "hint": "--hint", "memory": "--memory", "trail": "--trail", "recurrent": "--recurrent", "hidden": "--hidden",
+    "hint": "--hint", "memory": "--memory", "trail": "--trail", "imitate": "--imitate", "recurrent": "--recurrent",
+    "hidden": "--hidden",
     "seed": "--seed", "level": "--level", "goals": "--goals", "lifelong": "--lifelong", "finished": "--finished",
 }
 # the flag that names a policy, by command (a saved policy's errors start "policy:"); `levels` takes a NAME

@@ -19,6 +19,7 @@ from .checks import (
     output_path,
     positive_int,
     seed_int,
+    trained_collisions,
     trained_finished,
     trained_goals,
 )
@@ -44,8 +45,8 @@ def add_parser(sub: argparse._SubParsersAction) -> None:
                    help="seeded episodes per crowd (default: 200)")
     p.add_argument("--seed", type=seed_int, default=0, metavar="N",
                    help=f"episode i resets with seed N + i, {SEED_HELP} (default: 0)")
-    p.add_argument("--collisions", choices=COLLISION_MODES, default="block",
-                   help="collision rule; soft: POGEMA's (default: block)")
+    p.add_argument("--collisions", choices=COLLISION_MODES, default=None,
+                   help="collision rule; soft: POGEMA's (default: the rule a saved policy was trained under, else block)")
     add_goal_args(p, policy_default=True)
     p.add_argument("--finished", choices=FINISHED_RULES, default=None,
                    help="with --goals own: remove: a robot leaves the board at its target; stay: it stays there, "
@@ -67,6 +68,8 @@ def run(args: argparse.Namespace, out: TextIO) -> int:
     if not given:  # a saved policy is evaluated on the task it learnt (its file read once for it)
         args.goals = trained_goals(args.policy) or "exit"
     check_goal_flags(args.goals, args.lifelong)
+    if args.collisions is None:  # a saved policy is evaluated under the collision rule it learnt
+        args.collisions = trained_collisions(args.policy)
     if args.finished is None:  # a saved policy of own goals is evaluated under the rule it learnt at its target
         args.finished = trained_finished(args.policy) if args.goals == "own" and not args.lifelong else "remove"
     if given:
@@ -107,6 +110,7 @@ def _policy(spec: str, greedy: bool, seed: int) -> tuple[Any, dict[str, Any]]:
 
 # the training settings a saved policy's line shows: the rollout, the knobs a crowd's result depends on
 _SHOWN = ("n_envs", "n_steps", "batch_size", "ent_coef", "gamma", "near_radius", "blocked_cost")
+_IMITATION_SHOWN = ("learning_rate", "batch_size", "n_epochs", "near_radius")  # a crowd that imitates a planner
 
 
 def _trained_with(spec: str) -> str:
@@ -114,8 +118,12 @@ def _trained_with(spec: str) -> str:
     from ..training.policy import load_checkpoint
 
     data = load_checkpoint(spec)
-    settings = ", ".join(f"{k} {data['config'][k]:g}" for k in _SHOWN if k in data["config"])
     config = data["config"]
+    shown = _IMITATION_SHOWN if config.get("imitate") else _SHOWN
+    settings = ", ".join(f"{k} {config[k]:g}" for k in shown if k in config)
+    if config.get("imitate"):
+        arch = ",".join(map(str, config["net_arch"]))
+        settings = f"imitating {config['imitate'].upper()} (DAgger), net_arch {arch}, {settings}"
     remembers = [what for name, what in (("memory", "its last action"), ("trail", "its trail")) if config.get(name)]
     remembers += [f"a GRU of {config.get('hidden', 32)} units"] if config.get("recurrent") else []
     if remembers:

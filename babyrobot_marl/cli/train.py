@@ -75,6 +75,8 @@ def run(args: argparse.Namespace, out: TextIO) -> int:
     chosen = {"near_radius": args.near_radius, "blocked_cost": args.blocked_cost}
     window = _view_radius(args) if args.observe == "local" else None
     args.crowd = crowd_defaults(args.robots, args.collisions, chosen, window) if args.backend == "fast" else {}
+    if args.imitate is not None:  # a crowd that imitates a planner has no reward to shape
+        args.crowd.pop("blocked_cost", None)
     tty = not args.no_progress and isatty(out) and isatty(sys.stderr)
     run = _family if family is not None else _fast if args.backend == "fast" else _sb3
     figures = run(args, level, tty, out)
@@ -102,7 +104,7 @@ def _rollout(args: argparse.Namespace) -> tuple[int, int, int]:
 def _say_rounded_steps(args: argparse.Namespace, out: TextIO) -> None:
     """One line when whole rollouts round ``--steps`` up: the run trains the rounded count."""
     envs, steps, unit = _rollout(args)
-    if args.steps is None:  # --seconds: whole rollouts until the time is up
+    if args.steps is None or args.imitate is not None:  # --seconds, or imitation: whole rounds of episodes
         return
     total = -(-args.steps // unit) * unit
     if total != args.steps:
@@ -194,6 +196,8 @@ EVAL_ATLASES = 8  # the final evaluation's atlases at most: large mazes fit few 
 
 def _env_kwargs(args: argparse.Namespace) -> dict[str, Any]:
     kwargs: dict[str, Any] = {} if args.collisions is None else {"collisions": args.collisions}
+    if args.max_cycles is not None:
+        kwargs["max_cycles"] = args.max_cycles
     if args.goals == "own":  # each robot its own target (and a new one on reaching it, lifelong)
         kwargs.update(goals="own", lifelong=args.lifelong)
         if args.finished == "stay":  # robots stay on their targets, racing on (the default leaves them out)
@@ -219,7 +223,7 @@ def _family(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> d
     knobs["eval_every"] = args.eval_every or FAMILY_EVAL_EVERY
     knobs.setdefault("n_envs", FAMILY_ENVS)
     config = PPOConfig(threads=args.threads or None, view_radius=_view_radius(args),
-                       hint=args.hint, memory=args.memory, trail=args.trail, recurrent=args.recurrent,
+                       hint=args.hint, memory=args.memory, trail=args.trail, recurrent=args.recurrent, imitate=args.imitate,
                        hidden=args.hidden or 32, **knobs)
     one_level = parse_level_family(args.level) is None
     if one_level:  # an atlas of that one level
@@ -231,9 +235,11 @@ def _family(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> d
     episodes = args.episodes or 200
 
     along = judge.atlas(16)  # the evaluations along the way: 64 episodes on 16 unseen mazes
+    greedy = args.imitate is None  # an imitation crowd acts sampled: greedy, robots that wait on each other wait for ever
 
     def evaluate(result: Any) -> float:
-        score = play_atlas(result.net, along, args.robots, 64, judge.max_steps, np.random.default_rng(args.seed + 1))
+        score = play_atlas(result.net, along, args.robots, 64, judge.max_steps, np.random.default_rng(args.seed + 1),
+                           greedy)
         return score.get("throughput", score["success_rate"])  # lifelong: nobody finishes, targets per step
 
     score_name = "throughput (unseen mazes)" if args.lifelong else "success rate (unseen mazes)"
@@ -251,17 +257,20 @@ def _family(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> d
     figures = _speed(args, level, result.timesteps, result.seconds, result.cpu_seconds, out)
     judge.rng = np.random.default_rng(args.seed + 1)  # up to 256 unseen mazes, in atlases that fit
     mazes = 1 if one_level else min(episodes, 256, EVAL_ATLASES * judge.atlas_capacity)
-    score = judge.play(result.net, episodes, mazes, np.random.default_rng(args.seed + 2))
+    score = judge.play(result.net, episodes, mazes, np.random.default_rng(args.seed + 2), greedy)
     where = _name(level, args) if one_level else f"{args.level}, mazes of the evaluation seeds"
     reads = f"view_radius {config.view_radius}{', hint' if config.hint else ''}{', memory' if config.memory else ''}"
     reads += ", trail" if config.trail else ""
     reads += f", a GRU of {config.hidden} units" if config.recurrent else ""
+    reads += ", the near robots' intents" if config.imitate else ""
     reads += f", own goals{', lifelong' if args.lifelong else ''}" if args.goals == "own" else ""
     reads += ", finished stay" if args.finished == "stay" else ""
     reads += f", collisions {args.collisions}" if args.collisions else ""
     lifelong = f", throughput {score['throughput']:.3f} targets per step" if "throughput" in score else ""
-    out.write(f"fast PPO, one policy for {args.robots} robot(s) reading local windows ({reads}{_crowd_note(args)}"
-              f") on {where}: {episodes} episodes, greedy: success rate {score['success_rate']:.3f}, "
+    method = "imitation of PIBT" if config.imitate else "fast PPO"
+    acting = "greedy" if greedy else "sampled"
+    out.write(f"{method}, one policy for {args.robots} robot(s) reading local windows ({reads}{_crowd_note(args)}"
+              f") on {where}: {episodes} episodes, {acting}: success rate {score['success_rate']:.3f}, "
               f"all reached {score['all_reached_rate']:.3f}, makespan {score['makespan']:.1f}{lifelong}\n")
     figures.update({k: _round(v) for k, v in score.items()})
     figures.update(level=_name(level, args) if one_level else args.level, episodes=episodes)

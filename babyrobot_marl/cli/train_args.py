@@ -56,6 +56,12 @@ def add_train_arguments(p: argparse.ArgumentParser) -> None:
                    help="--observe local: the window's radius, as race_v0's view_radius (default: 2)")
     p.add_argument("--hint", action="store_true", help="--observe local: the net also reads the goal hint (race_v0's hint=True)")
     add_memory_args(p)
+    p.add_argument("--max-cycles", type=positive_int, default=None, metavar="N",
+                   help="a race's training and evaluation episodes end after N steps (default: the race's own limit)")
+    p.add_argument("--imitate", choices=("pibt",), default=None,
+                   help="--observe local, a crowd of --goals own under --collisions soft and --finished stay: it learns "
+                   "what the planner PIBT does (DAgger) instead of by PPO, each robot also reading what the robots near it "
+                   "intend")
     p.add_argument("--collisions", choices=COLLISION_MODES, default=None,
                    help="fast backend, race: the collision rule; soft: POGEMA's (default: the env's, block)")
     p.add_argument("--goals", choices=GOAL_MODES, default="exit",

@@ -33,7 +33,7 @@ ENV_SETTINGS = {"goals": "exit", "collisions": "block", "lifelong": False, "fini
 
 
 # ---------------------------------------------------------------------------- PPO's settings
-def check_config(cfg: Any, start_choices: Sequence[str]) -> tuple[int, ...]:
+def check_config(cfg: Any, start_choices: Sequence[str], imitate_choices: Sequence[str] = ()) -> tuple[int, ...]:
     """Every setting of ``cfg`` (a ``PPOConfig`` being made), in this order; returns its ``net_arch`` as a tuple."""
     for name in ("n_envs", "n_steps", "batch_size", "n_epochs", "eval_episodes", "atlas_size", "atlas_every"):
         check_int(getattr(cfg, name), name, 1)
@@ -60,7 +60,24 @@ def check_config(cfg: Any, start_choices: Sequence[str]) -> tuple[int, ...]:
         raise ValueError(f"net_arch: at most {MAX_LAYERS} hidden layers, got {len(arch)}")
     if cfg.start not in start_choices:
         raise ValueError(f"start: must be one of {', '.join(map(repr, start_choices))}, got {cfg.start!r}")
+    imitate = getattr(cfg, "imitate", None)
+    if imitate is not None and imitate not in imitate_choices:
+        raise ValueError(f"imitate: must be None or one of {', '.join(map(repr, imitate_choices))}, got {shown(imitate)}")
+    if imitate is not None and (cfg.trail or cfg.recurrent):
+        raise ValueError(f"imitate: learns a feed-forward policy of its window, hint, last action and neighbours' "
+                         f"intents; got {'trail' if cfg.trail else 'recurrent'}=True")
     return arch
+
+
+# ---------------------------------------------------------------------------- imitating a planner
+def check_imitation(family: Any, n_robots: int, env_kwargs: dict[str, Any]) -> None:
+    """One line naming the setting if a run on ``family`` (``ppo.window.Family``) cannot imitate PIBT, before any work."""
+    if family.goals != "own" or n_robots < 2:
+        raise ValueError("imitate: PIBT plans for a crowd of own goals: goals='own' and 2 or more robots")
+    if family.lifelong or not family.stay:
+        raise ValueError("imitate: PIBT's robots stay on their targets: finished='stay', not lifelong")
+    if env_kwargs.get("collisions", "block") != "soft":
+        raise ValueError("imitate: PIBT's moves are learnt under POGEMA's rule: collisions='soft'")
 
 
 # ---------------------------------------------------------------------------- a run that diverged

@@ -37,6 +37,7 @@ from .deps import torch_module, torch_threads
 from .lru import LastUsed
 from .ppo.config import PPOConfig
 from .ppo.inputs import Inputs, near_offsets
+from .ppo.intents import robot_intents
 from .ppo.net import make_net, weight_shapes
 from .ppo.recurrent import make_recurrent_net, recurrent_weight_shapes
 from .ppo.sampler import PerKey
@@ -273,7 +274,13 @@ class WindowPolicy(TrainedPolicy):
                 raise ValueError("obs: this policy reads its robot's trail on the env's level; bind it to your env "
                                  "with policy.for_env(env)")
             trail = np.array([self.trail.peek(o[0], o[1], self._env.table)])  # marked when the robot acts
-        return self.form.rows_of_observations(o[None, :], np.array([self.last]), trail)
+        intents = None
+        if self.form.intents:  # what the robots near it intend, read from the env it is bound to
+            if self._env is None:
+                raise ValueError("obs: this policy reads what the robots near its robot intend; bind it to your env "
+                                 "with policy.for_env(env)")
+            intents = robot_intents(self._env, self.form, (int(o[0]), int(o[1])))
+        return self.form.rows_of_observations(o[None, :], np.array([self.last]), trail, intents)
 
     def action_probabilities(self, obs: Any) -> np.ndarray:
         return self._next(obs)[0]
@@ -399,7 +406,8 @@ def inputs_of(data: dict[str, Any]) -> Inputs | WindowForm:
     form = data.get("observation", GLOBAL_FORM)
     if form.get("observe") == "local":
         memory, trail = (bool(data["config"].get(name, False)) for name in ("memory", "trail"))
-        return WindowForm(form["view_radius"], near, form["hint"], memory, form.get("goals", "exit"), trail)
+        intents = data["config"].get("imitate") is not None and bool(near)  # an imitation crowd reads its neighbours
+        return WindowForm(form["view_radius"], near, form["hint"], memory, form.get("goals", "exit"), trail, intents)
     return Inputs(data["width"], data["height"], near)
 
 

@@ -8,6 +8,7 @@ from typing import Any
 from ..checks import check_config
 
 START_CHOICES = ("random", "level")
+IMITATE_CHOICES = ("pibt",)  # the planners a crowd can learn from (``imitation.py``)
 
 
 @dataclass(frozen=True)
@@ -28,6 +29,8 @@ class PPOConfig:
     ``recurrent``, a GRU cell of ``hidden`` units between the input layers and the heads (the robot
     remembers its episode: ``recurrent.py``); the envs step an atlas of ``atlas_size`` mazes, drawn anew
     every ``atlas_every`` rollouts.
+    ``imitate``: ``"pibt"`` learns a crowd of own goals by imitating the planner PIBT instead of by PPO
+    (DAgger, ``imitation.py``); its robots also read what their neighbours intend (``intents.py``).
     ``eval_every``: timesteps between evaluations (0: only at the end).
     ``blocked_cost``: a race robot's training reward loses this much on a step another robot stops
     its move (``BatchRace.step``'s ``blocked``): each robot's return counts only its own steps, so
@@ -65,9 +68,10 @@ class PPOConfig:
     atlas_size: int = 64
     atlas_every: int = 16
     blocked_cost: float = 0.0
+    imitate: str | None = None
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "net_arch", check_config(self, START_CHOICES))
+        object.__setattr__(self, "net_arch", check_config(self, START_CHOICES, IMITATE_CHOICES))
 
     def replace(self, **changes: Any) -> PPOConfig:
         return PPOConfig(**{**asdict(self), **known_settings(changes, "replace")})

@@ -115,6 +115,15 @@ def train_ppo(
     if family is None and (env_kwargs or {}).get("goals", "exit") != "exit":
         raise ValueError("goals: a policy of own goals reads its target in its local window: train it on a level "
                          "family ('maze:A..B') or with the level's windows (the CLI's --observe local)")
+    if cfg.imitate is not None:  # a crowd that learns from a planner, not from rewards
+        if family is None:
+            raise ValueError("imitate: a crowd imitating a planner reads local windows: train it on a level family "
+                             "('maze:A..B', 'gridmaze:A..B') or with the level's windows (the CLI's --observe local)")
+        from .imitation import train_imitation
+
+        with torch_threads(cfg.threads):
+            return train_imitation(family, n, total, seed, cfg, env_kwargs or {}, evaluate, target, stop_at_target,
+                                   max_seconds, on_update, on_eval, on_trained, init)
     if family is None:
         level = resolve_level(level)
         batch = make_batch(level, n, cfg.n_envs, cfg.start, seed, **(env_kwargs or {}))

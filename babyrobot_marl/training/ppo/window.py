@@ -37,6 +37,7 @@ from ...core.observe import LOCAL_FEATURES, TERRAIN, local_observations, local_v
 from ...core.rules import Rules
 from ...core.table import Table, compile_level
 from .goal_inputs import HINT_VALUES, AtlasDistances, closed_edges, target_units
+from .intents import INTENT_UNITS, intent_rows
 from .trail import KINDS, TRAIL_UNITS, TRAIL_VALUES, trail_kinds
 
 _NVEC = (len(TERRAIN), 3, 3, 3, 3)  # terrain, then the edges north, east, south, west (LOCAL_FEATURES without robot)
@@ -61,6 +62,7 @@ class WindowForm:
     memory: bool = False
     goals: str = "exit"  # "own": the target channel's unit and the hint toward its own target (goal_inputs)
     trail: bool = False
+    intents: bool = False  # own goals: what the robots on the near cells intend (intents.py)
 
     @property
     def own(self) -> bool:
@@ -91,6 +93,11 @@ class WindowForm:
 
     @property
     def n_in(self) -> int:
+        return self.intents_first + (len(self.near) * INTENT_UNITS if self.intents else 0)
+
+    @property
+    def intents_first(self) -> int:
+        """The first unit of the neighbours' intents (after the trail's)."""
         return self._n_memory + (TRAIL_UNITS if self.trail else 0)
 
     @property
@@ -149,10 +156,14 @@ class WindowForm:
         return 2 + len(LOCAL_FEATURES) * self.n_window + (self.n_window if self.own else 0) + (N_HINT if self.hint else 0)
 
     def rows_of_observations(self, obs: np.ndarray, last: np.ndarray | None = None,
-                             trail: np.ndarray | None = None) -> np.ndarray:
+                             trail: np.ndarray | None = None, intents: np.ndarray | None = None) -> np.ndarray:
         """The net's rows from ``race_v0``'s ``observe="local"`` rows ``(N, obs_size)`` (MultiDiscrete
-        integers) and, with ``memory``, each robot's ``last`` action, with ``trail`` its trail number:
-        the same rows the trainer builds from the batch engine's cells."""
+        integers) and, with ``memory``, each robot's ``last`` action, with ``trail`` its trail number, with
+        ``intents`` its neighbours' units (``intents.env_intents``): the same rows the trainer builds from the
+        batch engine's cells."""
+        if self.intents and intents is None:
+            raise ValueError("intents: this policy reads what the robots near each robot intend; "
+                             "bind it to your env with policy.for_env(env)")
         o = np.asarray(obs, dtype=np.int64).reshape(-1, self.obs_size())
         feats = o[:, 2 : 2 + len(LOCAL_FEATURES) * self.n_window].reshape(-1, self.n_window, len(LOCAL_FEATURES))
         hint = o[:, -N_HINT:] if self.hint else None
@@ -169,6 +180,8 @@ class WindowForm:
             parts.append(self.memory_rows(np.full(len(o), NO_ACTION) if last is None else last))
         if self.trail:
             parts.append(self.trail_rows(np.zeros(len(o), dtype=np.int64) if trail is None else trail))
+        if self.intents:
+            parts.append(np.asarray(intents, dtype=np.int64).reshape(len(o), -1))
         return np.concatenate(parts, axis=1)
 
 
@@ -237,7 +250,8 @@ class Atlas:
             free.append(ids[list(t.free_cells)])
             pools.append(len(t.free_cells))
         self.free, self.pools = np.concatenate(free), pools
-        self.distances = AtlasDistances(self.table) if form.own and form.hint else None  # the hint toward own targets
+        # the hint toward own targets (a robot's own, or its neighbours' with intents)
+        self.distances = AtlasDistances(self.table) if form.own and (form.hint or form.intents) else None
         # the patterns: distinct level parts of a window; a cell's key starts with its pattern's number
         self.patterns, self.pattern_of = unique_rows(static)
         m = len(form.near)
@@ -278,6 +292,12 @@ class Atlas:
         at = np.minimum(np.searchsorted(occupied, want), max(occupied.size - 1, 0))
         return (occupied.size > 0) & (occupied[at] == want) if occupied.size else np.zeros(want.shape, dtype=bool)
 
+    def intents(self, cells: np.ndarray, racing: np.ndarray, goals: np.ndarray) -> np.ndarray:
+        """``(E * R, m * 5)``: what the racing robots on each robot's near cells intend (``intents.py``)."""
+        near = np.concatenate([self.neighbours, np.full((1, len(self.form.near)), self.table.n_cells)])
+        hints = self.distances.hint_values(cells, goals)
+        return intent_rows(near, cells, racing, hints, goals, self.form.intents_first, self.form.n_in)
+
     def keys(self, cells: np.ndarray, racing: np.ndarray, last: np.ndarray | None = None,
              goals: np.ndarray | None = None, trail: np.ndarray | None = None) -> np.ndarray:
         """Every robot's key: its window pattern, then its near bits, then (own goals) where its ``goals`` cell
@@ -288,7 +308,7 @@ class Atlas:
             key = (key << m) | self.near_bits(cells, racing).astype(np.int64) @ (1 << np.arange(m))
         if self.form.own:
             part = target_units(cells, goals, self.level.width, self.form.radius)
-            if self.distances is not None:
+            if self.form.hint:
                 part = part * HINT_VALUES + self.distances.hint_values(cells, goals)
             key = key * self.form.goal_values + part
         if self.form.memory:
@@ -395,6 +415,8 @@ def _play(net: Any, atlas: Atlas, n_robots: int, n_envs: int, max_steps: int, rn
     trails = Trails(atlas, n_envs, n_robots) if atlas.form.trail else None
     recurrent = getattr(net, "recurrent", False)
     probs = PerKey(atlas, net.gate_inputs if recurrent else lambda rows: torch.softmax(net.actor(rows), 1))
+    if atlas.form.intents:  # rows too many to number as keys: the net once per distinct row
+        probs = lambda keys: intent_probs(atlas, net, keys, batch)  # noqa: E731
     h = net.initial_state(n_envs * n_robots) if recurrent else None  # one hidden state per robot, zero at the start
     done_at = np.full(n_envs, max_steps)
     last = np.full((n_envs, n_robots), NO_ACTION)
@@ -422,9 +444,21 @@ def _play(net: Any, atlas: Atlas, n_robots: int, n_envs: int, max_steps: int, rn
     return score
 
 
+def intent_probs(atlas: Atlas, net: Any, keys: np.ndarray, batch: BatchRace) -> np.ndarray:
+    """The action probabilities of a policy that reads its neighbours' intents: each robot's row is its key's
+    row and the intents of the robots near it in ``batch`` (``Atlas.intents``), the net once per distinct row."""
+    from ..deps import torch_module
+
+    torch = torch_module()
+    rows = np.concatenate([atlas.rows(keys), atlas.intents(batch.cells, batch.racing, batch.goals)], axis=1)
+    uniq, inv = unique_rows(rows)
+    with torch.no_grad():
+        return torch.softmax(net.actor(torch.from_numpy(uniq)), 1).numpy()[inv]
+
+
 def window_form(cfg: Any, n_robots: int, goals: str = "exit") -> WindowForm:
     """The input a family policy of these settings reads (``goals``: the env's goals mode)."""
     from .inputs import near_offsets
 
     return WindowForm(cfg.view_radius, near_offsets(cfg.near_radius) if n_robots > 1 else (), cfg.hint, cfg.memory, goals,
-                      cfg.trail)
+                      cfg.trail, getattr(cfg, "imitate", None) is not None and n_robots > 1)

@@ -1,0 +1,89 @@
+"""What a robot's neighbours intend (``PPOConfig.intents``): for each robot within ``near_radius`` steps, the
+moves that shorten its way to its own target and whether it stands on it.
+
+Where robots have targets of their own and stay on them (POGEMA's task), a robot decides well only if it
+knows what the robots beside it are about: one on its target that another wants to pass must step aside,
+two heading for one cell must not both press on. A window shows where the robots are, not where they go.
+MAPF-GPT's robots read their neighbours' next shortest-path moves for the same reason; here each near cell
+a racing robot stands on adds five units: its hint's four moves (north, east, south, west) and "on its
+target". The units sit after every other part of a row (``WindowForm.n_in``); the near bits still say
+where robots stand. An imitation policy (``imitation.py``) reads them: what PIBT decides for a robot hangs
+on what the robots around it want.
+
+The parts are the same, to the index, whether built from the batch engine's arrays (the trainer's
+judge, ``evaluate``) or from one env's robots (``WindowPolicy``, the maze benchmark): ``intent_rows``
+takes cells, targets and hint bits as arrays of ``(envs, robots)`` either way.
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+from typing import Any
+
+import numpy as np
+
+from ...core.actions import N_ACTIONS
+from ...core.goals import goal_hints
+from .inputs import Inputs
+
+INTENT_UNITS = 5  # per near cell: the hint's four moves, then "on its own target"
+
+
+def intent_rows(neighbours: np.ndarray, cells: np.ndarray, racing: np.ndarray, hints: np.ndarray, goals: np.ndarray,
+                first: int, off: int) -> np.ndarray:
+    """``(E * R, m * 5)`` indices: for each robot and each of its ``m`` near cells (``neighbours``: ``(n_cells + 1,
+    m)``, the cell at each offset, ``n_cells`` off the grid), the units of the racing robot standing there, if
+    any: ``first + 5 k + d - 1`` for each move ``d`` (1-4) its ``hints`` bits (one number per robot, bit ``a``:
+    action ``a`` shortens its way) allow, ``first + 5 k + 4`` if it stands on its ``goals`` cell; ``off``
+    (the net's padding index) for the rest. ``cells``, ``racing``, ``hints``, ``goals``: ``(E, R)``."""
+    cells = np.asarray(cells, dtype=np.int64)
+    e, r = cells.shape
+    n, m = neighbours.shape[0] - 1, neighbours.shape[1]
+    stride = n + 1
+    base = np.arange(e, dtype=np.int64)[:, None] * stride
+    who = np.full(e * stride, -1, dtype=np.int64)  # the robot on each cell of each env (-1: none; cell n: never)
+    robots = np.broadcast_to(np.arange(r, dtype=np.int64), (e, r))
+    who[(cells + base)[racing]] = robots[racing]
+    there = who[neighbours[cells] + base[:, :, None]]  # (E, R, m)
+    seen = there >= 0
+    at = np.where(seen, there, 0)
+    env = np.arange(e)[:, None, None]
+    bits = np.asarray(hints, dtype=np.int64)[env, at]  # each neighbour's hint as one number
+    on = (cells[env, at] == np.asarray(goals, dtype=np.int64)[env, at]) & seen
+    moves = (bits[..., None] >> np.arange(1, N_ACTIONS)) & 1  # (E, R, m, 4)
+    unit = first + np.arange(m)[:, None] * INTENT_UNITS + np.arange(N_ACTIONS - 1)
+    out = np.full((e, r, m, INTENT_UNITS), off, dtype=np.int64)
+    out[..., :4] = np.where((moves > 0) & seen[..., None], unit, off)
+    out[..., 4] = np.where(on, first + np.arange(m) * INTENT_UNITS + 4, off)
+    return out.reshape(e * r, m * INTENT_UNITS)
+
+
+@lru_cache(maxsize=16)
+def _neighbours(width: int, height: int, near: tuple[tuple[int, int], ...]) -> np.ndarray:
+    return Inputs(width, height, near).neighbours
+
+
+def env_intents(env: Any, form: Any) -> np.ndarray:
+    """``(n_robots, m * 5)``: ``intent_rows`` for every robot of a ``race_v0`` env of own goals (robot order), read
+    from its public state (``robot_cells``, ``goals``, ``agents``) as the batch engine's arrays give them."""
+    race = getattr(env, "race", env)
+    table = race.table
+    agents = race.possible_agents
+    live = set(race.agents)
+    cells = np.array([[table.cell_id(tuple(c)) for c in race.robot_cells]], dtype=np.int64)
+    goals = np.array([[table.cell_id(tuple(race.goals[a])) for a in agents]], dtype=np.int64)
+    racing = np.array([[a in live for a in agents]])
+    hints = goal_hints(table, cells, goals) @ (1 << np.arange(N_ACTIONS))
+    near = _neighbours(table.width, table.height, tuple(form.near))
+    return intent_rows(near, cells, racing, hints, goals, form.intents_first, form.n_in)
+
+
+def robot_intents(env: Any, form: Any, xy: tuple[int, int]) -> np.ndarray:
+    """``(1, m * 5)``: ``env_intents`` of the racing robot standing at ``xy`` (the one whose observation it is)."""
+    race = getattr(env, "race", env)
+    live = set(race.agents)
+    for i, (cell, agent) in enumerate(zip(race.robot_cells, race.possible_agents)):
+        if agent in live and tuple(cell) == tuple(xy):
+            return env_intents(race, form)[i : i + 1]
+    raise ValueError(f"obs: no racing robot of this policy's env stands at {tuple(xy)}; bind the policy to the env whose "
+                     "robots it acts for (policy.for_env(env))")

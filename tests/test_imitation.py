@@ -1,0 +1,164 @@
+"""A crowd that imitates PIBT (``PPOConfig(imitate="pibt")``, ``train --imitate pibt``): what the robots near each
+robot intend, read alike from the batch engine and from race_v0; DAgger learns a crowd far better than an
+untrained one; its settings saved and read back; the CLI refuses what it cannot do by flag, before training."""
+
+import json
+
+import numpy as np
+import pytest
+
+pytest.importorskip("torch")
+
+from babyrobot_marl import race_v0  # noqa: E402
+from babyrobot_marl.core.actions import Action  # noqa: E402
+from babyrobot_marl.core.level import Level  # noqa: E402
+from babyrobot_marl.training.policy import WindowPolicy, load_checkpoint, load_policy  # noqa: E402
+from babyrobot_marl.training.ppo import PPOConfig, train_ppo  # noqa: E402
+from babyrobot_marl.training.ppo.inputs import near_offsets  # noqa: E402
+from babyrobot_marl.training.ppo.intents import INTENT_UNITS, env_intents  # noqa: E402
+from babyrobot_marl.training.ppo.net import make_net  # noqa: E402
+from babyrobot_marl.training.ppo.window import Atlas, Family, WindowForm  # noqa: E402
+
+STAY = {"goals": "own", "collisions": "soft", "finished": "stay"}
+FORM = WindowForm(2, near_offsets(2), True, goals="own", intents=True)
+GRID = "\n".join([".....#....", ".##..#.##.", ".#.......#", ".#.##.#...", "......#.#.", "##.#....#.",
+                  "...#.##...", ".#...#..#.", ".#.#...##.", "...#.#...."])
+
+
+def _units(row: np.ndarray, form: WindowForm, offset: tuple[int, int]) -> set[int]:
+    """The intent units set in ``row`` for the near cell at ``offset`` (0-3: moves north..west, 4: on its target)."""
+    k = form.near.index(offset)
+    part = row[k * INTENT_UNITS : (k + 1) * INTENT_UNITS]
+    return {int(u - form.intents_first - k * INTENT_UNITS) for u in part if u != form.n_in}
+
+
+def test_a_robot_reads_where_its_neighbours_go_and_whether_they_are_home():
+    env = race_v0.parallel_env(level=Level.from_grid("\n".join(["......"] * 3)), n_robots=3, observe="local", hint=True,
+                               start="random", **STAY)
+    env.reset(seed=0, options={"starts": [(1, 1), (2, 0), (1, 2)], "goals": [(5, 1), (2, 1), (1, 0)]})
+    env.step({"robot_0": Action.STAY, "robot_1": Action.SOUTH, "robot_2": Action.STAY})  # robot 1 arrives
+    rows = env_intents(env, FORM)
+    assert rows.shape == (3, len(FORM.near) * INTENT_UNITS)
+    assert _units(rows[0], FORM, (1, 0)) == {4}  # robot 1, east of robot 0, stands on its target
+    assert _units(rows[0], FORM, (0, 1)) == {Action.NORTH - 1}  # robot 2, south of it, heads north
+    assert _units(rows[1], FORM, (-1, 0)) == {Action.EAST - 1}  # robot 0 heads east, into robot 1's cell
+    assert _units(rows[1], FORM, (-1, 1)) == {Action.NORTH - 1}
+    assert _units(rows[2], FORM, (0, -1)) == {Action.EAST - 1} and _units(rows[2], FORM, (1, -1)) == {4}
+    seen = [(i, k) for i in range(3) for k in FORM.near if _units(rows[i], FORM, k)]
+    assert len(seen) == 6  # each robot sees the other two, nothing else
+
+
+@pytest.mark.parametrize("level", ["gridmaze:9..11", Level.from_grid(GRID)])
+def test_the_batch_engine_and_a_bound_policy_read_the_same_rows(level):
+    """The judge's rows (the batch engine's keys and ``Atlas.intents``) equal a bound ``WindowPolicy``'s, robot by
+    robot, over random races; the intents change as robots move and arrive."""
+    env = race_v0.parallel_env(level=level, n_robots=8, observe="local", hint=True, start="random", max_cycles=40, **STAY)
+    policy = WindowPolicy(make_net(FORM.n_in, (16,)), FORM, 8)
+    rng = np.random.default_rng(0)
+    checked, kinds = 0, set()
+    for seed in range(3):
+        obs, _ = env.reset(seed=seed)
+        bound = policy.for_env(env)
+        atlas = Atlas([env.level], env.rules, FORM, stay=True)
+        w = env.level.width
+        while env.agents:
+            cells, racing = np.array(env._cells)[None, :], np.array(env._racing)[None, :]
+            goals = np.array([[env.goals[a][1] * w + env.goals[a][0] for a in env.possible_agents]])
+            intents = atlas.intents(cells, racing, goals)
+            rows = np.concatenate([atlas.rows(atlas.keys(cells, racing, None, goals)), intents], axis=1)
+            for a in env.agents:
+                i = env.possible_agents.index(a)
+                assert (bound.rows(obs[a])[0] == rows[i]).all()
+                checked += 1
+            kinds.update((intents[intents < FORM.n_in] - FORM.intents_first) % INTENT_UNITS)
+            obs, *_ = env.step({a: int(rng.integers(5)) for a in env.agents})
+    assert checked > 500 and kinds == {0, 1, 2, 3, 4}
+
+
+@pytest.mark.train
+def test_dagger_on_pibt_learns_a_crowd_that_brings_its_robots_home(tmp_path):
+    """A few rounds of DAgger on small grid mazes: on unseen mazes of the family the learnt crowd (sampled) brings far
+    more robots to their targets than the same net untrained; the saved policy records it and reads the intents."""
+    config = PPOConfig(imitate="pibt", hint=True, memory=True, near_radius=2, net_arch=(64, 64), learning_rate=1e-3,
+                       batch_size=1024, eval_every=0)
+    kwargs = {**STAY, "max_cycles": 48}
+    result = train_ppo("gridmaze:7..9", n_robots=6, timesteps=60_000, seed=0, config=config, env_kwargs=kwargs)
+    from babyrobot_marl.levels.sources import EVAL_MAZE_SEEDS, parse_level_family
+
+    judge = Family(parse_level_family("gridmaze:7..9", EVAL_MAZE_SEEDS), 6, config, 1, kwargs)
+    untrained = make_net(judge.form.n_in, config.net_arch)
+    learnt = judge.play(result.net, 64, 16, np.random.default_rng(2), deterministic=False)
+    judge.rng = np.random.default_rng([1, 2])
+    before = judge.play(untrained, 64, 16, np.random.default_rng(2), deterministic=False)
+    assert learnt["success_rate"] >= 0.8 and learnt["success_rate"] >= before["success_rate"] + 0.4, (learnt, before)
+    path = result.save(str(tmp_path / "crowd.pt"))
+    assert load_checkpoint(path)["config"]["imitate"] == "pibt"
+    policy = load_policy(path)
+    assert policy.form.intents and policy.form.n_in == FORM.n_in + 5  # the window, target, hint, near bits, memory
+
+
+@pytest.mark.parametrize("argv, first", [
+    (["--goals", "exit"], "--imitate: "),
+    (["--collisions", "block"], "--imitate: "),
+    (["--finished", "remove"], "--imitate: "),
+    (["--robots", "1"], "--imitate: "),
+    (["--trail"], "--imitate: "),
+    (["--ent-coef", "0.1"], "--imitate: "),
+    (["--observe", "global", "--level", "maze-8x8"], "--hint: "),
+])
+def test_train_refuses_what_imitation_cannot_do_by_flag(argv, first, capsys, monkeypatch):
+    from babyrobot_marl.training.ppo import loop
+    from tests.cli_run import run
+
+    monkeypatch.setattr(loop, "train_ppo", lambda *a, **k: pytest.fail("training started"))
+    base = ["train", "--level", "gridmaze:9..11", "--robots", "4", "--observe", "local", "--hint", "--goals", "own",
+            "--collisions", "soft", "--finished", "stay", "--imitate", "pibt", "--steps", "1000"]
+    assert run(base + argv) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"babyrobot-marl: error: {first}") and err.count("\n") == 1, err
+
+
+def test_a_short_imitation_run_saves_and_evaluates_and_races(tmp_path, capsys):
+    from tests.cli_run import run
+
+    path = tmp_path / "crowd.pt"
+    argv = ["train", "--level", "gridmaze:9..11", "--robots", "4", "--observe", "local", "--hint", "--goals", "own",
+            "--collisions", "soft", "--finished", "stay", "--imitate", "pibt", "--max-cycles", "32", "--steps", "1000",
+            "--episodes", "8", "--save", str(path), "--no-progress"]
+    assert run(argv) == 0
+    out = capsys.readouterr().out
+    assert "imitation of PIBT" in out and "the near robots' intents" in out and "sampled:" in out
+    assert json.loads(out.splitlines()[-1])["timesteps"] >= 1000
+    assert run(["evaluate", str(path), "--level", "gridmaze:7..9", "--robots", "4", "--episodes", "4"]) == 0
+    figures = json.loads(capsys.readouterr().out.splitlines()[-1])
+    assert 0 <= figures["policy"]["success_rate"] <= 1
+    assert run(["race", "--level", "gridmaze:9..11", "--robots", "4", "--goals", "own", "--collisions", "soft",
+                "--start", "random", "--policies", str(path), "--max-cycles", "16"]) == 0
+
+
+@pytest.mark.parametrize("settings, kwargs, first", [
+    ({"imitate": "lacam"}, None, "imitate: must be None or one of 'pibt'"),
+    ({"imitate": "pibt", "trail": True}, None, "imitate: "),
+    ({"imitate": "pibt"}, {"goals": "own", "collisions": "soft"}, "imitate: PIBT's robots stay"),
+    ({"imitate": "pibt"}, {"goals": "own", "finished": "stay"}, "imitate: PIBT's moves are learnt under POGEMA's rule"),
+    ({"imitate": "pibt"}, {}, "imitate: PIBT plans for a crowd of own goals"),
+])
+def test_the_api_refuses_what_imitation_cannot_do_in_one_line(settings, kwargs, first):
+    with pytest.raises(ValueError) as err:
+        level = "maze:8..10" if kwargs == {} else "gridmaze:9..11"  # a race to the exits needs exits
+        train_ppo(level, n_robots=4, timesteps=100, config=PPOConfig(**settings), env_kwargs=kwargs)
+    assert str(err.value).startswith(first) and "\n" not in str(err.value)
+
+
+def test_the_same_seed_imitates_into_the_same_net():
+    config = PPOConfig(imitate="pibt", hint=True, memory=True, near_radius=2, net_arch=(32,), learning_rate=1e-3,
+                       batch_size=512, eval_every=0)
+    kwargs = {**STAY, "max_cycles": 32}
+
+    def weights(seed: int) -> list:
+        net = train_ppo("gridmaze:7..9", n_robots=4, timesteps=5000, seed=seed, config=config, env_kwargs=kwargs).net
+        return [v.numpy().copy() for v in net.state_dict().values()]
+
+    first, again, other = weights(0), weights(0), weights(1)
+    assert all((a == b).all() for a, b in zip(first, again))
+    assert not all((a == b).all() for a, b in zip(first, other))
