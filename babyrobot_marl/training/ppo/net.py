@@ -94,12 +94,14 @@ def log_softmax(z: Any) -> Any:
 
 
 DENSE_LIMIT = 1024  # inputs up to which a race's one-hot is built densely in updates (faster than row look-ups)
+DENSE_SHARE = 10  # wider inputs too, when a row indexes at least one unit in DENSE_SHARE (a window's many features)
 
 
 def dense_input(rows: Any, n_in: int) -> Any:
     """The one-hot counts of rows of several indices, ``(B, n_in + 1)``; None for one index per row
-    (a look-up is cheapest) or a wide input (the dense matrix would be large)."""
-    if rows.shape[1] == 1 or n_in > DENSE_LIMIT:
+    (a look-up is cheapest) or a wide input of few indices per row (the dense matrix would be large and
+    mostly zeros; with a tenth or more of the units indexed, a matrix product beats gathering rows)."""
+    if rows.shape[1] == 1 or (n_in > DENSE_LIMIT and rows.shape[1] * DENSE_SHARE < n_in):
         return None
     torch = torch_module()
     return torch.zeros(rows.shape[0], n_in + 1).scatter_add_(1, rows, torch.ones(rows.shape))
