@@ -162,3 +162,13 @@ def test_the_same_seed_imitates_into_the_same_net():
     first, again, other = weights(0), weights(0), weights(1)
     assert all((a == b).all() for a, b in zip(first, again))
     assert not all((a == b).all() for a, b in zip(first, other))
+
+
+def test_an_input_too_wide_for_a_64_bit_key_is_refused_by_name():
+    """Robots within 4 steps (40 bits), own targets with the hint in a 9x9 window and the last action: more than
+    64 bits of key, which would wrap around silently; refused before training, naming near_radius."""
+    config = PPOConfig(view_radius=4, near_radius=4, hint=True, memory=True, eval_every=0)
+    with pytest.raises(ValueError, match=r"^near_radius: 4 with a window of view_radius 4"):
+        train_ppo("gridmaze:9..11", n_robots=4, timesteps=100, config=config, env_kwargs=STAY)
+    train_ppo("gridmaze:9..11", n_robots=4, timesteps=100, config=config.replace(near_radius=3, n_envs=8, n_steps=4),
+              env_kwargs=STAY)  # 3 fits

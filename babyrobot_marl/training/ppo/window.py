@@ -363,6 +363,9 @@ class Family:
             raise ValueError(f"near_radius: a robot sees the robots within its window; near_radius {cfg.near_radius} "
                              f"exceeds view_radius {cfg.view_radius}")
         self.form = window_form(cfg, n_robots, self.goals)
+        if _key_bound(self.form) >= 1 << 63:  # keys are int64: a wider input would wrap around, silently
+            raise ValueError(f"near_radius: {cfg.near_radius} with a window of view_radius {cfg.view_radius} and these "
+                             "inputs makes a robot's key wider than 64 bits; use a smaller near_radius")
         self.spec = str(getattr(source, "family", None) or first.name or "a level family")
         self.first = first
 
@@ -385,6 +388,12 @@ class Family:
         chunks = [len(c) for c in np.array_split(np.arange(episodes), -(-mazes // per)) if len(c)]
         scores = [(n, play_atlas(net, self.atlas(per), self.n_robots, n, self.max_steps, rng, deterministic)) for n in chunks]
         return {k: sum(n * s[k] for n, s in scores) / episodes for k in scores[0][1]}
+
+
+def _key_bound(form: WindowForm) -> int:
+    """An upper bound of an atlas's keys (``Atlas.n_keys``): at most one window pattern per cell of an atlas."""
+    return ((MAX_LEVEL_CELLS << len(form.near)) * form.goal_values * (N_ACTIONS + 1 if form.memory else 1)
+            * (TRAIL_VALUES if form.trail else 1))
 
 
 def atlas_capacity(width: int, height: int) -> int:
