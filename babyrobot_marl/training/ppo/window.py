@@ -7,7 +7,8 @@ reads (``WindowForm``): each window cell's terrain and its four edges (walls), t
 bits when the env gives them (``hint=True``), and one bit per cell within ``near_radius`` steps
 saying whether a racing robot stands there (the robots it could bump into), and with ``memory`` the
 robot's own last action (one unit of 5; none at an episode's start), and with ``trail`` the order in which
-it stood on the cells next to it (``trail.py``). Each feature is
+it stood on the cells next to it (``trail.py``), and a crowd that imitates a planner what the robots near it
+intend (``intents.py``). Each feature is
 multi-hot (one unit per non-zero value), so a row of the net's input is a short list of indices,
 as for the single-level trainer's one-hot.
 
@@ -53,8 +54,9 @@ NO_ACTION = N_ACTIONS  # a robot's last action at its episode's start: none
 class WindowForm:
     """The net's input read from a local window of ``radius`` (the env's ``view_radius``): every window
     cell's terrain and edges, the hint bits if ``hint``, then one bit per ``near`` offset (a racing
-    robot there), then the last action's unit if ``memory``, then the trail's units if ``trail``. ``n_in``
-    units; a row is ``K`` indices, ``n_in`` for "off" (the net's padding row)."""
+    robot there), then the last action's unit if ``memory``, then the trail's units if ``trail``, then what the
+    robots on the near cells intend if ``intents`` (``intents.py``). ``n_in`` units; a row is ``K`` indices,
+    ``n_in`` for "off" (the net's padding row)."""
 
     radius: int
     near: tuple[tuple[int, int], ...]
