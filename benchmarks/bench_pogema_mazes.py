@@ -272,6 +272,7 @@ def policy_race(policy: Any, grid: str, starts: list[tuple[int, int]], goals: li
     import torch
 
     from babyrobot_marl.training.ppo.intents import env_intents
+    from babyrobot_marl.training.ppo.sampler import sample_actions
     from babyrobot_marl.training.ppo.trail import Trail
     from babyrobot_marl.training.ppo.window import NO_ACTION
 
@@ -302,7 +303,7 @@ def policy_race(policy: Any, grid: str, starts: list[tuple[int, int]], goals: li
                 at = torch.tensor(who)
                 memory[at] = net.step(net.gate_inputs(torch.from_numpy(uniq))[torch.from_numpy(inv.reshape(-1))], memory[at])
                 p = torch.softmax(net.heads(memory[at])[0], 1).double().numpy()
-        sampled = np.minimum((rng.random((len(p), 1)) >= np.cumsum(p, axis=1)).sum(axis=1), 4)  # inverse CDF
+        sampled = sample_actions(p, rng)
         moves = p.argmax(axis=1) if greedy else sampled
         if planner is not None:  # robots that stay on their targets stay in the race: all of them are here
             chosen = np.zeros_like(p)

@@ -243,6 +243,9 @@ def check_train_args(args: argparse.Namespace, n_envs: int, family: bool = False
     check_batch(args.episodes or 200, n, obs, what="--episodes")
 
 
+_PPO_ONLY = ("n_envs", "n_steps", "gamma", "gae_lambda", "clip_range", "ent_coef", "blocked_cost")  # no imitation reads them
+
+
 def check_imitate_flags(args: argparse.Namespace) -> None:
     """``--imitate``: PIBT's task (a crowd of own goals that stays on its targets, POGEMA's soft rule) and a
     feed-forward net on the fast backend."""
@@ -252,12 +255,11 @@ def check_imitate_flags(args: argparse.Namespace) -> None:
     if need:
         raise ValueError(f"--imitate: PIBT plans for a crowd of own goals that stays on its targets under POGEMA's rule; "
                          f"add {', '.join(need)}")
-    ppo_only = [f"--{name.replace('_', '-')}" for name in ("n_envs", "n_steps", "gamma", "gae_lambda", "clip_range", "ent_coef",
-                                                            "blocked_cost") if getattr(args, name, None) is not None]
-    for flag, on in (("--lifelong", args.lifelong), ("--trail", args.trail), ("--recurrent", args.recurrent),
-                     ("--backend sb3", args.backend != "fast"), (ppo_only[0] if ppo_only else "", bool(ppo_only))):
-        if on:
-            raise ValueError(f"--imitate: learns a feed-forward net of the window, the hint, the last action and the "
+    refused = [flag for flag, on in (("--lifelong", args.lifelong), ("--trail", args.trail), ("--recurrent", args.recurrent),
+                                     ("--backend sb3", args.backend != "fast")) if on]
+    refused += [f"--{name.replace('_', '-')}" for name in _PPO_ONLY if getattr(args, name, None) is not None]
+    for flag in refused[:1]:
+        raise ValueError(f"--imitate: learns a feed-forward net of the window, the hint, the last action and the "
                              f"neighbours' intents on the fast backend, by supervised passes (--lr, --batch-size, --n-epochs, "
                              f"--net-arch); drop {flag}")
 
@@ -313,26 +315,26 @@ def trained_goals(name: str) -> str | None:
     return "exit"
 
 
-def trained_finished(name: str) -> str:
-    """The rule the saved policy at ``name`` was trained under at its target: ``"stay"`` when its file records
-    ``finished: stay``, else ``"remove"`` (files from before the rule was recorded, scripted policies, your keys)."""
+def _saved_env(name: str) -> dict:
+    """The env settings a saved policy at ``name`` records (``{}``: none recorded, a scripted policy, your keys)."""
     from ..training.policy import load_checkpoint
 
     if name in (*policies.POLICY_NAMES, "keys"):
-        return "remove"
+        return {}
     env = load_checkpoint(name).get("env")
-    return "stay" if isinstance(env, dict) and env.get("finished") == "stay" else "remove"
+    return env if isinstance(env, dict) else {}
+
+
+def trained_finished(name: str) -> str:
+    """The rule the saved policy at ``name`` was trained under at its target: ``"stay"`` when its file records
+    ``finished: stay``, else ``"remove"`` (files from before the rule was recorded, scripted policies, your keys)."""
+    return "stay" if _saved_env(name).get("finished") == "stay" else "remove"
 
 
 def trained_collisions(name: str) -> str:
     """The collision rule the saved policy at ``name`` was trained under (its file's ``env``), else ``"block"``
     (the race's default; scripted policies, your keys)."""
-    from ..training.policy import load_checkpoint
-
-    if name in (*policies.POLICY_NAMES, "keys"):
-        return "block"
-    env = load_checkpoint(name).get("env")
-    return env.get("collisions", "block") if isinstance(env, dict) else "block"
+    return _saved_env(name).get("collisions", "block")
 
 
 def check_policy_goals(names: list[str], goals: str, flag: str) -> None:

@@ -25,7 +25,8 @@ from ..checks import check_finite, check_imitation
 from ..deps import torch_module
 from .intents import env_intents
 from .net import make_net
-from .result import EvalPoint, TrainResult, trained_env
+from .result import EvalPoint, TrainResult, evaluate_now, trained_env
+from .sampler import sample_actions
 from .window import NO_ACTION, Family
 
 EPISODES_PER_ROUND = 16
@@ -64,8 +65,7 @@ def train_imitation(family: Family, n_robots: int, total: int, seed: int, cfg: A
 
     def learner(rows: np.ndarray) -> np.ndarray:
         with torch.no_grad():
-            p = torch.softmax(net.actor(torch.from_numpy(rows)), 1).double().numpy()
-        return np.minimum((rng.random((len(p), 1)) >= np.cumsum(p, axis=1)).sum(axis=1), 4)
+            return sample_actions(torch.softmax(net.actor(torch.from_numpy(rows)), 1).double().numpy(), rng)
 
     rounds = 0
     while result.timesteps < total:
@@ -111,28 +111,12 @@ def train_imitation(family: Family, n_robots: int, total: int, seed: int, cfg: A
             break
         if result.timesteps >= next_eval and result.timesteps < total:
             next_eval += cfg.eval_every
-            t0, c0 = _evaluate(result, evaluate, on_eval, t0, c0, float(np.mean(arrived)), target)
+            t0, c0 = evaluate_now(result, evaluate, on_eval, target, (t0, c0), float(np.mean(arrived)))
             if stop_at_target and result.reached is not None:
                 break
     net.eval()
     if on_trained is not None:
         on_trained(result)
-    _evaluate(result, evaluate, on_eval, t0, c0, float("nan"), target)
+    evaluate_now(result, evaluate, on_eval, target, (t0, c0), float("nan"))
     return result
 
-
-def _evaluate(result: TrainResult, evaluate: Any, on_eval: Any, t0: float, c0: float, train: float,
-              target: float | None) -> tuple[float, float]:
-    """Close the training span that began at ``(t0, c0)``, evaluate (not training time), and begin the next."""
-    result.seconds += time.perf_counter() - t0
-    result.cpu_seconds += time.process_time() - c0
-    result.net.eval()
-    score = float(evaluate(result)) if evaluate is not None else float("nan")
-    point = EvalPoint(result.timesteps, result.seconds, train, score)
-    result.history.append(point)
-    if target is not None and result.reached is None and score >= target:
-        result.reached = (result.timesteps, result.seconds)
-    if on_eval is not None:
-        on_eval(point)
-    result.net.train()
-    return time.perf_counter(), time.process_time()

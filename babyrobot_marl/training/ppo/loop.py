@@ -28,7 +28,7 @@ from .config import PPOConfig, known_settings
 from .inputs import make_inputs
 from .net import log_softmax, make_net
 from .recurrent import Recurrence, make_recurrent_net
-from .result import EvalPoint, TrainResult, trained_env
+from .result import EvalPoint, TrainResult, evaluate_now, trained_env
 from .sampler import PerKey, Sampler, distinct_rows
 from .trail import Trails
 from .update import Samples, clip_grad_norm, gae, grads_of, ppo_gradients
@@ -181,19 +181,8 @@ def train_ppo(
 
         def run_evaluation() -> bool:
             nonlocal t_train, c_train
-            result.seconds += time.perf_counter() - t_train
-            result.cpu_seconds += time.process_time() - c_train
-            t0 = time.perf_counter()
-            net.eval()
-            score = float(evaluate(result)) if evaluate is not None else float("nan")
-            point = EvalPoint(result.timesteps, result.seconds, float(np.mean(recent)) if recent else float("nan"), score)
-            result.history.append(point)
-            if target is not None and result.reached is None and score >= target:
-                result.reached = (result.timesteps, result.seconds)
-            result.eval_seconds += time.perf_counter() - t0
-            if on_eval is not None:
-                on_eval(point)
-            t_train, c_train = time.perf_counter(), time.process_time()
+            train_return = float(np.mean(recent)) if recent else float("nan")
+            t_train, c_train = evaluate_now(result, evaluate, on_eval, target, (t_train, c_train), train_return)
             return stop_at_target and result.reached is not None
 
         rollouts = 0

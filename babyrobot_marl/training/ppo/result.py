@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -83,3 +85,24 @@ def trained_env(env_kwargs: dict[str, Any] | None) -> dict[str, Any]:
     """The env settings a policy was trained under (goals, collisions, lifelong, finished), each named with its default."""
     kwargs = env_kwargs or {}
     return {k: kwargs.get(k, default) for k, default in ENV_SETTINGS.items()}
+
+
+def evaluate_now(result: TrainResult, evaluate: Callable[[TrainResult], float] | None,
+                 on_eval: Callable[[EvalPoint], None] | None, target: float | None, span: tuple[float, float],
+                 train_return: float) -> tuple[float, float]:
+    """Close the training span begun at ``span`` (wall-clock, CPU time), evaluate the net (its time counted as
+    evaluation, not training), record the point (and ``reached`` at ``target``), call ``on_eval``; returns the
+    next training span's start."""
+    result.seconds += time.perf_counter() - span[0]
+    result.cpu_seconds += time.process_time() - span[1]
+    t0 = time.perf_counter()
+    result.net.eval()
+    score = float(evaluate(result)) if evaluate is not None else float("nan")
+    point = EvalPoint(result.timesteps, result.seconds, train_return, score)
+    result.history.append(point)
+    if target is not None and result.reached is None and score >= target:
+        result.reached = (result.timesteps, result.seconds)
+    result.eval_seconds += time.perf_counter() - t0
+    if on_eval is not None:
+        on_eval(point)
+    return time.perf_counter(), time.process_time()

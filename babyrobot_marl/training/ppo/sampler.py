@@ -82,6 +82,11 @@ class Sampler(PerKey):
         return np.minimum((u >= cdf[at]).sum(axis=1), N_ACTIONS - 1)
 
 
+def sample_actions(p: np.ndarray, rng: np.random.Generator) -> np.ndarray:
+    """One action per row of action probabilities ``p`` by inverse-CDF sampling (one uniform number each)."""
+    return np.minimum((rng.random((len(p), 1)) >= np.cumsum(p, axis=1)).sum(axis=1), N_ACTIONS - 1)
+
+
 def distinct_rows(inputs: Inputs, keys: np.ndarray) -> tuple[Any, Any]:
     """The distinct inputs among ``keys`` as the net's rows, and each key's row."""
     torch = torch_module()

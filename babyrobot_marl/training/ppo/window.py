@@ -296,9 +296,13 @@ class Atlas:
 
     def intents(self, cells: np.ndarray, racing: np.ndarray, goals: np.ndarray) -> np.ndarray:
         """``(E * R, m * 5)``: what the racing robots on each robot's near cells intend (``intents.py``)."""
-        near = np.concatenate([self.neighbours, np.full((1, len(self.form.near)), self.table.n_cells)])
         hints = self.distances.hint_values(cells, goals)
-        return intent_rows(near, cells, racing, hints, goals, self.form.intents_first, self.form.n_in)
+        return intent_rows(self._near_padded, cells, racing, hints, goals, self.form.intents_first, self.form.n_in)
+
+    @cached_property
+    def _near_padded(self) -> np.ndarray:
+        """``neighbours`` with a last row for the off-grid cell (``intent_rows`` looks every robot's cell up)."""
+        return np.concatenate([self.neighbours, np.full((1, len(self.form.near)), self.table.n_cells)])
 
     def keys(self, cells: np.ndarray, racing: np.ndarray, last: np.ndarray | None = None,
              goals: np.ndarray | None = None, trail: np.ndarray | None = None) -> np.ndarray:
@@ -418,16 +422,17 @@ def play_atlas(net: Any, atlas: Atlas, n_robots: int, n_envs: int, max_steps: in
 
 def _play(net: Any, atlas: Atlas, n_robots: int, n_envs: int, max_steps: int, rng: np.random.Generator,
           deterministic: bool, torch: Any) -> dict[str, float]:
-    from .sampler import PerKey
+    from .sampler import PerKey, sample_actions
     from .trail import Trails
 
     batch = atlas.batch(n_envs, n_robots, max_steps)
     batch.reset_drawn(np.arange(n_envs), rng)
     trails = Trails(atlas, n_envs, n_robots) if atlas.form.trail else None
     recurrent = getattr(net, "recurrent", False)
-    probs = PerKey(atlas, net.gate_inputs if recurrent else lambda rows: torch.softmax(net.actor(rows), 1))
     if atlas.form.intents:  # rows too many to number as keys: the net once per distinct row
-        probs = lambda keys: intent_probs(atlas, net, keys, batch)  # noqa: E731
+        probs: Any = lambda keys: intent_probs(atlas, net, keys, batch)  # noqa: E731
+    else:
+        probs = PerKey(atlas, net.gate_inputs if recurrent else lambda rows: torch.softmax(net.actor(rows), 1))
     h = net.initial_state(n_envs * n_robots) if recurrent else None  # one hidden state per robot, zero at the start
     done_at = np.full(n_envs, max_steps)
     last = np.full((n_envs, n_robots), NO_ACTION)
@@ -438,10 +443,7 @@ def _play(net: Any, atlas: Atlas, n_robots: int, n_envs: int, max_steps: int, rn
             with torch.no_grad():
                 h = net.step(torch.from_numpy(p), h)
                 p = torch.softmax(net.heads(h)[0], 1).numpy()
-        if deterministic:
-            actions = p.argmax(axis=1)
-        else:
-            actions = np.minimum((rng.random((p.shape[0], 1)) >= np.cumsum(p, axis=1)).sum(axis=1), 4)
+        actions = p.argmax(axis=1) if deterministic else sample_actions(p, rng)
         was = batch.over.copy()
         last = np.where(batch.racing, actions.reshape(n_envs, n_robots), last)
         batch.step(actions.reshape(n_envs, n_robots))
