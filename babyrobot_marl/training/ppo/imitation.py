@@ -1,6 +1,6 @@
 """``train_imitation``: a crowd of own goals that learns what the planner PIBT does (``PPOConfig.imitate="pibt"``),
 read top to bottom: per round, episodes on mazes of the family with PIBT labelling every robot's step, then
-passes of supervised learning over every labelled step so far.
+supervised learning on minibatches drawn from every labelled step so far.
 
 This is DAgger (Ross, Gordon and Bagnell, 2011), the way MAPF-GPT learns from LaCAM: a learner trained on
 the planner's own episodes has never seen the jams its own mistakes make, so after the first rounds the
@@ -11,12 +11,21 @@ intend (``intents.py``): what PIBT decides for a robot hangs on what they want.
 
 What PIBT sees and the learner does not: every robot's priority, and the robots beyond its near cells.
 The learner acts for each robot alone, on its own row, sampled (a greedy crowd waits on itself).
+
+The two halves of a round run side by side on two threads: the next round's episodes (Python: the env,
+PIBT) are driven by a copy of the net as it was when they began, while the net learns from the steps so far
+(torch's products, which release the interpreter). The learner is one round behind, as in asynchronous
+DAgger; which thread runs when never changes what is computed (same seed, same weights).
 """
 
 from __future__ import annotations
 
+import copy
+import threading
 import time
 from collections.abc import Callable
+from concurrent.futures import Future, ThreadPoolExecutor
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -33,6 +42,99 @@ EPISODES_PER_ROUND = 16
 EXPERT_ROUNDS = 3  # rounds in which PIBT still drives a share of the steps: 1, 2/3, 1/3
 
 
+def row_dtype(form: Any) -> type:
+    """The narrowest integer type a row's indices fit (a million rows of ~400 int16 indices: 0.8 GB)."""
+    return np.int16 if form.n_in < np.iinfo(np.int16).max else np.int32
+
+
+class Labelled:
+    """Every labelled row so far and its label, in arrays that double when full (a round copies its own rows only)."""
+
+    def __init__(self, dtype: type) -> None:
+        self.rows: np.ndarray = np.zeros((0, 0), dtype=dtype)
+        self.labels = np.zeros(0, dtype=np.int8)
+        self.n = self._last = 0  # rows held; rows held at the last ``fresh()``
+
+    def add(self, rows: np.ndarray, labels: np.ndarray) -> None:
+        if self.n + len(rows) > len(self.rows):
+            size = max(self.n + len(rows), 2 * len(self.rows), 1024)
+            grown = np.empty((size, rows.shape[1]), dtype=self.rows.dtype)
+            if self.n:
+                grown[: self.n] = self.rows[: self.n]
+            self.rows, self.labels = grown, np.concatenate([self.labels[: self.n], np.empty(size - self.n, np.int8)])
+        self.rows[self.n : self.n + len(rows)] = rows
+        self.labels[self.n : self.n + len(rows)] = labels
+        self.n += len(rows)
+
+    def fresh(self) -> int:
+        """The rows added since the last call."""
+        fresh, self._last = self.n - self._last, self.n
+        return fresh
+
+
+@dataclass
+class Round:
+    """One round's labelled steps: each step's rows and PIBT's actions, and the share of robots on their
+    targets at each episode's end."""
+
+    rows: list[np.ndarray] = field(default_factory=list)
+    labels: list[np.ndarray] = field(default_factory=list)
+    arrived: list[float] = field(default_factory=list)
+
+
+def collect_round(family: Family, n_robots: int, cfg: Any, env_kwargs: dict[str, Any], net: Any, beta: float,
+                  seed: int, stop: threading.Event | None = None) -> Round:
+    """``EPISODES_PER_ROUND`` episodes on mazes of the family with PIBT labelling every robot's step; PIBT
+    drives a share ``beta`` of the steps, ``net`` (sampled) the rest. ``stop``: set, the round ends at once."""
+    from ...envs.race import RaceEnv
+    from ...planning.pibt import PIBT
+
+    torch = torch_module()
+    if cfg.threads:
+        torch.set_num_threads(cfg.threads)  # OpenMP's setting is each thread's own
+    rng = np.random.default_rng(seed)  # mazes, episodes, the planner's ties, who drives, the learner's actions
+    form, got = family.form, Round()
+    for _ in range(EPISODES_PER_ROUND):
+        level = family.source(rng)
+        env = RaceEnv(level=level, n_robots=n_robots, start="random", observe="local", view_radius=cfg.view_radius,
+                      hint=cfg.hint, max_cycles=family.max_steps, **env_kwargs)
+        obs, _ = env.reset(seed=int(rng.integers(1 << 31)))
+        agents = env.possible_agents
+        planner = PIBT(level, [env.goals[a] for a in agents], seed=int(rng.integers(1 << 31)), rules=family.rules)
+        last = np.full(n_robots, NO_ACTION)
+        while env.agents:
+            if stop is not None and stop.is_set():
+                return got
+            rows = form.rows_of_observations(np.stack([obs[a] for a in agents]), last, None, env_intents(env, form))
+            expert = np.array(planner.actions(env.robot_cells))
+            got.rows.append(rows.astype(row_dtype(form)))
+            got.labels.append(expert)
+            if rng.random() < beta:
+                last = expert
+            else:
+                with torch.no_grad():
+                    last = sample_actions(torch.softmax(net.actor(torch.from_numpy(rows)), 1).double().numpy(), rng)
+            obs, _, _, _, _ = env.step(dict(zip(agents, last.tolist())))
+        got.arrived.append(float(np.mean([tuple(c) == tuple(env.goals[a]) for c, a in zip(env.robot_cells, agents)])))
+    return got
+
+
+def learn(net: Any, optim: Any, seen: Labelled, cfg: Any, order: Any) -> None:
+    """``n_epochs`` passes' worth of the rows added since the last call, in minibatches drawn from every row so
+    far (passes over all of them each round would make a run's cost grow with its rows squared)."""
+    torch = torch_module()
+    padding = net.actor.first.shape[0] - 1
+    n_batches = -(-cfg.n_epochs * seen.fresh() // cfg.batch_size)
+    for mb in torch.randint(seen.n, (n_batches, min(cfg.batch_size, seen.n)), generator=order).numpy():
+        rows, labels = (torch.from_numpy(a[mb].astype(np.int64)) for a in (seen.rows, seen.labels))
+        loss = torch.nn.functional.cross_entropy(net.actor(rows), labels)
+        optim.zero_grad()
+        loss.backward()
+        net.actor.first.grad[padding] = 0.0  # the padding row stays zero (Adam never moves it)
+        torch.nn.utils.clip_grad_norm_(optim.param_groups[0]["params"], cfg.max_grad_norm)
+        optim.step()
+
+
 def train_imitation(family: Family, n_robots: int, total: int, seed: int, cfg: Any, env_kwargs: dict[str, Any],
                     evaluate: Callable[[TrainResult], float] | None = None, target: float | None = None,
                     stop_at_target: bool = False, max_seconds: float | None = None,
@@ -41,9 +143,6 @@ def train_imitation(family: Family, n_robots: int, total: int, seed: int, cfg: A
                     on_trained: Callable[[TrainResult], None] | None = None, init: Any = None) -> TrainResult:
     """DAgger on PIBT for ``total`` robot-steps or ``max_seconds`` of training time; ``train_ppo``'s callbacks
     (``on_update``'s third figure: the share of robots on their targets at the ends of the round's episodes)."""
-    from ...envs.race import RaceEnv
-    from ...planning.pibt import PIBT
-
     check_imitation(family, n_robots, env_kwargs)
     torch = torch_module()
     torch.manual_seed(seed)
@@ -54,69 +153,47 @@ def train_imitation(family: Family, n_robots: int, total: int, seed: int, cfg: A
     params = list(net.actor.parameters())
     optim = torch.optim.Adam(params, lr=cfg.learning_rate, eps=1e-5)
     result = TrainResult(net, family.first, n_robots, cfg, seed, family=family.spec, env=trained_env(env_kwargs))
-    rng = np.random.default_rng([seed, 3])  # mazes, episodes, the planner's ties, who drives, the learner's actions
+    rng = np.random.default_rng([seed, 3])  # each round's seed
     order = torch.Generator().manual_seed(seed)
     kwargs = {k: v for k, v in env_kwargs.items() if k != "max_cycles"}
-    rows_seen: list[np.ndarray] = []
-    labels: list[np.ndarray] = []
-    store = np.int16 if form.n_in < np.iinfo(np.int16).max else np.int32  # a million rows of ~400 indices: 0.8 GB
+    seen = Labelled(row_dtype(form))
+    stop = threading.Event()
     next_eval = cfg.eval_every or float("inf")
     t0, c0 = time.perf_counter(), time.process_time()
 
-    def learner(rows: np.ndarray) -> np.ndarray:
-        with torch.no_grad():
-            return sample_actions(torch.softmax(net.actor(torch.from_numpy(rows)), 1).double().numpy(), rng)
+    def collect(rounds: int) -> Future[Round]:  # on the other thread, with a copy of the net as it is now
+        beta = max(0.0, 1.0 - rounds / EXPERT_ROUNDS)  # the share of steps PIBT drives
+        return pool.submit(collect_round, family, n_robots, cfg, kwargs, copy.deepcopy(net), beta,
+                           int(rng.integers(1 << 63)), stop)
 
     rounds = 0
-    while result.timesteps < total:
-        beta = max(0.0, 1.0 - rounds / EXPERT_ROUNDS)  # the share of steps PIBT drives
-        arrived = []
-        for _ in range(EPISODES_PER_ROUND):  # ---- collection: the planner labels, the learner (mostly) drives
-            level = family.source(rng)
-            env = RaceEnv(level=level, n_robots=n_robots, start="random", observe="local", view_radius=cfg.view_radius,
-                          hint=cfg.hint, max_cycles=family.max_steps, **kwargs)
-            obs, _ = env.reset(seed=int(rng.integers(1 << 31)))
-            agents = env.possible_agents
-            planner = PIBT(level, [env.goals[a] for a in agents], seed=int(rng.integers(1 << 31)), rules=family.rules)
-            last = np.full(n_robots, NO_ACTION)
-            while env.agents:
-                rows = form.rows_of_observations(np.stack([obs[a] for a in agents]), last, None, env_intents(env, form))
-                expert = np.array(planner.actions(env.robot_cells))
-                rows_seen.append(rows.astype(store))
-                labels.append(expert.astype(np.int8))
-                last = expert if rng.random() < beta else learner(rows)
-                obs, _, _, _, _ = env.step(dict(zip(agents, last.tolist())))
-                result.timesteps += n_robots
-            arrived.append(np.mean([tuple(c) == tuple(env.goals[a]) for c, a in zip(env.robot_cells, agents)]))
-        # ---- learning: n_epochs passes over every labelled step so far, in minibatches
-        rows_seen, labels = [np.concatenate(rows_seen)], [np.concatenate(labels)]  # kept small; a minibatch widened
-        x, y = rows_seen[0], torch.from_numpy(labels[0].astype(np.int64))
-        for _ in range(cfg.n_epochs):
-            shuffled = torch.randperm(len(y), generator=order)
-            for start in range(0, len(y), cfg.batch_size):
-                mb = shuffled[start : start + cfg.batch_size]
-                rows = torch.from_numpy(x[mb.numpy()].astype(np.int64))
-                loss = torch.nn.functional.cross_entropy(net.actor(rows), y[mb])
-                optim.zero_grad()
-                loss.backward()
-                net.actor.first.grad[form.n_in] = 0.0  # the padding row stays zero (Adam never moves it)
-                torch.nn.utils.clip_grad_norm_(params, cfg.max_grad_norm)
-                optim.step()
-        check_finite(params, result.timesteps, cfg)
-        rounds += 1
-        elapsed = result.seconds + time.perf_counter() - t0
-        if on_update is not None:
-            on_update(result.timesteps, elapsed, float(np.mean(arrived)))
-        if max_seconds is not None and elapsed >= max_seconds:
-            break
-        if result.timesteps >= next_eval and result.timesteps < total:
-            next_eval += cfg.eval_every
-            t0, c0 = evaluate_now(result, evaluate, on_eval, target, (t0, c0), float(np.mean(arrived)))
-            if stop_at_target and result.reached is not None:
-                break
+    with ThreadPoolExecutor(1) as pool:
+        pending: Future[Round] | None = collect(0)
+        try:
+            while pending is not None:
+                got = pending.result()
+                for rows, labels in zip(got.rows, got.labels):
+                    seen.add(rows, labels)
+                result.timesteps += n_robots * len(got.rows)
+                rounds += 1
+                if result.timesteps >= next_eval and result.timesteps < total:  # while no round is under way
+                    next_eval += cfg.eval_every
+                    t0, c0 = evaluate_now(result, evaluate, on_eval, target, (t0, c0), float(np.mean(got.arrived)))
+                    if stop_at_target and result.reached is not None:
+                        break
+                elapsed = result.seconds + time.perf_counter() - t0
+                more = result.timesteps < total and (max_seconds is None or elapsed < max_seconds)
+                # the next round's episodes, driven by the net as it is, while the net learns this round's steps
+                # (the episodes are Python, the learning torch's products, which let go of the interpreter)
+                pending = collect(rounds) if more else None
+                learn(net, optim, seen, cfg, order)
+                check_finite(params, result.timesteps, cfg)
+                if on_update is not None:
+                    on_update(result.timesteps, result.seconds + time.perf_counter() - t0, float(np.mean(got.arrived)))
+        finally:
+            stop.set()  # an interrupted run: the round under way ends at its next step
     net.eval()
     if on_trained is not None:
         on_trained(result)
     evaluate_now(result, evaluate, on_eval, target, (t0, c0), float("nan"))
     return result
-
