@@ -217,3 +217,18 @@ def test_an_input_too_wide_for_a_64_bit_key_is_refused_by_name():
         train_ppo("gridmaze:9..11", n_robots=4, timesteps=100, config=config, env_kwargs=STAY)
     train_ppo("gridmaze:9..11", n_robots=4, timesteps=100, config=config.replace(near_radius=3, n_envs=8, n_steps=4),
               env_kwargs=STAY)  # 3 fits
+
+
+def test_the_labelled_steps_keep_the_newest_within_their_memory():
+    """Labelled steps grow until their memory is full, then each new row replaces the oldest; each row keeps its
+    label, and ``fresh`` counts the rows added since it was last asked."""
+    from babyrobot_marl.training.ppo.imitation import Labelled
+
+    seen = Labelled(np.int16, memory=10 * 3 * 2)  # ten rows of three int16 indices
+    added = []
+    for step in range(9):
+        seen.add(np.full((3, 3), step, np.int16), np.full(3, step, np.int8))
+        added += [step] * 3
+        assert sorted(seen.labels[: seen.n].tolist()) == sorted(added[-10:])
+        assert (seen.rows[: seen.n] == seen.labels[: seen.n, None]).all()
+    assert (seen.n, seen.fresh(), seen.fresh()) == (10, 27, 0)

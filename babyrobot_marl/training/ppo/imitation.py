@@ -40,6 +40,7 @@ from .window import NO_ACTION, Family
 
 EPISODES_PER_ROUND = 16
 EXPERT_ROUNDS = 3  # rounds in which PIBT still drives a share of the steps: 1, 2/3, 1/3
+MEMORY = 2 << 30  # bytes of labelled rows kept (2.7M robot-steps of a 7x7 window): the newest, beyond it
 
 
 def row_dtype(form: Any) -> type:
@@ -48,27 +49,34 @@ def row_dtype(form: Any) -> type:
 
 
 class Labelled:
-    """Every labelled row so far and its label, in arrays that double when full (a round copies its own rows only)."""
+    """The labelled rows a run learns from and their labels: every one so far, up to ``memory`` bytes of rows,
+    then the newest that fit (each new row replaces the oldest). The arrays double until full, so a round
+    copies its own rows only."""
 
-    def __init__(self, dtype: type) -> None:
+    def __init__(self, dtype: type, memory: int = MEMORY) -> None:
         self.rows: np.ndarray = np.zeros((0, 0), dtype=dtype)
         self.labels = np.zeros(0, dtype=np.int8)
-        self.n = self._last = 0  # rows held; rows held at the last ``fresh()``
+        self.memory, self.capacity = memory, 0  # rows kept at most (known at the first rows)
+        self.n = self.added = self._last = 0  # rows held; rows ever added; rows added at the last ``fresh()``
 
     def add(self, rows: np.ndarray, labels: np.ndarray) -> None:
-        if self.n + len(rows) > len(self.rows):
-            size = max(self.n + len(rows), 2 * len(self.rows), 1024)
+        if not self.capacity:
+            self.capacity = max(len(rows), self.memory // (rows.shape[1] * self.rows.itemsize))
+        need = min(self.capacity, self.added + len(rows))
+        if need > len(self.rows):
+            size = min(self.capacity, max(need, 2 * len(self.rows), 1024))
             grown = np.empty((size, rows.shape[1]), dtype=self.rows.dtype)
             if self.n:
                 grown[: self.n] = self.rows[: self.n]
             self.rows, self.labels = grown, np.concatenate([self.labels[: self.n], np.empty(size - self.n, np.int8)])
-        self.rows[self.n : self.n + len(rows)] = rows
-        self.labels[self.n : self.n + len(rows)] = labels
-        self.n += len(rows)
+        at = (self.added + np.arange(len(rows))) % self.capacity  # in order, then round over the oldest
+        self.rows[at], self.labels[at] = rows, labels
+        self.added += len(rows)
+        self.n = min(self.added, self.capacity)
 
     def fresh(self) -> int:
         """The rows added since the last call."""
-        fresh, self._last = self.n - self._last, self.n
+        fresh, self._last = self.added - self._last, self.added
         return fresh
 
 
