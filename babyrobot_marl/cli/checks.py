@@ -258,10 +258,10 @@ def check_imitate_flags(args: argparse.Namespace) -> None:
     refused = [flag for flag, on in (("--lifelong", args.lifelong), ("--trail", args.trail), ("--recurrent", args.recurrent),
                                      ("--backend sb3", args.backend != "fast")) if on]
     refused += [f"--{name.replace('_', '-')}" for name in _PPO_ONLY if getattr(args, name, None) is not None]
-    for flag in refused[:1]:
+    if refused:
         raise ValueError(f"--imitate: learns a feed-forward net of the window, the hint, the last action and the "
-                             f"neighbours' intents on the fast backend, by supervised passes (--lr, --batch-size, --n-epochs, "
-                             f"--net-arch); drop {flag}")
+                         f"neighbours' intents on the fast backend, by supervised passes (--lr, --batch-size, --n-epochs, "
+                         f"--net-arch); drop {refused[0]}")
 
 
 _RACE_FLAGS = {"n_robots": "--robots", "level": "--level", "collisions": "--collisions"}

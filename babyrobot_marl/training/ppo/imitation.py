@@ -102,6 +102,7 @@ def collect_round(family: Family, n_robots: int, cfg: Any, env_kwargs: dict[str,
         torch.set_num_threads(cfg.threads)  # OpenMP's setting is each thread's own
     rng = np.random.default_rng(seed)  # mazes, episodes, the planner's ties, who drives, the learner's actions
     form, got = family.form, Round()
+    store = row_dtype(form)
     for _ in range(EPISODES_PER_ROUND):
         level = family.source(rng)
         env = RaceEnv(level=level, n_robots=n_robots, start="random", observe="local", view_radius=cfg.view_radius,
@@ -115,7 +116,7 @@ def collect_round(family: Family, n_robots: int, cfg: Any, env_kwargs: dict[str,
                 return got
             rows = form.rows_of_observations(np.stack([obs[a] for a in agents]), last, None, env_intents(env, form))
             expert = np.array(planner.actions(env.robot_cells))
-            got.rows.append(rows.astype(row_dtype(form)))
+            got.rows.append(rows.astype(store))
             got.labels.append(expert)
             if rng.random() < beta:
                 last = expert
