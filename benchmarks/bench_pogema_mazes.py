@@ -271,10 +271,10 @@ def policy_race(policy: Any, grid: str, starts: list[tuple[int, int]], goals: li
     them from colliding."""
     import torch
 
+    from babyrobot_marl.training.ppo.form import NO_ACTION
     from babyrobot_marl.training.ppo.intents import env_intents
     from babyrobot_marl.training.ppo.sampler import sample_actions
     from babyrobot_marl.training.ppo.trail import Trail
-    from babyrobot_marl.training.ppo.window import NO_ACTION
 
     form = policy.form
     env = race_v0.parallel_env(level=level_of(grid), n_robots=len(starts), goals="own", collisions="soft",

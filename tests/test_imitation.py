@@ -13,24 +13,26 @@ pytest.importorskip("torch")
 from babyrobot_marl import race_v0  # noqa: E402
 from babyrobot_marl.core.actions import Action  # noqa: E402
 from babyrobot_marl.core.level import Level  # noqa: E402
+from babyrobot_marl.planning import PIBT  # noqa: E402
 from babyrobot_marl.training.policy import WindowPolicy, load_checkpoint, load_policy  # noqa: E402
 from babyrobot_marl.training.ppo import PPOConfig, train_ppo  # noqa: E402
 from babyrobot_marl.training.ppo.inputs import near_offsets  # noqa: E402
-from babyrobot_marl.training.ppo.intents import INTENT_UNITS, env_intents  # noqa: E402
+from babyrobot_marl.training.ppo.intents import Ranks, env_intents, env_ranks  # noqa: E402
 from babyrobot_marl.training.ppo.net import make_net  # noqa: E402
 from babyrobot_marl.training.ppo.window import Atlas, Family, WindowForm  # noqa: E402
 
 STAY = {"goals": "own", "collisions": "soft", "finished": "stay"}
-FORM = WindowForm(2, near_offsets(2), True, goals="own", intents=True)
+FORM = WindowForm(2, near_offsets(2), True, goals="own", intents=True, ranks=True)
 GRID = "\n".join([".....#....", ".##..#.##.", ".#.......#", ".#.##.#...", "......#.#.", "##.#....#.",
                   "...#.##...", ".#...#..#.", ".#.#...##.", "...#.#...."])
 
 
 def _units(row: np.ndarray, form: WindowForm, offset: tuple[int, int]) -> set[int]:
-    """The intent units set in ``row`` for the near cell at ``offset`` (0-3: moves north..west, 4: on its target)."""
-    k = form.near.index(offset)
-    part = row[k * INTENT_UNITS : (k + 1) * INTENT_UNITS]
-    return {int(u - form.intents_first - k * INTENT_UNITS) for u in part if u != form.n_in}
+    """The intent units set in ``row`` for the near cell at ``offset`` (0-3: moves north..west, 4: on its target,
+    5: goes first)."""
+    k, u = form.near.index(offset), form.intent_units
+    part = row[k * u : (k + 1) * u]
+    return {int(v - form.intents_first - k * u) for v in part if v != form.n_in}
 
 
 def test_a_robot_reads_where_its_neighbours_go_and_whether_they_are_home():
@@ -38,15 +40,19 @@ def test_a_robot_reads_where_its_neighbours_go_and_whether_they_are_home():
                                start="random", **STAY)
     env.reset(seed=0, options={"starts": [(1, 1), (2, 0), (1, 2)], "goals": [(5, 1), (2, 1), (1, 0)]})
     env.step({"robot_0": Action.STAY, "robot_1": Action.SOUTH, "robot_2": Action.STAY})  # robot 1 arrives
-    rows = env_intents(env, FORM)
-    assert rows.shape == (3, len(FORM.near) * INTENT_UNITS)
+    rows = env_intents(env, FORM)  # robots 0 and 2 have stood off their targets two steps, robot 1 none: 2 goes first
+    assert rows.shape == (3, len(FORM.near) * 6)
     assert _units(rows[0], FORM, (1, 0)) == {4}  # robot 1, east of robot 0, stands on its target
-    assert _units(rows[0], FORM, (0, 1)) == {Action.NORTH - 1}  # robot 2, south of it, heads north
-    assert _units(rows[1], FORM, (-1, 0)) == {Action.EAST - 1}  # robot 0 heads east, into robot 1's cell
-    assert _units(rows[1], FORM, (-1, 1)) == {Action.NORTH - 1}
+    assert _units(rows[0], FORM, (0, 1)) == {Action.NORTH - 1, 5}  # robot 2, south of it, heads north, goes first
+    assert _units(rows[1], FORM, (-1, 0)) == {Action.EAST - 1, 5}  # robot 0 heads east, into robot 1's cell
+    assert _units(rows[1], FORM, (-1, 1)) == {Action.NORTH - 1, 5}
     assert _units(rows[2], FORM, (0, -1)) == {Action.EAST - 1} and _units(rows[2], FORM, (1, -1)) == {4}
+    assert (env_intents(env, FORM) == rows).all()  # read again at the same step: the same ranks
     seen = [(i, k) for i in range(3) for k in FORM.near if _units(rows[i], FORM, k)]
     assert len(seen) == 6  # each robot sees the other two, nothing else
+    env.step({"robot_0": Action.STAY, "robot_1": Action.NORTH, "robot_2": Action.STAY})  # robot 1 steps off again
+    rows = env_intents(env, FORM)  # one step off its target against robot 0's three: robot 0 still goes first
+    assert _units(rows[0], FORM, (1, -1)) == {Action.SOUTH - 1} and _units(rows[1], FORM, (-1, 1)) == {Action.EAST - 1, 5}
 
 
 @pytest.mark.parametrize("level", ["gridmaze:9..11", Level.from_grid(GRID)])
@@ -62,18 +68,40 @@ def test_the_batch_engine_and_a_bound_policy_read_the_same_rows(level):
         bound = policy.for_env(env)
         atlas = Atlas([env.level], env.rules, FORM, stay=True)
         w = env.level.width
+        ranks = Ranks(8)  # the judge's, beside the batch engine
         while env.agents:
             cells, racing = np.array(env._cells)[None, :], np.array(env._racing)[None, :]
             goals = np.array([[env.goals[a][1] * w + env.goals[a][0] for a in env.possible_agents]])
-            intents = atlas.intents(cells, racing, goals)
+            intents = atlas.intents(cells, racing, goals, ranks.values(cells, goals, np.array([env.elapsed_steps])))
             rows = np.concatenate([atlas.rows(atlas.keys(cells, racing, None, goals)), intents], axis=1)
             for a in env.agents:
                 i = env.possible_agents.index(a)
                 assert (bound.rows(obs[a])[0] == rows[i]).all()
                 checked += 1
-            kinds.update((intents[intents < FORM.n_in] - FORM.intents_first) % INTENT_UNITS)
+            kinds.update((intents[intents < FORM.n_in] - FORM.intents_first) % FORM.intent_units)
             obs, *_ = env.step({a: int(rng.integers(5)) for a in env.agents})
-    assert checked > 500 and kinds == {0, 1, 2, 3, 4}
+    assert checked > 500 and kinds == {0, 1, 2, 3, 4, 5}
+
+
+def test_the_robots_keep_pibts_priorities():
+    """The ranks a race's robots keep (``env_ranks``) are PIBT's own priorities over whole episodes (PIBT driving,
+    its ties those of the ranks), so the rows an imitation crowd learns from tell who PIBT lets go first."""
+    env = race_v0.parallel_env(level="gridmaze:9..11", n_robots=8, observe="local", hint=True, start="random",
+                               max_cycles=40, **STAY)
+    steps = arrived = 0
+    for seed in range(3):
+        env.reset(seed=seed)
+        planner = PIBT(env.level, [env.goals[a] for a in env.possible_agents], seed=seed)
+        planner.priority = Ranks(8).ties.tolist()
+        while env.agents:
+            env_intents(env, FORM)
+            actions = planner.actions(env.robot_cells)
+            ours = env_ranks(env.unwrapped)
+            assert np.allclose(ours.elapsed[0] + ours.ties, planner.priority)
+            arrived += int(sum(p < 1 for p in planner.priority))
+            steps += 1
+            env.step(dict(zip(env.possible_agents, actions)))
+    assert steps > 60 and arrived > 0  # robots reached their targets: their priorities fell below one
 
 
 @pytest.mark.train
@@ -95,7 +123,7 @@ def test_dagger_on_pibt_learns_a_crowd_that_brings_its_robots_home(tmp_path):
     path = result.save(str(tmp_path / "crowd.pt"))
     assert load_checkpoint(path)["config"]["imitate"] == "pibt"
     policy = load_policy(path)
-    assert policy.form.intents and policy.form.n_in == FORM.n_in + 5  # the window, target, hint, near bits, memory
+    assert policy.form.intents and policy.form.ranks and policy.form.n_in == FORM.n_in + 5  # ... and memory
 
 
 @pytest.mark.parametrize("argv, first", [

@@ -23,7 +23,7 @@ from __future__ import annotations
 import copy
 import os
 import warnings
-from dataclasses import asdict
+from dataclasses import asdict, replace
 from pathlib import Path
 from typing import Any
 
@@ -36,13 +36,13 @@ from .checks import ENV_SETTINGS, GLOBAL_FORM, check_fields, check_weights
 from .deps import torch_module, torch_threads
 from .lru import LastUsed
 from .ppo.config import PPOConfig
+from .ppo.form import NO_ACTION, WindowForm
 from .ppo.inputs import Inputs, near_offsets
 from .ppo.intents import robot_intents
 from .ppo.net import make_net, weight_shapes
 from .ppo.recurrent import make_recurrent_net, recurrent_weight_shapes
 from .ppo.sampler import PerKey
 from .ppo.trail import Trail
-from .ppo.window import NO_ACTION, WindowForm
 
 FORMAT = "babyrobot_marl.ppo"
 # 4: the observation form records the goal hint, and a level family's policy reads local windows; 3: the file
@@ -407,8 +407,15 @@ def inputs_of(data: dict[str, Any]) -> Inputs | WindowForm:
     if form.get("observe") == "local":
         memory, trail = (bool(data["config"].get(name, False)) for name in ("memory", "trail"))
         intents = data["config"].get("imitate") is not None and bool(near)  # an imitation crowd reads its neighbours
-        return WindowForm(form["view_radius"], near, form["hint"], memory, form.get("goals", "exit"), trail, intents)
+        window = WindowForm(form["view_radius"], near, form["hint"], memory, form.get("goals", "exit"), trail, intents)
+        return replace(window, ranks=intents and _n_rows(data) != window.n_in + 1)  # saved before ranks: without them
     return Inputs(data["width"], data["height"], near)
+
+
+def _n_rows(data: dict[str, Any]) -> int | None:
+    """The rows of the saved net's first layer (its inputs and the padding), None where it has none."""
+    first = data.get("state_dict", {}).get("actor.first")
+    return None if first is None else int(first.shape[0])
 
 
 def observation_kwargs(path: str | os.PathLike) -> dict[str, Any]:

@@ -9,8 +9,10 @@ the planner still drives a share of the steps (all, then two thirds, then a thir
 window, its target channel, the hint and its last action, as a PPO crowd does, and what the robots near it
 intend (``intents.py``): what PIBT decides for a robot hangs on what they want.
 
-What PIBT sees and the learner does not: every robot's priority, and the robots beyond its near cells.
-The learner acts for each robot alone, on its own row, sampled (a greedy crowd waits on itself).
+Each robot also reads which of the robots near it go before it (PIBT's priorities, kept by the robots as
+PIBT keeps them and told to their neighbours: ``intents.Ranks``). What PIBT sees and the learner does not:
+the robots beyond its near cells and what the ones before it have chosen this step. The learner acts for
+each robot alone, on its own row, sampled (a greedy crowd waits on itself).
 
 The two halves of a round run side by side on two threads: the next round's episodes (Python: the env,
 PIBT) are driven by a copy of the net as it was when they began, while the net learns from the steps so far
@@ -32,11 +34,12 @@ import numpy as np
 
 from ..checks import check_finite, check_imitation
 from ..deps import torch_module
-from .intents import env_intents
+from .form import NO_ACTION
+from .intents import Ranks, env_intents
 from .net import make_net
 from .result import EvalPoint, TrainResult, evaluate_now, trained_env
 from .sampler import sample_actions
-from .window import NO_ACTION, Family
+from .window import Family
 
 EPISODES_PER_ROUND = 16
 EXPERT_ROUNDS = 3  # rounds in which PIBT still drives a share of the steps: 1, 2/3, 1/3
@@ -110,6 +113,7 @@ def collect_round(family: Family, n_robots: int, cfg: Any, env_kwargs: dict[str,
         obs, _ = env.reset(seed=int(rng.integers(1 << 31)))
         agents = env.possible_agents
         planner = PIBT(level, [env.goals[a] for a in agents], seed=int(rng.integers(1 << 31)), rules=family.rules)
+        planner.priority = Ranks(n_robots).ties.tolist()  # its ties as the robots keep theirs (env_intents' ranks)
         last = np.full(n_robots, NO_ACTION)
         while env.agents:
             if stop is not None and stop.is_set():

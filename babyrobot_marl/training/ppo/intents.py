@@ -10,6 +10,10 @@ target". The units sit after every other part of a row (``WindowForm.n_in``); th
 where robots stand. An imitation policy (``imitation.py``) reads them: what PIBT decides for a robot hangs
 on what the robots around it want.
 
+With ``ranks`` a sixth unit says whether the robot there goes before this one: PIBT's priority, which
+the robots keep as PIBT does (``Ranks``: steps since each last stood on its target, ties to the higher
+robot number) and tell their neighbours, one number each. Who yields where two meet is PIBT's priority.
+
 The parts are the same, to the index, whether built from the batch engine's arrays (the trainer's
 judge, ``evaluate``) or from one env's robots (``WindowPolicy``, the maze benchmark): ``intent_rows``
 takes cells, targets and hint bits as arrays of ``(envs, robots)`` either way.
@@ -17,6 +21,7 @@ takes cells, targets and hint bits as arrays of ``(envs, robots)`` either way.
 
 from __future__ import annotations
 
+import weakref
 from functools import lru_cache
 from typing import Any
 
@@ -26,16 +31,43 @@ from ...core.actions import N_ACTIONS
 from ...core.goals import goal_hints
 from .inputs import Inputs
 
-INTENT_UNITS = 5  # per near cell: the hint's four moves, then "on its own target"
+INTENT_UNITS = 5  # per near cell: the hint's four moves, then "on its own target" (then, with ranks, "goes first")
+_RANKS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()  # each race env's robots' priorities (env_intents)
+
+
+class Ranks:
+    """The robots' PIBT priorities as they keep them (Okumura et al. 2022): a robot's grows by one at each step
+    it stands off its own target and is zero on it; ties go to the higher robot number (a fraction below one).
+    ``values`` reads them at an env's step ``t``: once per step, whoever asks; ``t == 0`` (or a step before the
+    last read) starts an episode."""
+
+    def __init__(self, n_robots: int):
+        self.ties = np.arange(n_robots) / max(n_robots, 1)
+        self.elapsed = np.zeros((0, n_robots), dtype=np.int64)  # per env and robot: steps off its target
+        self.t = np.zeros(0, dtype=np.int64)  # the step each env was read at last
+
+    def values(self, cells: np.ndarray, goals: np.ndarray, t: np.ndarray) -> np.ndarray:
+        """``(E, R)`` priorities of the robots on ``cells`` with targets ``goals`` (``(E, R)``) at steps ``t`` (``(E,)``)."""
+        off = np.asarray(cells) != np.asarray(goals)
+        t = np.asarray(t, dtype=np.int64).reshape(-1)
+        if len(self.t) != len(t):
+            self.elapsed, self.t = np.zeros(off.shape, dtype=np.int64), np.full_like(t, -1)  # read before step 0
+        new = ((t == 0) | (t < self.t))[:, None]  # a new episode (unread steps before this one count as off)
+        moved = ((t != self.t) | new[:, 0])[:, None]  # a step on from the last read (a missed step counts as off)
+        grown = np.where(off, np.where(new, t[:, None] + 1, self.elapsed + (t - self.t)[:, None]), 0)
+        self.elapsed = np.where(moved, grown, self.elapsed)
+        self.t = t
+        return self.elapsed + self.ties
 
 
 def intent_rows(neighbours: np.ndarray, cells: np.ndarray, racing: np.ndarray, hints: np.ndarray, goals: np.ndarray,
-                first: int, off: int) -> np.ndarray:
-    """``(E * R, m * 5)`` indices: for each robot and each of its ``m`` near cells (``neighbours``: ``(n_cells + 1,
-    m)``, the cell at each offset, ``n_cells`` off the grid), the units of the racing robot standing there, if
-    any: ``first + 5 k + d - 1`` for each move ``d`` (1-4) its ``hints`` bits (one number per robot, bit ``a``:
-    action ``a`` shortens its way) allow, ``first + 5 k + 4`` if it stands on its ``goals`` cell; ``off``
-    (the net's padding index) for the rest. ``cells``, ``racing``, ``hints``, ``goals``: ``(E, R)``."""
+                first: int, off: int, ranks: np.ndarray | None = None) -> np.ndarray:
+    """``(E * R, m * u)`` indices (``u``: 5, 6 with ``ranks``): for each robot and each of its ``m`` near cells
+    (``neighbours``: ``(n_cells + 1, m)``, the cell at each offset, ``n_cells`` off the grid), the units of the
+    racing robot standing there, if any: ``first + u k + d - 1`` for each move ``d`` (1-4) its ``hints`` bits
+    (one number per robot, bit ``a``: action ``a`` shortens its way) allow, ``first + u k + 4`` if it stands
+    on its ``goals`` cell, ``first + u k + 5`` if its ``ranks`` value is above the robot's; ``off`` (the net's
+    padding index) for the rest. ``cells``, ``racing``, ``hints``, ``goals``, ``ranks``: ``(E, R)``."""
     cells = np.asarray(cells, dtype=np.int64)
     e, r = cells.shape
     n, m = neighbours.shape[0] - 1, neighbours.shape[1]
@@ -51,11 +83,15 @@ def intent_rows(neighbours: np.ndarray, cells: np.ndarray, racing: np.ndarray, h
     bits = np.asarray(hints, dtype=np.int64)[env, at]  # each neighbour's hint as one number
     on = (cells[env, at] == np.asarray(goals, dtype=np.int64)[env, at]) & seen
     moves = (bits[..., None] >> np.arange(1, N_ACTIONS)) & 1  # (E, R, m, 4)
-    unit = first + np.arange(m)[:, None] * INTENT_UNITS + np.arange(N_ACTIONS - 1)
-    out = np.full((e, r, m, INTENT_UNITS), off, dtype=np.int64)
-    out[..., :4] = np.where((moves > 0) & seen[..., None], unit, off)
-    out[..., 4] = np.where(on, first + np.arange(m) * INTENT_UNITS + 4, off)
-    return out.reshape(e * r, m * INTENT_UNITS)
+    u = INTENT_UNITS + (ranks is not None)
+    unit = first + np.arange(m)[:, None] * u + np.arange(u)
+    out = np.full((e, r, m, u), off, dtype=np.int64)
+    out[..., :4] = np.where((moves > 0) & seen[..., None], unit[:, :4], off)
+    out[..., 4] = np.where(on, unit[:, 4], off)
+    if ranks is not None:
+        ranks = np.asarray(ranks)
+        out[..., 5] = np.where(seen & (ranks[env, at] > ranks[..., None]), unit[:, 5], off)
+    return out.reshape(e * r, m * u)
 
 
 @lru_cache(maxsize=16)
@@ -63,9 +99,18 @@ def _neighbours(width: int, height: int, near: tuple[tuple[int, int], ...]) -> n
     return Inputs(width, height, near).neighbours
 
 
+def env_ranks(race: Any) -> Ranks:
+    """The priorities the robots of ``race`` (a ``RaceEnv``) keep: one ``Ranks`` per env, read once per step."""
+    ranks = _RANKS.get(race)
+    if ranks is None or len(ranks.ties) != race.n_robots:
+        ranks = _RANKS[race] = Ranks(race.n_robots)
+    return ranks
+
+
 def env_intents(env: Any, form: Any) -> np.ndarray:
-    """``(n_robots, m * 5)``: ``intent_rows`` for every robot of a ``race_v0`` env of own goals (robot order), read
-    from its public state (``robot_cells``, ``goals``, ``agents``) as the batch engine's arrays give them."""
+    """``(n_robots, m * u)``: ``intent_rows`` for every robot of a ``race_v0`` env of own goals (robot order), read
+    from its public state (``robot_cells``, ``goals``, ``agents``, ``elapsed_steps``) as the batch engine's arrays
+    give them; with ``form.ranks``, the priorities its robots keep (``env_ranks``), to be read at every step."""
     race = getattr(env, "race", env)
     table = race.table
     agents = race.possible_agents
@@ -75,11 +120,12 @@ def env_intents(env: Any, form: Any) -> np.ndarray:
     racing = np.array([[a in live for a in agents]])
     hints = goal_hints(table, cells, goals) @ (1 << np.arange(N_ACTIONS))
     near = _neighbours(table.width, table.height, tuple(form.near))
-    return intent_rows(near, cells, racing, hints, goals, form.intents_first, form.n_in)
+    ranks = env_ranks(race).values(cells, goals, np.array([race.elapsed_steps])) if form.ranks else None
+    return intent_rows(near, cells, racing, hints, goals, form.intents_first, form.n_in, ranks)
 
 
 def robot_intents(env: Any, form: Any, xy: tuple[int, int]) -> np.ndarray:
-    """``(1, m * 5)``: ``env_intents`` of the racing robot standing at ``xy`` (the one whose observation it is)."""
+    """``(1, m * u)``: ``env_intents`` of the racing robot standing at ``xy`` (the one whose observation it is)."""
     race = getattr(env, "race", env)
     live = set(race.agents)
     for i, (cell, agent) in enumerate(zip(race.robot_cells, race.possible_agents)):

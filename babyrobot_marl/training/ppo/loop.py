@@ -25,6 +25,7 @@ from ...levels.sources import TRAIN_MAZE_SEEDS, level_source, parse_level_family
 from ..checks import check_finite
 from ..deps import torch_module, torch_threads  # torch_threads: also training.ppo.torch_threads, as before
 from .config import PPOConfig, known_settings
+from .form import NO_ACTION
 from .inputs import make_inputs
 from .net import log_softmax, make_net
 from .recurrent import Recurrence, make_recurrent_net
@@ -32,7 +33,7 @@ from .result import EvalPoint, TrainResult, evaluate_now, trained_env
 from .sampler import PerKey, Sampler, distinct_rows
 from .trail import Trails
 from .update import Samples, clip_grad_norm, gae, grads_of, ppo_gradients
-from .window import NO_ACTION, Family
+from .window import Family
 
 
 @contextlib.contextmanager
