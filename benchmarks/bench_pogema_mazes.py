@@ -262,6 +262,13 @@ def load_crowd_policy(path: str) -> tuple[Any, str | None]:
     return load_policy(path), None
 
 
+def softmax(net: Any, rows: np.ndarray) -> np.ndarray:
+    """A feed-forward net's action probabilities on rows of input indices."""
+    import torch
+
+    return torch.softmax(net.actor(torch.from_numpy(rows)), 1).double().numpy()
+
+
 def policy_race(policy: Any, grid: str, starts: list[tuple[int, int]], goals: list[tuple[int, int]],
                 rng: np.random.Generator, greedy: bool, finished: str = "stay", shield: bool = False) -> Episode:
     """One episode of the learnt crowd: every robot reads its local window (target channel, hint) as
@@ -272,9 +279,10 @@ def policy_race(policy: Any, grid: str, starts: list[tuple[int, int]], goals: li
     import torch
 
     from babyrobot_marl.training.ppo.form import NO_ACTION
-    from babyrobot_marl.training.ppo.intents import env_intents
+    from babyrobot_marl.training.ppo.intents import env_crowd
     from babyrobot_marl.training.ppo.sampler import sample_actions
     from babyrobot_marl.training.ppo.trail import Trail
+    from babyrobot_marl.training.ppo.turns import decide_in_turns
 
     form = policy.form
     env = race_v0.parallel_env(level=level_of(grid), n_robots=len(starts), goals="own", collisions="soft",
@@ -293,18 +301,25 @@ def policy_race(policy: Any, grid: str, starts: list[tuple[int, int]], goals: li
         who = [names[a] for a in env.agents]
         seen = np.stack([obs[a] for a in env.agents])
         trail = None if trails is None else np.array([trails[i].peek(o[0], o[1], table) for i, o in zip(who, seen)])
-        intents = env_intents(env, form)[who] if form.intents else None  # what the robots near each one intend
-        rows = form.rows_of_observations(seen, last[who], trail, intents)
+        crowd = env_crowd(env, form) if form.intents else None  # what the robots near each one intend
+        rows = form.rows_of_observations(seen, last[who], trail, None if crowd is None else crowd[0][who])
         uniq, inv = np.unique(rows, axis=0, return_inverse=True)
         with torch.no_grad():
-            if memory is None:
+            if form.turns:  # the robots choose in turns, each told what the near robots before it chose
+                base = np.full((len(starts), rows.shape[1]), form.n_in, dtype=np.int64)
+                base[who] = rows
+                pick = (lambda q: q.argmax(axis=1)) if greedy else (lambda q: sample_actions(q, rng))  # noqa: E731
+                chosen, p = decide_in_turns(base, *crowd[1:], lambda r: softmax(net, r), pick, form.turns_first, form.n_in)
+                moves, p = np.maximum(chosen[0, who], 0), p[who]
+            elif memory is None:
                 p = torch.softmax(net.actor(torch.from_numpy(uniq)), 1).double().numpy()[inv.reshape(-1)]
             else:  # the input part of the gates once per distinct row, the step per robot
                 at = torch.tensor(who)
                 memory[at] = net.step(net.gate_inputs(torch.from_numpy(uniq))[torch.from_numpy(inv.reshape(-1))], memory[at])
                 p = torch.softmax(net.heads(memory[at])[0], 1).double().numpy()
-        sampled = sample_actions(p, rng)
-        moves = p.argmax(axis=1) if greedy else sampled
+        if not form.turns:
+            sampled = sample_actions(p, rng)
+            moves = p.argmax(axis=1) if greedy else sampled
         if planner is not None:  # robots that stay on their targets stay in the race: all of them are here
             chosen = np.zeros_like(p)
             chosen[np.arange(len(p)), moves] = 1.0

@@ -200,12 +200,13 @@ def test_a_policy_of_own_goals_gets_its_row_beside_the_shortest_path_robots(b, c
     assert "shielded by PIBT (sampled)" in runs[0] and "learnt + PIBT shield (ours)" in runs[0]
 
 
-@pytest.mark.parametrize("memory", [{"recurrent": True}, {"trail": True}, {"recurrent": True, "trail": True}],
-                         ids=["recurrent", "trail", "recurrent-trail"])
+@pytest.mark.parametrize("memory", [{"recurrent": True}, {"trail": True}, {"recurrent": True, "trail": True},
+                                    {"imitate": "pibt", "hint": True, "near_radius": 2}],
+                         ids=["recurrent", "trail", "recurrent-trail", "imitation-in-turns"])
 def test_a_remembering_policy_acts_as_each_robot_bound_to_the_env_would(b, tmp_path, monkeypatch, memory):
-    """A crowd that remembers (a GRU's state per robot, its trail, and its last action) steps the benchmark's
-    episode as the package's own policy bound to each robot does: the same actions, step by step and robot by
-    robot."""
+    """A crowd that remembers (a GRU's state per robot, its trail, and its last action), or imitates PIBT deciding
+    in turns, steps the benchmark's episode as the package's own policy bound to each robot does: the same
+    actions, step by step and robot by robot."""
     pytest.importorskip("torch", reason="needs the train extra")
     import numpy as np
     import torch
@@ -215,9 +216,12 @@ def test_a_remembering_policy_acts_as_each_robot_bound_to_the_env_would(b, tmp_p
     from babyrobot_marl.training.ppo import PPOConfig, train_ppo
 
     path = tmp_path / "rec.pt"
+    finished = "stay" if "imitate" in memory else "remove"
     config = PPOConfig(n_envs=16, n_steps=16, batch_size=256, eval_every=0, atlas_size=2, memory=True, **memory)
-    train_ppo("maze:8..10", 4, 4096, seed=0, config=config, env_kwargs={"goals": "own", "collisions": "soft"}).save(path)
+    env_kwargs = {"goals": "own", "collisions": "soft", **({"finished": "stay", "max_cycles": 16} if "imitate" in memory else {})}
+    train_ppo("maze:8..10", 4, 4096, seed=0, config=config, env_kwargs=env_kwargs).save(path)
     policy, maze = load_policy(path), b.load_mazes()[0]
+    assert policy.form.turns == ("imitate" in memory)  # an imitation crowd decides in turns
     torch.manual_seed(0)
     with torch.no_grad():  # weights drawn at random: a policy this briefly trained mostly stays put
         for weight in policy.net.parameters():
@@ -233,12 +237,12 @@ def test_a_remembering_policy_acts_as_each_robot_bound_to_the_env_would(b, tmp_p
         return env
 
     monkeypatch.setattr(race_v0, "parallel_env", recorded)
-    b.policy_race(policy, maze["grid"], starts, goals, np.random.default_rng(0), greedy=True, finished="remove")
+    b.policy_race(policy, maze["grid"], starts, goals, np.random.default_rng(0), greedy=True, finished=finished)
     monkeypatch.setattr(race_v0, "parallel_env", real)
 
     env = race_v0.parallel_env(level=b.level_of(maze["grid"]), n_robots=8, goals="own", collisions="soft",
                                observe="local", view_radius=policy.form.radius, hint=policy.form.hint, start="random",
-                               max_cycles=b.STEPS, finished="remove")
+                               max_cycles=b.STEPS, finished=finished)
     obs, _ = env.reset(seed=0, options={"starts": starts, "goals": goals})
     robots = {a: policy.for_env(env) for a in env.possible_agents}
     while env.agents:

@@ -4,11 +4,12 @@ untrained one; its settings saved and read back; the CLI refuses what it cannot 
 
 import json
 from concurrent.futures import Future
+from dataclasses import replace
 
 import numpy as np
 import pytest
 
-pytest.importorskip("torch")
+torch = pytest.importorskip("torch")
 
 from babyrobot_marl import race_v0  # noqa: E402
 from babyrobot_marl.core.actions import Action  # noqa: E402
@@ -16,13 +17,16 @@ from babyrobot_marl.core.level import Level  # noqa: E402
 from babyrobot_marl.planning import PIBT  # noqa: E402
 from babyrobot_marl.training.policy import WindowPolicy, load_checkpoint, load_policy  # noqa: E402
 from babyrobot_marl.training.ppo import PPOConfig, train_ppo  # noqa: E402
+from babyrobot_marl.training.ppo.form import NO_ACTION  # noqa: E402
 from babyrobot_marl.training.ppo.inputs import near_offsets  # noqa: E402
-from babyrobot_marl.training.ppo.intents import Ranks, env_intents, env_ranks  # noqa: E402
+from babyrobot_marl.training.ppo.intents import Ranks, env_intents, env_ranks, near_robots  # noqa: E402
 from babyrobot_marl.training.ppo.net import make_net  # noqa: E402
+from babyrobot_marl.training.ppo.sampler import sample_actions  # noqa: E402
+from babyrobot_marl.training.ppo.turns import decide_in_turns, turn_rows, waves  # noqa: E402
 from babyrobot_marl.training.ppo.window import Atlas, Family, WindowForm  # noqa: E402
 
 STAY = {"goals": "own", "collisions": "soft", "finished": "stay"}
-FORM = WindowForm(2, near_offsets(2), True, goals="own", intents=True, ranks=True)
+FORM = WindowForm(2, near_offsets(2), True, goals="own", intents=True, ranks=True, turns=True)
 GRID = "\n".join([".....#....", ".##..#.##.", ".#.......#", ".#.##.#...", "......#.#.", "##.#....#.",
                   "...#.##...", ".#...#..#.", ".#.#...##.", "...#.#...."])
 
@@ -81,6 +85,90 @@ def test_the_batch_engine_and_a_bound_policy_read_the_same_rows(level):
             kinds.update((intents[intents < FORM.n_in] - FORM.intents_first) % FORM.intent_units)
             obs, *_ = env.step({a: int(rng.integers(5)) for a in env.agents})
     assert checked > 500 and kinds == {0, 1, 2, 3, 4, 5}
+
+
+def _judge_rows(env, atlas, ranks, last):
+    """The batch engine's view of a race env's step: base rows, near robots, priorities, racing."""
+    w = env.level.width
+    cells, racing = np.array(env._cells)[None, :], np.array(env._racing)[None, :]
+    goals = np.array([[env.goals[a][1] * w + env.goals[a][0] for a in env.possible_agents]])
+    order = ranks.values(cells, goals, np.array([env.elapsed_steps]))
+    base = np.concatenate([atlas.rows(atlas.keys(cells, racing, last, goals)), atlas.intents(cells, racing, goals, order)],
+                          axis=1)
+    return base, near_robots(atlas.near_padded, cells, racing), order, racing
+
+
+def _hashed(rows: np.ndarray) -> np.ndarray:
+    """Probabilities that change with every index of a row: one action, a hash of the row."""
+    p = np.zeros((len(rows), 5))
+    p[np.arange(len(rows)), (rows * np.arange(1, rows.shape[1] + 1) * 7919).sum(axis=1) % 5] = 1.0
+    return p
+
+
+def test_robots_in_turns_choose_as_one_at_a_time_in_priority_order():
+    """Turn by turn (``waves``, one net pass per turn) the crowd chooses what it would choose robot by robot from
+    the highest priority down, each reading the choices of the near robots before it; a crowd takes several turns."""
+    env = race_v0.parallel_env(level="gridmaze:11..13", n_robots=16, observe="local", hint=True, start="random",
+                               max_cycles=30, **STAY)
+    rng = np.random.default_rng(0)
+    most = 0
+    for seed in range(3):
+        env.reset(seed=seed)
+        atlas = Atlas([env.level], env.rules, FORM, stay=True)
+        ranks = Ranks(16)
+        while env.agents:
+            base, there, order, racing = _judge_rows(env, atlas, ranks, None)
+            pick = lambda p: p.argmax(axis=1)  # noqa: E731
+            chosen, _ = decide_in_turns(base, there, order, racing, _hashed, pick, FORM.turns_first, FORM.n_in)
+            one = np.full((1, 16), -1)
+            for i in np.argsort(-order[0]):
+                row = np.concatenate([base[i], turn_rows(there, order, one, FORM.turns_first, FORM.n_in)[i]])
+                one[0, i] = pick(_hashed(row[None]))[0]
+            assert np.array_equal(chosen, one)
+            most = max(most, int(waves(there, order).max()))
+            env.step({a: int(rng.integers(5)) for a in env.agents})
+    assert most >= 2  # some robot waited for a robot that waited for another
+
+
+@pytest.mark.parametrize("level", ["gridmaze:9..11", Level.from_grid(GRID)])
+def test_a_bound_crowd_decides_in_turns_as_the_trainers_judge_does(level):
+    """Bound policies, one per robot, answer from one plan per step (``env_turn``) that equals the batch engine's
+    (sampled from the same seed): the same rows, last actions, priorities and choices in the same turns."""
+    form = replace(FORM, memory=True)
+    env = race_v0.parallel_env(level=level, n_robots=8, observe="local", hint=True, start="random", max_cycles=30, **STAY)
+    net = make_net(form.n_in, (32,))
+    policy = WindowPolicy(net, form, 8, deterministic=False, seed=5)
+    judge_rng, steps = np.random.default_rng(5), 0
+
+    def probs(rows):
+        with torch.no_grad():
+            return torch.softmax(net.actor(torch.from_numpy(rows)), 1).double().numpy()
+
+    for seed in range(2):
+        obs, _ = env.reset(seed=seed)
+        robots = [policy.for_env(env) for _ in env.possible_agents]
+        atlas = Atlas([env.level], env.rules, form, stay=True)
+        ranks, last = Ranks(8), np.full((1, 8), NO_ACTION)
+        while env.agents:
+            base, there, order, racing = _judge_rows(env, atlas, ranks, last)
+            want, _ = decide_in_turns(base, there, order, racing, probs, lambda p: sample_actions(p, judge_rng),
+                                      form.turns_first, form.n_in)
+            acts = {a: robots[i](obs[a]) for i, a in enumerate(env.possible_agents) if a in env.agents}
+            assert [acts[a] for a in env.possible_agents] == want[0].tolist()
+            last, steps = want, steps + 1
+            obs, *_ = env.step(acts)
+    assert steps >= 40
+
+
+def test_a_race_env_shows_its_observations_as_its_last_step_returned():
+    env = race_v0.parallel_env(level="gridmaze:9..11", n_robots=6, observe="local", hint=True, start="random",
+                               max_cycles=20, **STAY)
+    obs, _ = env.reset(seed=1)
+    rng = np.random.default_rng(1)
+    while env.agents:
+        now = env.unwrapped.observations()
+        assert now.keys() == obs.keys() and all(np.array_equal(now[a], obs[a]) for a in obs)
+        obs, *_ = env.step({a: int(rng.integers(5)) for a in env.agents})
 
 
 def test_the_robots_keep_pibts_priorities():
@@ -156,7 +244,7 @@ def test_a_short_imitation_run_saves_and_evaluates_and_races(tmp_path, capsys):
             "--episodes", "8", "--save", str(path), "--no-progress"]
     assert run(argv) == 0
     out = capsys.readouterr().out
-    assert "imitation of PIBT" in out and "the near robots' intents" in out and "sampled:" in out
+    assert "imitation of PIBT" in out and "the near robots' intents, in turns" in out and "sampled:" in out
     assert json.loads(out.splitlines()[-1])["timesteps"] >= 1000
     assert run(["evaluate", str(path), "--level", "gridmaze:7..9", "--robots", "4", "--episodes", "4"]) == 0
     figures = json.loads(capsys.readouterr().out.splitlines()[-1])

@@ -262,7 +262,7 @@ def _family(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> d
     reads = f"view_radius {config.view_radius}{', hint' if config.hint else ''}{', memory' if config.memory else ''}"
     reads += ", trail" if config.trail else ""
     reads += f", a GRU of {config.hidden} units" if config.recurrent else ""
-    reads += ", the near robots' intents" if config.imitate else ""
+    reads += ", the near robots' intents, in turns" if config.imitate else ""
     reads += f", own goals{', lifelong' if args.lifelong else ''}" if args.goals == "own" else ""
     reads += ", finished stay" if args.finished == "stay" else ""
     reads += f", collisions {args.collisions}" if args.collisions else ""

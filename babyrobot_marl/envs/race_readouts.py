@@ -54,6 +54,11 @@ class RaceReadouts:
     def elapsed_steps(self) -> int:
         return self._t
 
+    def observations(self) -> dict[str, np.ndarray]:
+        """Each agent's observation now: what the last ``reset`` or ``step`` returned (fresh arrays)."""
+        self._check_started("observations")
+        return dict(zip(self.agents, self._observations()))
+
     @property
     def ranks(self) -> list[int]:
         """Each robot's finishing rank (1 = first; robots finishing in one step share it), 0 if not finished."""

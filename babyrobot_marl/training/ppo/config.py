@@ -30,7 +30,8 @@ class PPOConfig:
     remembers its episode: ``recurrent.py``); the envs step an atlas of ``atlas_size`` mazes, drawn anew
     every ``atlas_every`` rollouts.
     ``imitate``: ``"pibt"`` learns a crowd of own goals by imitating the planner PIBT instead of by PPO
-    (DAgger, ``imitation.py``); its robots also read what their neighbours intend (``intents.py``).
+    (DAgger, ``imitation.py``); its robots also read what their neighbours intend and which go first
+    (``intents.py``), and decide in turns, each told what the near robots before it chose (``turns.py``).
     ``eval_every``: timesteps between evaluations (0: only at the end).
     ``blocked_cost``: a race robot's training reward loses this much on a step another robot stops
     its move (``BatchRace.step``'s ``blocked``): each robot's return counts only its own steps, so

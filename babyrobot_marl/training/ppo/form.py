@@ -39,7 +39,8 @@ class WindowForm:
     """The net's input read from a local window of ``radius`` (the env's ``view_radius``): every window
     cell's terrain and edges, the hint bits if ``hint``, then one bit per ``near`` offset (a racing
     robot there), then the last action's unit if ``memory``, then the trail's units if ``trail``, then what the
-    robots on the near cells intend if ``intents`` (``intents.py``; with ``ranks``, who goes first). ``n_in``
+    robots on the near cells intend if ``intents`` (``intents.py``; with ``ranks``, who goes first), then with
+    ``turns`` what the ones that go first chose this step (``turns.py``: added by the caller, who knows). ``n_in``
     units; a row is ``K`` indices, ``n_in`` for "off" (the net's padding row)."""
 
     radius: int
@@ -50,6 +51,7 @@ class WindowForm:
     trail: bool = False
     intents: bool = False  # own goals: what the robots on the near cells intend (intents.py)
     ranks: bool = False  # with intents: whether each goes before this robot (PIBT's priority, intents.Ranks)
+    turns: bool = False  # with ranks: the robots decide in turns, each reading what the ones before it chose (turns.py)
 
     @property
     def own(self) -> bool:
@@ -80,6 +82,11 @@ class WindowForm:
 
     @property
     def n_in(self) -> int:
+        return self.turns_first + (len(self.near) * N_ACTIONS if self.turns else 0)
+
+    @property
+    def turns_first(self) -> int:
+        """The first unit of the actions chosen this step by the near robots that go first (``turns.py``)."""
         return self.intents_first + (len(self.near) * self.intent_units if self.intents else 0)
 
     @property

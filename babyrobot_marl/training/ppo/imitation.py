@@ -10,9 +10,10 @@ window, its target channel, the hint and its last action, as a PPO crowd does, a
 intend (``intents.py``): what PIBT decides for a robot hangs on what they want.
 
 Each robot also reads which of the robots near it go before it (PIBT's priorities, kept by the robots as
-PIBT keeps them and told to their neighbours: ``intents.Ranks``). What PIBT sees and the learner does not:
-the robots beyond its near cells and what the ones before it have chosen this step. The learner acts for
-each robot alone, on its own row, sampled (a greedy crowd waits on itself).
+PIBT keeps them and told to their neighbours: ``intents.Ranks``), and the robots decide in turns, each
+reading what the near robots before it chose this step (``turns.py``; in a labelled step, what PIBT chose
+for them). What PIBT sees and the learner does not: the robots beyond its near cells. The learner acts
+sampled (a greedy crowd waits on itself).
 
 The two halves of a round run side by side on two threads: the next round's episodes (Python: the env,
 PIBT) are driven by a copy of the net as it was when they began, while the net learns from the steps so far
@@ -35,10 +36,11 @@ import numpy as np
 from ..checks import check_finite, check_imitation
 from ..deps import torch_module
 from .form import NO_ACTION
-from .intents import Ranks, env_intents
+from .intents import Ranks, env_crowd
 from .net import make_net
 from .result import EvalPoint, TrainResult, evaluate_now, trained_env
 from .sampler import sample_actions
+from .turns import decide_in_turns, turn_rows
 from .window import Family
 
 EPISODES_PER_ROUND = 16
@@ -106,6 +108,14 @@ def collect_round(family: Family, n_robots: int, cfg: Any, env_kwargs: dict[str,
     rng = np.random.default_rng(seed)  # mazes, episodes, the planner's ties, who drives, the learner's actions
     form, got = family.form, Round()
     store = row_dtype(form)
+
+    def probs(rows: np.ndarray) -> np.ndarray:
+        with torch.no_grad():
+            return torch.softmax(net.actor(torch.from_numpy(rows)), 1).double().numpy()
+
+    def pick(p: np.ndarray) -> np.ndarray:
+        return sample_actions(p, rng)
+
     for _ in range(EPISODES_PER_ROUND):
         level = family.source(rng)
         env = RaceEnv(level=level, n_robots=n_robots, start="random", observe="local", view_radius=cfg.view_radius,
@@ -118,15 +128,19 @@ def collect_round(family: Family, n_robots: int, cfg: Any, env_kwargs: dict[str,
         while env.agents:
             if stop is not None and stop.is_set():
                 return got
-            rows = form.rows_of_observations(np.stack([obs[a] for a in agents]), last, None, env_intents(env, form))
+            intents, there, ranks, racing = env_crowd(env, form)
+            rows = form.rows_of_observations(np.stack([obs[a] for a in agents]), last, None, intents)
             expert = np.array(planner.actions(env.robot_cells))
-            got.rows.append(rows.astype(store))
+            told = turn_rows(there, ranks, expert[None], form.turns_first, form.n_in) if form.turns else rows[:, :0]
+            got.rows.append(np.concatenate([rows, told], axis=1).astype(store))  # what PIBT chose for those before
             got.labels.append(expert)
             if rng.random() < beta:
                 last = expert
+            elif form.turns:  # the net's choices, turn by turn
+                last = np.maximum(decide_in_turns(rows, there, ranks, racing, probs, pick, form.turns_first,
+                                                  form.n_in)[0][0], 0)
             else:
-                with torch.no_grad():
-                    last = sample_actions(torch.softmax(net.actor(torch.from_numpy(rows)), 1).double().numpy(), rng)
+                last = pick(probs(rows))
             obs, _, _, _, _ = env.step(dict(zip(agents, last.tolist())))
         got.arrived.append(float(np.mean([tuple(c) == tuple(env.goals[a]) for c, a in zip(env.robot_cells, agents)])))
     return got

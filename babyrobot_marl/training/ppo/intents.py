@@ -60,6 +60,19 @@ class Ranks:
         return self.elapsed + self.ties
 
 
+def near_robots(neighbours: np.ndarray, cells: np.ndarray, racing: np.ndarray) -> np.ndarray:
+    """``(E, R, m)``: the racing robot on each of each robot's ``m`` near cells, -1 for none (``neighbours``:
+    ``(n_cells + 1, m)``, the cell at each offset, ``n_cells`` off the grid; ``cells``, ``racing``: ``(E, R)``)."""
+    cells = np.asarray(cells, dtype=np.int64)
+    e, r = cells.shape
+    stride = neighbours.shape[0]
+    base = np.arange(e, dtype=np.int64)[:, None] * stride
+    who = np.full(e * stride, -1, dtype=np.int64)  # the robot on each cell of each env (-1: none; cell n: never)
+    robots = np.broadcast_to(np.arange(r, dtype=np.int64), (e, r))
+    who[(cells + base)[racing]] = robots[racing]
+    return who[neighbours[cells] + base[:, :, None]]
+
+
 def intent_rows(neighbours: np.ndarray, cells: np.ndarray, racing: np.ndarray, hints: np.ndarray, goals: np.ndarray,
                 first: int, off: int, ranks: np.ndarray | None = None) -> np.ndarray:
     """``(E * R, m * u)`` indices (``u``: 5, 6 with ``ranks``): for each robot and each of its ``m`` near cells
@@ -70,13 +83,8 @@ def intent_rows(neighbours: np.ndarray, cells: np.ndarray, racing: np.ndarray, h
     padding index) for the rest. ``cells``, ``racing``, ``hints``, ``goals``, ``ranks``: ``(E, R)``."""
     cells = np.asarray(cells, dtype=np.int64)
     e, r = cells.shape
-    n, m = neighbours.shape[0] - 1, neighbours.shape[1]
-    stride = n + 1
-    base = np.arange(e, dtype=np.int64)[:, None] * stride
-    who = np.full(e * stride, -1, dtype=np.int64)  # the robot on each cell of each env (-1: none; cell n: never)
-    robots = np.broadcast_to(np.arange(r, dtype=np.int64), (e, r))
-    who[(cells + base)[racing]] = robots[racing]
-    there = who[neighbours[cells] + base[:, :, None]]  # (E, R, m)
+    m = neighbours.shape[1]
+    there = near_robots(neighbours, cells, racing)  # (E, R, m)
     seen = there >= 0
     at = np.where(seen, there, 0)
     env = np.arange(e)[:, None, None]
@@ -107,10 +115,11 @@ def env_ranks(race: Any) -> Ranks:
     return ranks
 
 
-def env_intents(env: Any, form: Any) -> np.ndarray:
-    """``(n_robots, m * u)``: ``intent_rows`` for every robot of a ``race_v0`` env of own goals (robot order), read
-    from its public state (``robot_cells``, ``goals``, ``agents``, ``elapsed_steps``) as the batch engine's arrays
-    give them; with ``form.ranks``, the priorities its robots keep (``env_ranks``), to be read at every step."""
+def env_crowd(env: Any, form: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray | None, np.ndarray]:
+    """What the robots of a ``race_v0`` env of own goals tell each other now: ``intent_rows`` ``(R, m * u)``, the
+    robot on each one's near cells (``near_robots``, ``(1, R, m)``), with ``form.ranks`` their priorities
+    (``env_ranks``, ``(1, R)``, read at every step), and which are racing (``(1, R)``); robot order, read from the
+    env's public state (``robot_cells``, ``goals``, ``agents``, ``elapsed_steps``) as the batch engine's arrays give them."""
     race = getattr(env, "race", env)
     table = race.table
     agents = race.possible_agents
@@ -121,15 +130,27 @@ def env_intents(env: Any, form: Any) -> np.ndarray:
     hints = goal_hints(table, cells, goals) @ (1 << np.arange(N_ACTIONS))
     near = _neighbours(table.width, table.height, tuple(form.near))
     ranks = env_ranks(race).values(cells, goals, np.array([race.elapsed_steps])) if form.ranks else None
-    return intent_rows(near, cells, racing, hints, goals, form.intents_first, form.n_in, ranks)
+    rows = intent_rows(near, cells, racing, hints, goals, form.intents_first, form.n_in, ranks)
+    return rows, near_robots(near, cells, racing), ranks, racing
 
 
-def robot_intents(env: Any, form: Any, xy: tuple[int, int]) -> np.ndarray:
-    """``(1, m * u)``: ``env_intents`` of the racing robot standing at ``xy`` (the one whose observation it is)."""
+def env_intents(env: Any, form: Any) -> np.ndarray:
+    """``(n_robots, m * u)``: ``intent_rows`` for every robot of a ``race_v0`` env of own goals (``env_crowd``)."""
+    return env_crowd(env, form)[0]
+
+
+def robot_index(env: Any, xy: tuple[int, int]) -> int:
+    """The number of the racing robot of ``env`` standing at ``xy`` (the one whose observation a policy reads)."""
     race = getattr(env, "race", env)
     live = set(race.agents)
     for i, (cell, agent) in enumerate(zip(race.robot_cells, race.possible_agents)):
         if agent in live and tuple(cell) == tuple(xy):
-            return env_intents(race, form)[i : i + 1]
+            return i
     raise ValueError(f"obs: no racing robot of this policy's env stands at {tuple(xy)}; bind the policy to the env whose "
                      "robots it acts for (policy.for_env(env))")
+
+
+def robot_intents(env: Any, form: Any, xy: tuple[int, int]) -> np.ndarray:
+    """``(1, m * u)``: ``env_intents`` of the racing robot standing at ``xy`` (the one whose observation it is)."""
+    i = robot_index(env, xy)
+    return env_intents(env, form)[i : i + 1]

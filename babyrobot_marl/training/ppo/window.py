@@ -28,8 +28,9 @@ from ...core.rules import Rules
 from ...core.table import Table, compile_level
 from .form import _NVEC, N_HINT, NO_ACTION, WindowForm
 from .goal_inputs import HINT_VALUES, AtlasDistances, target_units
-from .intents import Ranks, intent_rows
+from .intents import Ranks, intent_rows, near_robots
 from .trail import TRAIL_VALUES
+from .turns import decide_in_turns
 
 __all__ = ["NO_ACTION", "Atlas", "Family", "WindowForm", "play_atlas", "stack_levels", "window_form"]
 
@@ -145,11 +146,11 @@ class Atlas:
         """``(E * R, m * u)``: what the racing robots on each robot's near cells intend (``intents.py``), and with
         ``ranks`` (``(E, R)``, ``Ranks.values``) whether each goes first."""
         hints = self.distances.hint_values(cells, goals)
-        return intent_rows(self._near_padded, cells, racing, hints, goals, self.form.intents_first, self.form.n_in,
+        return intent_rows(self.near_padded, cells, racing, hints, goals, self.form.intents_first, self.form.n_in,
                            ranks if self.form.ranks else None)
 
     @cached_property
-    def _near_padded(self) -> np.ndarray:
+    def near_padded(self) -> np.ndarray:
         """``neighbours`` with a last row for the off-grid cell (``intent_rows`` looks every robot's cell up)."""
         return np.concatenate([self.neighbours, np.full((1, len(self.form.near)), self.table.n_cells)])
 
@@ -278,22 +279,24 @@ def _play(net: Any, atlas: Atlas, n_robots: int, n_envs: int, max_steps: int, rn
     batch.reset_drawn(np.arange(n_envs), rng)
     trails = Trails(atlas, n_envs, n_robots) if atlas.form.trail else None
     recurrent = getattr(net, "recurrent", False)
-    if atlas.form.intents:  # rows too many to number as keys: the net once per distinct row
-        ranks = Ranks(n_robots)
-        probs: Any = lambda keys: intent_probs(atlas, net, keys, batch, ranks)  # noqa: E731
-    else:
-        probs = PerKey(atlas, net.gate_inputs if recurrent else lambda rows: torch.softmax(net.actor(rows), 1))
+    pick: Any = (lambda p: p.argmax(axis=1)) if deterministic else (lambda p: sample_actions(p, rng))  # noqa: E731
+    ranks = Ranks(n_robots) if atlas.form.intents else None  # rows too many to number as keys: the net per distinct row
+    probs = None if ranks else PerKey(atlas, net.gate_inputs if recurrent else lambda rows: torch.softmax(net.actor(rows), 1))
     h = net.initial_state(n_envs * n_robots) if recurrent else None  # one hidden state per robot, zero at the start
     done_at = np.full(n_envs, max_steps)
     last = np.full((n_envs, n_robots), NO_ACTION)
     while not batch.over.all():
         trail = trails.values(batch) if trails is not None else None
-        p = probs(atlas.keys(batch.cells, batch.racing, last, batch.goals, trail).reshape(-1))
-        if recurrent:
-            with torch.no_grad():
-                h = net.step(torch.from_numpy(p), h)
-                p = torch.softmax(net.heads(h)[0], 1).numpy()
-        actions = p.argmax(axis=1) if deterministic else sample_actions(p, rng)
+        keys = atlas.keys(batch.cells, batch.racing, last, batch.goals, trail).reshape(-1)
+        if ranks is not None:
+            actions = intent_actions(atlas, net, keys, batch, ranks, pick)
+        else:
+            p = probs(keys)
+            if recurrent:
+                with torch.no_grad():
+                    h = net.step(torch.from_numpy(p), h)
+                    p = torch.softmax(net.heads(h)[0], 1).numpy()
+            actions = pick(p)
         was = batch.over.copy()
         last = np.where(batch.racing, actions.reshape(n_envs, n_robots), last)
         batch.step(actions.reshape(n_envs, n_robots))
@@ -307,18 +310,27 @@ def _play(net: Any, atlas: Atlas, n_robots: int, n_envs: int, max_steps: int, rn
     return score
 
 
-def intent_probs(atlas: Atlas, net: Any, keys: np.ndarray, batch: BatchRace, ranks: Ranks) -> np.ndarray:
-    """The action probabilities of a policy that reads its neighbours' intents: each robot's row is its key's
-    row and the intents of the robots near it in ``batch`` (``Atlas.intents``; who goes first by ``ranks``, read
-    at this step), the net once per distinct row."""
+def intent_actions(atlas: Atlas, net: Any, keys: np.ndarray, batch: BatchRace, ranks: Ranks,
+                   pick: Any) -> np.ndarray:
+    """The actions (``pick``: probabilities to actions) of a crowd that reads its neighbours' intents: each robot's
+    row is its key's row and the intents of the robots near it in ``batch`` (``Atlas.intents``; who goes first by
+    ``ranks``, read at this step), the net once per distinct row; with ``turns``, chosen in turns (``turns.py``)."""
     from ..deps import torch_module
 
-    torch = torch_module()
-    order = ranks.values(batch.cells, batch.goals, batch.t) if atlas.form.ranks else None
+    torch, form = torch_module(), atlas.form
+    order = ranks.values(batch.cells, batch.goals, batch.t) if form.ranks else None
     rows = np.concatenate([atlas.rows(keys), atlas.intents(batch.cells, batch.racing, batch.goals, order)], axis=1)
-    uniq, inv = unique_rows(rows)
-    with torch.no_grad():
-        return torch.softmax(net.actor(torch.from_numpy(uniq)), 1).numpy()[inv]
+
+    def probs(rows: np.ndarray) -> np.ndarray:
+        uniq, inv = unique_rows(rows)
+        with torch.no_grad():
+            return torch.softmax(net.actor(torch.from_numpy(uniq)), 1).numpy()[inv]
+
+    if not form.turns:
+        return pick(probs(rows))
+    there = near_robots(atlas.near_padded, batch.cells, batch.racing)
+    chosen, _ = decide_in_turns(rows, there, order, batch.racing, probs, pick, form.turns_first, form.n_in)
+    return np.maximum(chosen, 0).reshape(-1)  # robots not racing: any action
 
 
 def window_form(cfg: Any, n_robots: int, goals: str = "exit") -> WindowForm:
@@ -326,4 +338,4 @@ def window_form(cfg: Any, n_robots: int, goals: str = "exit") -> WindowForm:
     from .inputs import near_offsets
 
     return WindowForm(cfg.view_radius, near_offsets(cfg.near_radius) if n_robots > 1 else (), cfg.hint, cfg.memory, goals,
-                      cfg.trail, *[getattr(cfg, "imitate", None) is not None and n_robots > 1] * 2)  # intents, ranks
+                      cfg.trail, *[getattr(cfg, "imitate", None) is not None and n_robots > 1] * 3)  # intents, ranks, turns
