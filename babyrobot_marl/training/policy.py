@@ -34,10 +34,7 @@ from .ppo.form import WindowForm
 from .ppo.inputs import Inputs, near_offsets
 from .ppo.net import make_net, weight_shapes
 from .ppo.recurrent import make_recurrent_net, recurrent_weight_shapes
-from .trained import Decoder, SingleWindowRows, TrainedPolicy, WindowPolicy
-
-__all__ = ["Decoder", "SingleWindowRows", "TrainedPolicy", "WindowPolicy", "load_checkpoint", "load_net", "load_policy",
-           "make_policy", "save_policy"]
+from .trained import TrainedPolicy, WindowPolicy
 
 FORMAT = "babyrobot_marl.ppo"
 # 4: the observation form records the goal hint, and a level family's policy reads local windows; 3: the file
