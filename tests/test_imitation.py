@@ -171,6 +171,21 @@ def test_a_race_env_shows_its_observations_as_its_last_step_returned():
         obs, *_ = env.step({a: int(rng.integers(5)) for a in env.agents})
 
 
+def test_the_judges_ranks_grow_with_the_batch_engines_step_count():
+    """The judge reads ranks at the batch engine's own step counter, which the engine counts up in place: robots
+    that stand still off their targets go up one a step."""
+    env = race_v0.parallel_env(level=Level.from_grid(GRID), n_robots=4, observe="local", hint=True, start="random", **STAY)
+    atlas = Atlas([env.level], env.rules, FORM, stay=True)
+    batch = atlas.batch(3, 4, 10)
+    batch.reset_drawn(np.arange(3), np.random.default_rng(0))
+    ranks = Ranks(4)
+    for step in range(5):
+        values = ranks.values(batch.cells, batch.goals, batch.t)
+        off = batch.cells != batch.goals
+        assert off.all() and np.array_equal(np.floor(values), np.where(off, step + 1, 0))
+        batch.step(np.zeros((3, 4), dtype=np.int64))  # everyone stays
+
+
 def test_the_robots_keep_pibts_priorities():
     """The ranks a race's robots keep (``env_ranks``) are PIBT's own priorities over whole episodes (PIBT driving,
     its ties those of the ranks), so the rows an imitation crowd learns from tell who PIBT lets go first."""

@@ -56,7 +56,7 @@ class Ranks:
         moved = ((t != self.t) | new[:, 0])[:, None]  # a step on from the last read (a missed step counts as off)
         grown = np.where(off, np.where(new, t[:, None] + 1, self.elapsed + (t - self.t)[:, None]), 0)
         self.elapsed = np.where(moved, grown, self.elapsed)
-        self.t = t
+        self.t = t.copy()  # not the caller's array: the batch engine counts its steps in place
         return self.elapsed + self.ties
 
 
