@@ -11,7 +11,7 @@ pytest.importorskip("torch", reason="needs the train extra")
 from babyrobot_marl import race_v0  # noqa: E402
 from babyrobot_marl.envs.single import BabyRobotEnv  # noqa: E402
 from babyrobot_marl.experiments import evaluate  # noqa: E402
-from babyrobot_marl.training import policy as policy_module  # noqa: E402
+from babyrobot_marl.training import trained as trained_module  # noqa: E402
 from babyrobot_marl.training.policy import load_policy  # noqa: E402
 from babyrobot_marl.training.ppo import PPOConfig, train_ppo  # noqa: E402
 from tests.cli_run import run  # noqa: E402
@@ -61,7 +61,7 @@ def test_a_lone_robots_window_is_the_one_race_v0_shows_it(crowd):
 
 
 def test_the_action_cache_stays_bounded_over_a_long_evaluation(crowd, monkeypatch):
-    monkeypatch.setattr(policy_module, "PROBS_CACHE", 16)
+    monkeypatch.setattr(trained_module, "PROBS_CACHE", 16)
     policy = load_policy(crowd, deterministic=False, seed=0)
     computed = []
     put = policy._probs.put
