@@ -73,6 +73,16 @@ def near_robots(neighbours: np.ndarray, cells: np.ndarray, racing: np.ndarray) -
     return who[neighbours[cells] + base[:, :, None]]
 
 
+def goes_first(there: np.ndarray, ranks: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Which near robots (``there``, ``near_robots``) go before each robot by ``ranks`` ``(E, R, m)``, their robot
+    numbers (0 where none) and the envs' index, to look their parts up."""
+    seen = there >= 0
+    at = np.where(seen, there, 0)
+    env = np.arange(there.shape[0])[:, None, None]
+    ranks = np.asarray(ranks)
+    return seen & (ranks[env, at] > ranks[..., None]), at, env
+
+
 def intent_rows(neighbours: np.ndarray, cells: np.ndarray, racing: np.ndarray, hints: np.ndarray, goals: np.ndarray,
                 first: int, off: int, ranks: np.ndarray | None = None) -> np.ndarray:
     """``(E * R, m * u)`` indices (``u``: 5, 6 with ``ranks``): for each robot and each of its ``m`` near cells
@@ -97,8 +107,7 @@ def intent_rows(neighbours: np.ndarray, cells: np.ndarray, racing: np.ndarray, h
     out[..., :4] = np.where((moves > 0) & seen[..., None], unit[:, :4], off)
     out[..., 4] = np.where(on, unit[:, 4], off)
     if ranks is not None:
-        ranks = np.asarray(ranks)
-        out[..., 5] = np.where(seen & (ranks[env, at] > ranks[..., None]), unit[:, 5], off)
+        out[..., 5] = np.where(goes_first(there, ranks)[0], unit[:, 5], off)
     return out.reshape(e * r, m * u)
 
 

@@ -24,18 +24,10 @@ import numpy as np
 
 from ...core.actions import N_ACTIONS
 from .form import NO_ACTION, WindowForm
-from .intents import env_crowd
+from .intents import env_crowd, goes_first
 
 TURN_UNITS = N_ACTIONS  # per near cell: the action (0-4) the robot there chose this step, if it goes first
 _TURNS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()  # each race env's plan of its step (env_turn)
-
-
-def _before(there: np.ndarray, ranks: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Which near robots go before each robot ``(E, R, m)``, their robot numbers and the envs' index."""
-    seen = there >= 0
-    at = np.where(seen, there, 0)
-    env = np.arange(there.shape[0])[:, None, None]
-    return seen & (ranks[env, at] > ranks[..., None]), at, env
 
 
 def turn_rows(there: np.ndarray, ranks: np.ndarray, chosen: np.ndarray, first: int, off: int) -> np.ndarray:
@@ -43,14 +35,14 @@ def turn_rows(there: np.ndarray, ranks: np.ndarray, chosen: np.ndarray, first: i
     ``intents.near_robots``) goes before it (``ranks``, ``(E, R)``) and chose action ``a`` (``chosen``, ``(E, R)``,
     -1: not yet); ``off`` (the net's padding index) for the rest."""
     e, r, m = there.shape
-    before, at, env = _before(there, ranks)
+    before, at, env = goes_first(there, ranks)
     a = np.asarray(chosen, dtype=np.int64)[env, at]
     return np.where(before & (a >= 0), first + np.arange(m) * TURN_UNITS + a, off).reshape(e * r, m)
 
 
 def waves(there: np.ndarray, ranks: np.ndarray) -> np.ndarray:
     """``(E, R)``: each robot's turn, 0 if no near robot goes before it, else one after the latest of theirs."""
-    before, at, env = _before(there, ranks)
+    before, at, env = goes_first(there, ranks)
     turn = np.zeros(ranks.shape, dtype=np.int64)
     for _ in range(ranks.shape[1]):  # priorities are a strict order: each pass settles one more turn at least
         later = np.where(before, turn[env, at] + 1, 0).max(axis=2, initial=0)
