@@ -19,7 +19,7 @@ from babyrobot_marl.training.policy import WindowPolicy, load_checkpoint, load_p
 from babyrobot_marl.training.ppo import PPOConfig, train_ppo  # noqa: E402
 from babyrobot_marl.training.ppo.form import NO_ACTION  # noqa: E402
 from babyrobot_marl.training.ppo.inputs import near_offsets  # noqa: E402
-from babyrobot_marl.training.ppo.intents import Ranks, env_intents, env_ranks, near_robots  # noqa: E402
+from babyrobot_marl.training.ppo.intents import Ranks, env_intents, env_ranks  # noqa: E402
 from babyrobot_marl.training.ppo.net import make_net  # noqa: E402
 from babyrobot_marl.training.ppo.sampler import sample_actions  # noqa: E402
 from babyrobot_marl.training.ppo.turns import decide_in_turns, turn_rows, waves  # noqa: E402
@@ -76,7 +76,8 @@ def test_the_batch_engine_and_a_bound_policy_read_the_same_rows(level):
         while env.agents:
             cells, racing = np.array(env._cells)[None, :], np.array(env._racing)[None, :]
             goals = np.array([[env.goals[a][1] * w + env.goals[a][0] for a in env.possible_agents]])
-            intents = atlas.intents(cells, racing, goals, ranks.values(cells, goals, np.array([env.elapsed_steps])))
+            order = ranks.values(cells, goals, np.array([env.elapsed_steps]))
+            intents = atlas.intents(atlas.near_robots(cells, racing), cells, goals, order)
             rows = np.concatenate([atlas.rows(atlas.keys(cells, racing, None, goals)), intents], axis=1)
             for a in env.agents:
                 i = env.possible_agents.index(a)
@@ -93,9 +94,10 @@ def _judge_rows(env, atlas, ranks, last):
     cells, racing = np.array(env._cells)[None, :], np.array(env._racing)[None, :]
     goals = np.array([[env.goals[a][1] * w + env.goals[a][0] for a in env.possible_agents]])
     order = ranks.values(cells, goals, np.array([env.elapsed_steps]))
-    base = np.concatenate([atlas.rows(atlas.keys(cells, racing, last, goals)), atlas.intents(cells, racing, goals, order)],
+    there = atlas.near_robots(cells, racing)
+    base = np.concatenate([atlas.rows(atlas.keys(cells, racing, last, goals)), atlas.intents(there, cells, goals, order)],
                           axis=1)
-    return base, near_robots(atlas.near_padded, cells, racing), order, racing
+    return base, there, order, racing
 
 
 def _hashed(rows: np.ndarray) -> np.ndarray:

@@ -16,7 +16,8 @@ robot number) and tell their neighbours, one number each. Who yields where two m
 
 The parts are the same, to the index, whether built from the batch engine's arrays (the trainer's
 judge, ``evaluate``) or from one env's robots (``WindowPolicy``, the maze benchmark): ``intent_rows``
-takes cells, targets and hint bits as arrays of ``(envs, robots)`` either way.
+takes cells, targets and hint bits as arrays of ``(envs, robots)`` either way, and the robots near each one
+(``near_robots``), which its callers compute once for the intents and the turns.
 """
 
 from __future__ import annotations
@@ -83,18 +84,16 @@ def goes_first(there: np.ndarray, ranks: np.ndarray) -> tuple[np.ndarray, np.nda
     return seen & (ranks[env, at] > ranks[..., None]), at, env
 
 
-def intent_rows(neighbours: np.ndarray, cells: np.ndarray, racing: np.ndarray, hints: np.ndarray, goals: np.ndarray,
-                first: int, off: int, ranks: np.ndarray | None = None) -> np.ndarray:
-    """``(E * R, m * u)`` indices (``u``: 5, 6 with ``ranks``): for each robot and each of its ``m`` near cells
-    (``neighbours``: ``(n_cells + 1, m)``, the cell at each offset, ``n_cells`` off the grid), the units of the
-    racing robot standing there, if any: ``first + u k + d - 1`` for each move ``d`` (1-4) its ``hints`` bits
-    (one number per robot, bit ``a``: action ``a`` shortens its way) allow, ``first + u k + 4`` if it stands
-    on its ``goals`` cell, ``first + u k + 5`` if its ``ranks`` value is above the robot's; ``off`` (the net's
-    padding index) for the rest. ``cells``, ``racing``, ``hints``, ``goals``, ``ranks``: ``(E, R)``."""
+def intent_rows(there: np.ndarray, cells: np.ndarray, hints: np.ndarray, goals: np.ndarray, first: int, off: int,
+                ranks: np.ndarray | None = None) -> np.ndarray:
+    """``(E * R, m * u)`` indices (``u``: 5, 6 with ``ranks``): for each robot and each of its ``m`` near cells, the
+    units of the racing robot standing there (``there``: ``near_robots``, ``(E, R, m)``), if any: ``first + u k + d - 1``
+    for each move ``d`` (1-4) its ``hints`` bits (one number per robot, bit ``a``: action ``a`` shortens its way)
+    allow, ``first + u k + 4`` if it stands on its ``goals`` cell, ``first + u k + 5`` if its ``ranks`` value is
+    above the robot's; ``off`` (the net's padding index) for the rest. ``cells``, ``hints``, ``goals``, ``ranks``:
+    ``(E, R)``."""
     cells = np.asarray(cells, dtype=np.int64)
-    e, r = cells.shape
-    m = neighbours.shape[1]
-    there = near_robots(neighbours, cells, racing)  # (E, R, m)
+    e, r, m = there.shape
     seen = there >= 0
     at = np.where(seen, there, 0)
     env = np.arange(e)[:, None, None]
@@ -139,8 +138,8 @@ def env_crowd(env: Any, form: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray |
     hints = goal_hints(table, cells, goals) @ (1 << np.arange(N_ACTIONS))
     near = _neighbours(table.width, table.height, tuple(form.near))
     ranks = env_ranks(race).values(cells, goals, np.array([race.elapsed_steps])) if form.ranks else None
-    rows = intent_rows(near, cells, racing, hints, goals, form.intents_first, form.n_in, ranks)
-    return rows, near_robots(near, cells, racing), ranks, racing
+    there = near_robots(near, cells, racing)
+    return intent_rows(there, cells, hints, goals, form.intents_first, form.n_in, ranks), there, ranks, racing
 
 
 def env_intents(env: Any, form: Any) -> np.ndarray:

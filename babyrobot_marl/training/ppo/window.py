@@ -142,16 +142,20 @@ class Atlas:
         at = np.minimum(np.searchsorted(occupied, want), max(occupied.size - 1, 0))
         return (occupied.size > 0) & (occupied[at] == want) if occupied.size else np.zeros(want.shape, dtype=bool)
 
-    def intents(self, cells: np.ndarray, racing: np.ndarray, goals: np.ndarray, ranks: np.ndarray | None = None) -> np.ndarray:
-        """``(E * R, m * u)``: what the racing robots on each robot's near cells intend (``intents.py``), and with
-        ``ranks`` (``(E, R)``, ``Ranks.values``) whether each goes first."""
+    def intents(self, there: np.ndarray, cells: np.ndarray, goals: np.ndarray, ranks: np.ndarray | None = None) -> np.ndarray:
+        """``(E * R, m * u)``: what the racing robots on each robot's near cells (``there``: ``near_robots``) intend
+        (``intents.py``), and with ``ranks`` (``(E, R)``, ``Ranks.values``) whether each goes first."""
         hints = self.distances.hint_values(cells, goals)
-        return intent_rows(self.near_padded, cells, racing, hints, goals, self.form.intents_first, self.form.n_in,
+        return intent_rows(there, cells, hints, goals, self.form.intents_first, self.form.n_in,
                            ranks if self.form.ranks else None)
+
+    def near_robots(self, cells: np.ndarray, racing: np.ndarray) -> np.ndarray:
+        """``(E, R, m)``: the racing robot on each robot's near cells, -1 for none (``intents.near_robots``)."""
+        return near_robots(self.near_padded, cells, racing)
 
     @cached_property
     def near_padded(self) -> np.ndarray:
-        """``neighbours`` with a last row for the off-grid cell (``intent_rows`` looks every robot's cell up)."""
+        """``neighbours`` with a last row for the off-grid cell (``near_robots`` looks every robot's cell up)."""
         return np.concatenate([self.neighbours, np.full((1, len(self.form.near)), self.table.n_cells)])
 
     def keys(self, cells: np.ndarray, racing: np.ndarray, last: np.ndarray | None = None,
@@ -319,7 +323,8 @@ def intent_actions(atlas: Atlas, net: Any, keys: np.ndarray, batch: BatchRace, r
 
     torch, form = torch_module(), atlas.form
     order = ranks.values(batch.cells, batch.goals, batch.t) if form.ranks else None
-    rows = np.concatenate([atlas.rows(keys), atlas.intents(batch.cells, batch.racing, batch.goals, order)], axis=1)
+    there = atlas.near_robots(batch.cells, batch.racing)
+    rows = np.concatenate([atlas.rows(keys), atlas.intents(there, batch.cells, batch.goals, order)], axis=1)
 
     def probs(rows: np.ndarray) -> np.ndarray:
         uniq, inv = unique_rows(rows)
@@ -328,7 +333,6 @@ def intent_actions(atlas: Atlas, net: Any, keys: np.ndarray, batch: BatchRace, r
 
     if not form.turns:
         return pick(probs(rows))
-    there = near_robots(atlas.near_padded, batch.cells, batch.racing)
     chosen, _ = decide_in_turns(rows, there, order, batch.racing, probs, pick, form.turns_first, form.n_in)
     return np.maximum(chosen, 0).reshape(-1)  # robots not racing: any action
 
