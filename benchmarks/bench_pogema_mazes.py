@@ -262,13 +262,6 @@ def load_crowd_policy(path: str) -> tuple[Any, str | None]:
     return load_policy(path), None
 
 
-def softmax(net: Any, rows: np.ndarray) -> np.ndarray:
-    """A feed-forward net's action probabilities on rows of input indices."""
-    import torch
-
-    return torch.softmax(net.actor(torch.from_numpy(rows)), 1).double().numpy()
-
-
 def policy_race(policy: Any, grid: str, starts: list[tuple[int, int]], goals: list[tuple[int, int]],
                 rng: np.random.Generator, greedy: bool, finished: str = "stay", shield: bool = False) -> Episode:
     """One episode of the learnt crowd: every robot reads its local window (target channel, hint) as
@@ -280,6 +273,7 @@ def policy_race(policy: Any, grid: str, starts: list[tuple[int, int]], goals: li
 
     from babyrobot_marl.training.ppo.form import NO_ACTION
     from babyrobot_marl.training.ppo.intents import env_crowd
+    from babyrobot_marl.training.ppo.net import actor_probs
     from babyrobot_marl.training.ppo.sampler import sample_actions
     from babyrobot_marl.training.ppo.trail import Trail
     from babyrobot_marl.training.ppo.turns import decide_in_turns
@@ -309,10 +303,10 @@ def policy_race(policy: Any, grid: str, starts: list[tuple[int, int]], goals: li
                 base = np.full((len(starts), rows.shape[1]), form.n_in, dtype=np.int64)
                 base[who] = rows
                 pick = (lambda q: q.argmax(axis=1)) if greedy else (lambda q: sample_actions(q, rng))  # noqa: E731
-                chosen, p = decide_in_turns(base, *crowd[1:], lambda r: softmax(net, r), pick, form.turns_first, form.n_in)
+                chosen, p = decide_in_turns(base, *crowd[1:], lambda r: actor_probs(net, r), pick, form.turns_first, form.n_in)
                 moves, p = np.maximum(chosen[0, who], 0), p[who]
             elif memory is None:
-                p = torch.softmax(net.actor(torch.from_numpy(uniq)), 1).double().numpy()[inv.reshape(-1)]
+                p = actor_probs(net, uniq)[inv.reshape(-1)]
             else:  # the input part of the gates once per distinct row, the step per robot
                 at = torch.tensor(who)
                 memory[at] = net.step(net.gate_inputs(torch.from_numpy(uniq))[torch.from_numpy(inv.reshape(-1))], memory[at])

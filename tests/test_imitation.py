@@ -20,7 +20,7 @@ from babyrobot_marl.training.ppo import PPOConfig, train_ppo  # noqa: E402
 from babyrobot_marl.training.ppo.form import NO_ACTION  # noqa: E402
 from babyrobot_marl.training.ppo.inputs import near_offsets  # noqa: E402
 from babyrobot_marl.training.ppo.intents import Ranks, env_intents, env_ranks  # noqa: E402
-from babyrobot_marl.training.ppo.net import make_net  # noqa: E402
+from babyrobot_marl.training.ppo.net import actor_probs, make_net  # noqa: E402
 from babyrobot_marl.training.ppo.sampler import sample_actions  # noqa: E402
 from babyrobot_marl.training.ppo.turns import decide_in_turns, turn_rows, waves  # noqa: E402
 from babyrobot_marl.training.ppo.window import Atlas, Family, WindowForm  # noqa: E402
@@ -143,8 +143,7 @@ def test_a_bound_crowd_decides_in_turns_as_the_trainers_judge_does(level):
     judge_rng, steps = np.random.default_rng(5), 0
 
     def probs(rows):
-        with torch.no_grad():
-            return torch.softmax(net.actor(torch.from_numpy(rows)), 1).double().numpy()
+        return actor_probs(net, rows)
 
     for seed in range(2):
         obs, _ = env.reset(seed=seed)

@@ -26,6 +26,7 @@ from babyrobot_marl import race_v0  # noqa: E402
 from babyrobot_marl.training.policy import load_policy  # noqa: E402
 from babyrobot_marl.training.ppo import PPOConfig, train_ppo  # noqa: E402
 from babyrobot_marl.training.ppo.inputs import near_offsets  # noqa: E402
+from babyrobot_marl.training.ppo.net import actor_probs  # noqa: E402
 from babyrobot_marl.training.ppo.window import Atlas, Family, WindowForm  # noqa: E402
 
 SMALL = PPOConfig(n_envs=32, n_steps=8, batch_size=1024, atlas_size=4, atlas_every=2, eval_every=0, trail=True)
@@ -132,8 +133,7 @@ def test_each_bound_robot_reads_the_trail_the_trainer_keeps_over_whole_races(tra
             for a in env.agents:
                 i = env.possible_agents.index(a)
                 assert (robots[a].rows(obs[a])[0] == batch_rows[i]).all()
-                with torch.no_grad():
-                    p = torch.softmax(trained.net.actor(torch.from_numpy(batch_rows[i : i + 1])), 1).double().numpy()[0]
+                p = actor_probs(trained.net, batch_rows[i : i + 1])[0]
                 assert np.allclose(robots[a].action_probabilities(obs[a]), p)
                 actions[a] = robots[a](obs[a])  # sampled: the robots wander, their trails grow
                 last[0, i] = actions[a]

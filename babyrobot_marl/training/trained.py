@@ -20,6 +20,7 @@ from .lru import LastUsed
 from .ppo.form import NO_ACTION, WindowForm
 from .ppo.inputs import Inputs
 from .ppo.intents import robot_index, robot_intents
+from .ppo.net import actor_probs
 from .ppo.sampler import PerKey, sample_actions
 from .ppo.trail import Trail
 from .ppo.turns import env_turn
@@ -265,11 +266,10 @@ class WindowPolicy(TrainedPolicy):
             raise ValueError("obs: this policy's robots decide in turns with the robots near them; bind it to your env "
                              "with policy.for_env(env)")
         decode = (lambda o: np.asarray(o).reshape(-1)) if self.encoder is None else self.encoder.decode
-        torch = torch_module()
 
         def probs(rows: np.ndarray) -> np.ndarray:
-            with torch.no_grad(), torch_threads(1):
-                return torch.softmax(self.net.actor(torch.from_numpy(rows)), 1).double().numpy()
+            with torch_threads(1):
+                return actor_probs(self.net, rows)
 
         def pick(p: np.ndarray) -> np.ndarray:
             return p.argmax(axis=1) if self.deterministic else sample_actions(p, self.rng)
@@ -290,7 +290,7 @@ class WindowPolicy(TrainedPolicy):
             if p is None:
                 x = torch.from_numpy(rows)
                 recurrent = self.hidden is not None
-                p = self.net.gate_inputs(x) if recurrent else torch.softmax(self.net.actor(x), 1).double().numpy()[0]
+                p = self.net.gate_inputs(x) if recurrent else actor_probs(self.net, x)[0]
                 self._probs.put(key, p)
             if self.hidden is None:
                 return p, None

@@ -37,7 +37,7 @@ from ..checks import check_finite, check_imitation
 from ..deps import torch_module
 from .form import NO_ACTION
 from .intents import Ranks, env_crowd
-from .net import make_net
+from .net import actor_probs, make_net
 from .result import EvalPoint, TrainResult, evaluate_now, trained_env
 from .sampler import sample_actions
 from .turns import decide_in_turns, turn_rows
@@ -110,8 +110,7 @@ def collect_round(family: Family, n_robots: int, cfg: Any, env_kwargs: dict[str,
     store = row_dtype(form)
 
     def probs(rows: np.ndarray) -> np.ndarray:
-        with torch.no_grad():
-            return torch.softmax(net.actor(torch.from_numpy(rows)), 1).double().numpy()
+        return actor_probs(net, rows)
 
     def pick(p: np.ndarray) -> np.ndarray:
         return sample_actions(p, rng)

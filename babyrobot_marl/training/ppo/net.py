@@ -5,6 +5,8 @@ from __future__ import annotations
 import math
 from typing import Any
 
+import numpy as np
+
 from ...core.actions import N_ACTIONS
 from ..deps import torch_module
 
@@ -85,6 +87,16 @@ def make_net(n_in: int, net_arch: tuple[int, ...] = (64, 64)) -> Any:
             return self.actor(idx), self.critic(idx).squeeze(-1)
 
     return ActorCritic()
+
+
+def actor_probs(net: Any, rows: Any, dtype: Any = np.float64) -> np.ndarray:
+    """The actor's action probabilities ``(B, 5)`` on rows of input indices (a numpy array or a tensor), as a numpy
+    array of ``dtype``; None: the net's own (float32). The softmax is the net's: float64 only widens it, exactly."""
+    torch = torch_module()
+    x = rows if isinstance(rows, torch.Tensor) else torch.from_numpy(rows)
+    with torch.no_grad():
+        p = torch.softmax(net.actor(x), 1).numpy()
+    return p if dtype is None else p.astype(dtype, copy=False)
 
 
 def log_softmax(z: Any) -> Any:

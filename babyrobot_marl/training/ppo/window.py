@@ -29,6 +29,7 @@ from ...core.table import Table, compile_level
 from .form import _NVEC, N_HINT, NO_ACTION, WindowForm
 from .goal_inputs import HINT_VALUES, AtlasDistances, target_units
 from .intents import Ranks, intent_rows, near_robots
+from .net import actor_probs
 from .trail import TRAIL_VALUES
 from .turns import decide_in_turns
 
@@ -319,17 +320,14 @@ def intent_actions(atlas: Atlas, net: Any, keys: np.ndarray, batch: BatchRace, r
     """The actions (``pick``: probabilities to actions) of a crowd that reads its neighbours' intents: each robot's
     row is its key's row and the intents of the robots near it in ``batch`` (``Atlas.intents``; who goes first by
     ``ranks``, read at this step), the net once per distinct row; with ``turns``, chosen in turns (``turns.py``)."""
-    from ..deps import torch_module
-
-    torch, form = torch_module(), atlas.form
+    form = atlas.form
     order = ranks.values(batch.cells, batch.goals, batch.t) if form.ranks else None
     there = atlas.near_robots(batch.cells, batch.racing)
     rows = np.concatenate([atlas.rows(keys), atlas.intents(there, batch.cells, batch.goals, order)], axis=1)
 
     def probs(rows: np.ndarray) -> np.ndarray:
         uniq, inv = unique_rows(rows)
-        with torch.no_grad():
-            return torch.softmax(net.actor(torch.from_numpy(uniq)), 1).numpy()[inv]
+        return actor_probs(net, uniq, None)[inv]  # float32, as the net computes them
 
     if not form.turns:
         return pick(probs(rows))
