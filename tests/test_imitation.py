@@ -187,6 +187,50 @@ def test_the_judges_ranks_grow_with_the_batch_engines_step_count():
         batch.step(np.zeros((3, 4), dtype=np.int64))  # everyone stays
 
 
+def test_a_step_computes_the_crowds_intents_once_for_all_its_robots(monkeypatch):
+    """``robot_intents`` answers every robot's call of a step from one ``env_intents`` of the crowd, the rows a twin env
+    (the same races, its own priorities) computes for each robot; a new step (one where every robot stays too) and a
+    reset to the same cells with other targets compute them again."""
+    from babyrobot_marl.training.ppo import intents
+
+    uncached, calls = intents.env_intents, []
+    monkeypatch.setattr(intents, "env_intents", lambda env, form: calls.append(env.elapsed_steps) or uncached(env, form))
+    env, twin = (race_v0.parallel_env(level=Level.from_grid(GRID), n_robots=6, observe="local", hint=True, start="random",
+                                      max_cycles=12, **STAY) for _ in range(2))
+    rng = np.random.default_rng(0)
+
+    def every_robot() -> np.ndarray:
+        crowd = uncached(twin, FORM)
+        for a in env.agents:
+            i = env.possible_agents.index(a)
+            row = intents.robot_intents(env, FORM, env.robot_cells[i])
+            assert row.shape == (1, crowd.shape[1]) and np.array_equal(row, crowd[i : i + 1])
+        return crowd
+
+    steps = 0
+    for seed in range(2):
+        for e in (env, twin):
+            e.reset(seed=seed)
+        while env.agents:
+            every_robot()
+            steps += 1
+            assert len(calls) == steps  # once per step, not once per robot
+            stay = steps % 3 == 0  # nobody moves: the step, and with it the priorities, still changes
+            actions = {a: Action.STAY if stay else int(rng.integers(5)) for a in env.agents}
+            for e in (env, twin):
+                e.step(actions)
+    assert steps == 24
+    starts = [(0, 0), (1, 0), (2, 0), (3, 0), (4, 0), (3, 1)]  # near each other
+    for goals in ([(9, 9), (0, 9), (9, 0), (0, 2), (6, 2), (4, 5)], [(2, 2), (7, 0), (0, 7), (7, 9), (4, 4), (2, 7)]):
+        for e in (env, twin):
+            e.reset(seed=0, options={"starts": starts, "goals": goals})
+        crowd = every_robot()  # the same step 0 and cells, other targets: computed again
+        assert (crowd != FORM.n_in).any() and len(calls) == steps + 1
+        steps += 1
+    uncached(env, FORM)  # the priorities read by another since (env_turn, say): computed again, the same rows
+    assert np.array_equal(intents.robot_intents(env, FORM, starts[0]), crowd[:1]) and len(calls) == steps + 1
+
+
 def test_the_robots_keep_pibts_priorities():
     """The ranks a race's robots keep (``env_ranks``) are PIBT's own priorities over whole episodes (PIBT driving,
     its ties those of the ranks), so the rows an imitation crowd learns from tell who PIBT lets go first."""

@@ -23,6 +23,7 @@ takes cells, targets and hint bits as arrays of ``(envs, robots)`` either way, a
 from __future__ import annotations
 
 import weakref
+from dataclasses import dataclass
 from functools import lru_cache
 from typing import Any
 
@@ -34,6 +35,7 @@ from .inputs import Inputs
 
 INTENT_UNITS = 5  # per near cell: the hint's four moves, then "on its own target" (then, with ranks, "goes first")
 _RANKS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()  # each race env's robots' priorities (env_intents)
+_STEPS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()  # each race env's intents at its step (step_intents)
 
 
 class Ranks:
@@ -158,7 +160,40 @@ def robot_index(env: Any, xy: tuple[int, int]) -> int:
                      "robots it acts for (policy.for_env(env))")
 
 
+@dataclass(frozen=True)
+class StepIntents:
+    """The crowd's intents (``env_intents``) of a race env at one state (``step_intents``): the state, its level's
+    table and the priorities' last read (``Ranks.t``, a new array at each read), both compared by identity, and the rows."""
+
+    key: tuple
+    table: Any
+    read: Any
+    rows: np.ndarray
+
+
+def _ranks_read(race: Any, form: Any) -> Any:
+    return env_ranks(race).t if form.ranks else None
+
+
+def step_intents(env: Any, form: Any) -> np.ndarray:
+    """``env_intents`` of a ``race_v0`` env of own goals, computed once per state of the env: its step, the robots'
+    cells and targets, the racing ones, its level and ``form`` (a step, a reset, robots placed by hand: computed
+    again). Every robot's call of a step (``robot_intents``) reads the crowd's one computation, as ``turns.env_turn``
+    plans the crowd's step once. The robots' priorities (``env_ranks``) are read once at the step (a read of the
+    same step gives the same); read by another since (``env_crowd``), the rows are computed again."""
+    race = getattr(env, "race", env)
+    key = (form, race.elapsed_steps, tuple(map(tuple, race.robot_cells)), tuple(map(tuple, (race.goals or {}).values())),
+           tuple(race.agents))
+    got = _STEPS.get(race)
+    if got is None or got.key != key or got.table is not race.table or got.read is not _ranks_read(race, form):
+        rows = env_intents(env, form)
+        rows.setflags(write=False)  # every robot's call of the step reads it
+        got = _STEPS[race] = StepIntents(key, race.table, _ranks_read(race, form), rows)
+    return got.rows
+
+
 def robot_intents(env: Any, form: Any, xy: tuple[int, int]) -> np.ndarray:
-    """``(1, m * u)``: ``env_intents`` of the racing robot standing at ``xy`` (the one whose observation it is)."""
+    """``(1, m * u)``: ``env_intents`` of the racing robot standing at ``xy`` (the one whose observation it is), from
+    the crowd's intents at the env's step (``step_intents``: computed once per step, not once per robot)."""
     i = robot_index(env, xy)
-    return env_intents(env, form)[i : i + 1]
+    return step_intents(env, form)[i : i + 1].copy()
