@@ -161,6 +161,30 @@ def test_a_bound_crowd_decides_in_turns_as_the_trainers_judge_does(level):
     assert steps >= 40
 
 
+def test_a_bound_crowds_plan_is_made_again_after_a_reset_to_the_same_cells_with_other_targets():
+    """``env_turn`` keys its plan on the env's state: the same step 0 and cells with other targets (a reset with
+    ``options``) is another state, planned afresh, as a new env would plan it."""
+    from babyrobot_marl.training.ppo import turns
+
+    net = make_net(FORM.n_in, (32,))
+    starts = [(0, 0), (1, 0), (2, 0), (3, 0), (4, 0), (3, 1)]
+
+    def crowd():
+        return race_v0.parallel_env(level=Level.from_grid(GRID), n_robots=6, observe="local", hint=True, start="random",
+                                    max_cycles=12, **STAY)
+
+    env, plans = crowd(), []
+    for goals in ([(9, 9), (0, 9), (9, 0), (0, 2), (6, 2), (4, 5)], [(2, 2), (7, 0), (0, 7), (7, 9), (4, 4), (2, 7)]):
+        fresh = crowd()
+        for e in (env, fresh):
+            e.reset(seed=0, options={"starts": starts, "goals": goals})
+        plan, want = (turns.env_turn(e, FORM, lambda o: np.asarray(o).reshape(-1), lambda r: actor_probs(net, r),
+                                     lambda p: p.argmax(1)) for e in (env, fresh))
+        assert np.array_equal(plan.probs, want.probs) and np.array_equal(plan.actions, want.actions)
+        plans.append(plan)
+    assert plans[1] is not plans[0] and not np.array_equal(plans[1].probs, plans[0].probs)
+
+
 def test_a_race_env_shows_its_observations_as_its_last_step_returned():
     env = race_v0.parallel_env(level="gridmaze:9..11", n_robots=6, observe="local", hint=True, start="random",
                                max_cycles=20, **STAY)

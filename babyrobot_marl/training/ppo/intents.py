@@ -171,6 +171,13 @@ class StepIntents:
     rows: np.ndarray
 
 
+def env_state(race: Any) -> tuple:
+    """A race env's state as a key: its step first, the robots' cells and targets, the racing ones (with its level's
+    table, compared by identity, it tells a step, a reset or robots placed by hand from the state it was read at)."""
+    return (race.elapsed_steps, tuple(map(tuple, race.robot_cells)), tuple(map(tuple, (race.goals or {}).values())),
+            tuple(race.agents))
+
+
 def _ranks_read(race: Any, form: Any) -> Any:
     return env_ranks(race).t if form.ranks else None
 
@@ -182,8 +189,7 @@ def step_intents(env: Any, form: Any) -> np.ndarray:
     plans the crowd's step once. The robots' priorities (``env_ranks``) are read once at the step (a read of the
     same step gives the same); read by another since (``env_crowd``), the rows are computed again."""
     race = getattr(env, "race", env)
-    key = (form, race.elapsed_steps, tuple(map(tuple, race.robot_cells)), tuple(map(tuple, (race.goals or {}).values())),
-           tuple(race.agents))
+    key = (form, env_state(race))
     got = _STEPS.get(race)
     if got is None or got.key != key or got.table is not race.table or got.read is not _ranks_read(race, form):
         rows = env_intents(env, form)

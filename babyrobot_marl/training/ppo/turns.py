@@ -24,7 +24,7 @@ import numpy as np
 
 from ...core.actions import N_ACTIONS
 from .form import NO_ACTION, WindowForm
-from .intents import env_crowd, goes_first
+from .intents import env_crowd, env_state, goes_first
 
 TURN_UNITS = N_ACTIONS  # per near cell: the action (0-4) the robot there chose this step, if it goes first
 _TURNS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()  # each race env's plan of its step (env_turn)
@@ -72,9 +72,11 @@ def decide_in_turns(base: np.ndarray, there: np.ndarray, ranks: np.ndarray, raci
 
 @dataclass(frozen=True)
 class Turn:
-    """One step's plan of a race env's crowd: the state it was planned at, each robot's action and probabilities."""
+    """One step's plan of a race env's crowd: the state it was planned at (``env_state``, its level's table), each
+    robot's action and probabilities."""
 
     key: tuple
+    table: Any
     actions: np.ndarray
     probs: np.ndarray
 
@@ -86,9 +88,9 @@ def env_turn(env: Any, form: WindowForm, decode: Callable[[np.ndarray], np.ndarr
     one planned at the step before, none at an episode's start): planned at the step's first call, the same plan
     for every other call of the step."""
     race = getattr(env, "race", env)
-    key = (race.elapsed_steps, tuple(map(tuple, race.robot_cells)), tuple(race.agents))
+    key = env_state(race)
     plan = _TURNS.get(race)
-    if plan is not None and plan.key == key:
+    if plan is not None and plan.key == key and plan.table is race.table:
         return plan
     r = race.n_robots
     last = plan.actions if plan is not None and plan.key[0] == key[0] - 1 else np.full(r, NO_ACTION)
@@ -100,5 +102,5 @@ def env_turn(env: Any, form: WindowForm, decode: Callable[[np.ndarray], np.ndarr
     base = np.full((r, rows.shape[1]), form.n_in, dtype=np.int64)
     base[live] = rows
     actions, p = decide_in_turns(base, there, ranks, racing, probs, pick, form.turns_first, form.n_in)
-    plan = _TURNS[race] = Turn(key, actions[0], p)
+    plan = _TURNS[race] = Turn(key, race.table, actions[0], p)
     return plan
