@@ -1,5 +1,6 @@
-"""Recurrent policies on the fast trainer: a GRU between the input layers and the heads, trained with truncated
-backpropagation through time over rollout segments, one hidden state per robot in the trainer and per bound policy."""
+"""Recurrent policies on the fast trainer: a GRU or a minGRU between the input layers and the heads, trained with
+truncated backpropagation through time over rollout segments, one hidden state per robot in the trainer and per bound
+policy."""
 
 import numpy as np
 import pytest
@@ -20,17 +21,22 @@ SMALL = PPOConfig(n_envs=32, n_steps=8, batch_size=768, atlas_size=4, atlas_ever
                   net_arch=(16,))
 
 
-@pytest.fixture(scope="module")
-def trained():
-    return train_ppo("maze:8..10", n_robots=3, timesteps=4_000, seed=0, config=SMALL)
+CELLS = ("gru", "mingru")
+
+
+@pytest.fixture(scope="module", params=CELLS)
+def trained(request):
+    return train_ppo("maze:8..10", n_robots=3, timesteps=4_000, seed=0, config=SMALL.replace(cell=request.param))
 
 
 def test_the_same_seed_gives_the_same_policy_and_the_same_evaluation(trained):
-    again = train_ppo("maze:8..10", n_robots=3, timesteps=4_000, seed=0, config=SMALL)
+    config = SMALL.replace(cell=trained.net.cell)
+    again = train_ppo("maze:8..10", n_robots=3, timesteps=4_000, seed=0, config=config)
     for (name, a), b in zip(trained.net.state_dict().items(), again.net.state_dict().values()):
         assert torch.equal(a, b), name
-    other = train_ppo("maze:8..10", n_robots=3, timesteps=4_000, seed=1, config=SMALL)
-    assert not torch.equal(trained.net.gru.weight_hh, other.net.gru.weight_hh)
+    other = train_ppo("maze:8..10", n_robots=3, timesteps=4_000, seed=1, config=config)
+    cell = trained.net.gru.weight_hh if trained.net.cell == "gru" else trained.net.mingru.weight
+    assert not torch.equal(cell, (other.net.gru.weight_hh if trained.net.cell == "gru" else other.net.mingru.weight))
     form = WindowForm(2, near_offsets(1), False)
     env = race_v0.parallel_env(level="maze:8..10", n_robots=3, start="random")
     env.reset(seed=0)
@@ -72,10 +78,11 @@ def test_the_trainer_and_each_bound_robot_hold_the_same_rows_and_hidden_states_o
     assert checked > 100 and moved > 0
 
 
-def test_a_robots_state_is_zeroed_when_its_episode_ends_and_not_before():
+@pytest.mark.parametrize("cell", CELLS)
+def test_a_robots_state_is_zeroed_when_its_episode_ends_and_not_before(cell):
     """The trainer's state of a robot whose episode ended starts its next step from zero, as a new robot's;
     the others carry theirs on."""
-    net = make_recurrent_net(6, (4,), 3)
+    net = make_recurrent_net(6, (4,), 3, cell)
     inputs = _Flat(6)
     rec = Recurrence(net, 2, 4).start(inputs)
     rng = np.random.default_rng(0)
@@ -93,10 +100,11 @@ def test_a_robots_state_is_zeroed_when_its_episode_ends_and_not_before():
     assert rec.keep_buf[:3].tolist() == [[True, True], [True, True], [False, True]]
 
 
-def test_the_update_replays_each_segment_as_the_rollout_played_it():
+@pytest.mark.parametrize("cell", CELLS)
+def test_the_update_replays_each_segment_as_the_rollout_played_it(cell):
     """Truncated BPTT: replaying a rollout's segments from their first states with the rollout's resets gives
     the rollout's own log-probabilities (ratio 1 at the update's first step), across an episode's end."""
-    net = make_recurrent_net(6, (4,), 3)
+    net = make_recurrent_net(6, (4,), 3, cell)
     inputs = _Flat(6)
     T, n = 5, 4
     rec = Recurrence(net, n, T)
@@ -145,9 +153,15 @@ def test_recurrent_policies_are_saved_loaded_and_checked(trained, tmp_path):
     path = trained.save(str(tmp_path / "r.pt"))
     data = load_checkpoint(path)
     assert data["config"]["recurrent"] is True and data["config"]["hidden"] == 8
+    assert data["config"]["cell"] == trained.net.cell
     loaded = load_policy(path)
+    assert loaded.net.cell == trained.net.cell
     for a, b in zip(loaded.net.state_dict().values(), trained.net.state_dict().values()):
         assert torch.equal(a, b)
+    if trained.net.cell == "gru":  # a file saved before there was a choice of cell: a GRU
+        del data["config"]["cell"]
+        torch.save(data, tmp_path / "old.pt")
+        assert load_policy(str(tmp_path / "old.pt")).net.cell == "gru"
     data["observation"] = {"observe": "global", "obs_encoding": "multidiscrete", "hint": False}
     torch.save(data, tmp_path / "bad.pt")
     with pytest.raises(ValueError, match="a recurrent policy reads local windows"):
@@ -160,19 +174,27 @@ def test_recurrent_policies_are_saved_loaded_and_checked(trained, tmp_path):
         PPOConfig(recurrent=1)
 
 
-def test_train_recurrent_on_the_command_line_then_evaluate_and_race(tmp_path, capsys):
+@pytest.mark.parametrize(("cell", "name"), [(None, "a GRU"), ("mingru", "a minGRU")])
+def test_train_recurrent_on_the_command_line_then_evaluate_and_race(tmp_path, capsys, cell, name):
     path = str(tmp_path / "r.pt")
+    chosen = [] if cell is None else ["--cell", cell]
     assert main(["train", "--level", "maze:8..8", "--robots", "2", "--observe", "local", "--recurrent", "--hidden", "8",
-                 "--steps", "2000", "--n-envs", "16", "--save", path, "--episodes", "4", "--no-progress"]) == 0
+                 *chosen, "--steps", "2000", "--n-envs", "16", "--save", path, "--episodes", "4", "--no-progress"]) == 0
     out = capsys.readouterr().out
-    assert "a GRU of 8 units" in out and load_checkpoint(path)["config"]["hidden"] == 8
+    assert f"{name} of 8 units" in out and load_checkpoint(path)["config"]["hidden"] == 8
+    assert load_checkpoint(path)["config"]["cell"] == (cell or "gru")
     assert main(["evaluate", path, "--level", "maze:8..8", "--robots", "2", "--episodes", "3", "--seed", "1"]) == 0
-    assert '"policy"' in capsys.readouterr().out.splitlines()[-1]
+    out = capsys.readouterr().out
+    assert '"policy"' in out.splitlines()[-1] and f"{name} of 8 units" in out
     assert main(["race", "--level", "maze:8..8", "--robots", "2", "--start", "random", "--policies", path]) == 0
     for args, message in ((["--recurrent"], "--recurrent: only with --observe local"),
-                          (["--observe", "local", "--hidden", "8"], "--hidden: the GRU's size, only with --recurrent")):
+                          (["--observe", "local", "--hidden", "8"], "--hidden: the recurrent cell's size, only with --recurrent"),
+                          (["--observe", "local", "--cell", "mingru"], "--cell: the recurrent cell's kind, only with --recurrent")):
         assert main(["train", "--level", "maze-8x8", "--steps", "10", *args]) == 2
         assert message in capsys.readouterr().err
+    with pytest.raises(SystemExit):
+        main(["train", "--level", "maze-8x8", "--steps", "10", "--observe", "local", "--recurrent", "--cell", "lstm"])
+    assert "--cell: invalid choice: 'lstm'" in capsys.readouterr().err
 
 
 def test_the_step_from_precomputed_input_gates_is_torchs_gru_cell():
@@ -180,6 +202,20 @@ def test_the_step_from_precomputed_input_gates_is_torchs_gru_cell():
     rows, h = torch.tensor([[0, 3], [6, 7], [2, 2]]), torch.randn(3, 4)
     with torch.no_grad():
         assert torch.allclose(net.step(net.gate_inputs(rows), h), net.gru(net.encode(rows), h), atol=1e-6)
+
+
+def test_the_mingru_step_is_its_formula():
+    """``h' = (1 - z) h + z tanh(W_c x + b_c)``, ``z = sigmoid(W_z x + b_z)``: the gates read the input alone."""
+    net = make_recurrent_net(7, (5,), 4, "mingru")
+    rows, h = torch.tensor([[0, 3], [6, 7], [2, 2]]), torch.randn(3, 4)
+    with torch.no_grad():
+        net.mingru.bias.normal_()
+        g = net.mingru(net.encode(rows))
+        z, c = torch.sigmoid(g[:, :4]), torch.tanh(g[:, 4:])
+        assert torch.allclose(net.step(net.gate_inputs(rows), h), (1 - z) * h + z * c, atol=1e-6)
+        assert torch.allclose(net.gate_columns(rows).T, net.gate_inputs(rows), atol=1e-6)
+    with pytest.raises(ValueError, match="^cell: the recurrent cell, one of 'gru', 'mingru', got 'lstm'"):
+        PPOConfig(cell="lstm")
 
 
 def _t_maze(side: int) -> Level:
@@ -197,9 +233,9 @@ T_MAZE = PPOConfig(n_envs=32, n_steps=16, batch_size=512, atlas_size=8, atlas_ev
                    net_arch=(32,), view_radius=1)
 
 
-def _t_maze_success(policy: str) -> float:
+def _t_maze_success(policy: str, cell: str = "gru") -> float:
     """Greedy success over 400 episodes from random starts after 60,000 timesteps of training on the two T-mazes."""
-    cfg = T_MAZE.replace(**{policy: True} if policy != "memoryless" else {})
+    cfg = T_MAZE.replace(cell=cell, **{policy: True} if policy != "memoryless" else {})
     source = lambda rng: T_MAZES[int(rng.integers(2))]  # noqa: E731
     result = train_ppo(source, 1, 60_000, seed=1, config=cfg, env_kwargs={"max_cycles": 40})
     family = Family(source, 1, cfg, 0, {})
@@ -210,16 +246,17 @@ def _t_maze_success(policy: str) -> float:
 def test_a_recurrent_robot_learns_a_t_maze_that_only_memory_solves():
     """The cue at the stem's foot is out of view at the junction: a memoryless policy (or one that reads its last
     action) turns the same way in both mazes and cycles in the wrong arm; the recurrent one carries the cue."""
-    recurrent = _t_maze_success("recurrent")
+    recurrent, mingru = _t_maze_success("recurrent"), _t_maze_success("recurrent", "mingru")
     memoryless, last_action = _t_maze_success("memoryless"), _t_maze_success("memory")
-    assert recurrent >= 0.85, recurrent
+    assert recurrent >= 0.85 and mingru >= 0.85, (recurrent, mingru)
     assert memoryless <= 0.7 and last_action <= 0.7, (memoryless, last_action)
 
 
-def test_the_updates_gradient_through_time_is_autograds():
+@pytest.mark.parametrize("cell", CELLS)
+def test_the_updates_gradient_through_time_is_autograds(cell):
     """The cell's backward pass through time, written out, gives autograd's gradient of the same loss over
     segments with resets and parked steps, for every parameter."""
-    net = make_recurrent_net(6, (4,), 3)
+    net = make_recurrent_net(6, (4,), 3, cell)
     T, n = 5, 4
     rec = Recurrence(net, n, T)
     rec.h = torch.randn(n, 3)
@@ -250,6 +287,7 @@ def test_the_updates_gradient_through_time_is_autograds():
     clip = min(1.0, cfg.max_grad_norm / (norm + 1e-6))  # the update clips the gradient's norm
     for name, p in net.named_parameters():
         assert torch.allclose(p.grad, expected[name] * clip, atol=1e-6), name
+        assert float(expected[name].abs().sum()) > 0, name  # every parameter is reached
 
 
 def test_a_rollouts_input_gates_are_computed_once_per_input_and_equal_the_nets():

@@ -10,6 +10,7 @@ from typing import NoReturn, TextIO
 
 from ..core.goals import GOAL_MODES
 from ..play.screen import DEFAULT_DELAY, Display, isatty
+from ..training.checks import CELL_CHOICES
 from .checks import SEED_HELP, level_spec, positive_int, seconds, seed_int
 
 PROG = "babyrobot-marl"
@@ -39,7 +40,10 @@ def add_memory_args(p: argparse.ArgumentParser) -> None:
                    help="--observe local: a recurrent net (a GRU between the input layers and the heads): each robot "
                    "remembers its whole episode")
     p.add_argument("--hidden", type=positive_int, default=None, metavar="N",
-                   help="--recurrent: the GRU's hidden units (default: 32)")
+                   help="--recurrent: the cell's hidden units (default: 32)")
+    p.add_argument("--cell", choices=CELL_CHOICES, default=None,
+                   help="--recurrent: the cell, a GRU (default) or a minGRU, whose gates read the input alone (several "
+                   "times the steps per second)")
 
 
 def one_line(err: BaseException | str, limit: int = 1000) -> str:
@@ -53,7 +57,7 @@ FLAGS = {
     "n_robots": "--robots", "max_cycles": "--max-cycles", "max_steps": "--max-steps", "view_radius": "--view-radius",
     "near_radius": "--near-radius", "collisions": "--collisions", "start": "--start", "observe": "--observe",
     "hint": "--hint", "memory": "--memory", "trail": "--trail", "imitate": "--imitate", "recurrent": "--recurrent",
-    "hidden": "--hidden",
+    "hidden": "--hidden", "cell": "--cell",
     "seed": "--seed", "level": "--level", "goals": "--goals", "lifelong": "--lifelong", "finished": "--finished",
 }
 # the flag that names a policy, by command (a saved policy's errors start "policy:"); `levels` takes a NAME

@@ -8,7 +8,7 @@ from typing import Any, TextIO
 
 from ..core.rules import COLLISION_MODES
 from ..policies import POLICY_NAMES
-from ..training.checks import FINISHED_RULES
+from ..training.checks import CELL_NAMES, FINISHED_RULES
 from .checks import (
     SEED_HELP,
     check_goal_flags,
@@ -125,7 +125,8 @@ def _trained_with(spec: str) -> str:
         arch = ",".join(map(str, config["net_arch"]))
         settings = f"imitating {config['imitate'].upper()} (DAgger), net_arch {arch}, {settings}"
     remembers = [what for name, what in (("memory", "its last action"), ("trail", "its trail")) if config.get(name)]
-    remembers += [f"a GRU of {config.get('hidden', 32)} units"] if config.get("recurrent") else []
+    if config.get("recurrent"):
+        remembers.append(f"{CELL_NAMES[config.get('cell', 'gru')]} of {config.get('hidden', 32)} units")
     if remembers:
         settings += "; each robot remembers " + " and ".join(remembers)
     if data.get("env", {}).get("finished") == "stay":

@@ -40,7 +40,7 @@ from ..envs.single import BabyRobotEnv
 from ..levels.files import load_level
 from ..levels.sources import parse_level_family
 from ..play.screen import isatty
-from ..training.checks import check_finite_sb3
+from ..training.checks import CELL_NAMES, check_finite_sb3
 from ..training.crowd import crowd_defaults, said
 from ..training.deps import INSTALL_HINT
 from .checks import check_race_flags, check_train_args, check_train_goals
@@ -224,7 +224,7 @@ def _family(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> d
     knobs.setdefault("n_envs", FAMILY_ENVS)
     config = PPOConfig(threads=args.threads or None, view_radius=_view_radius(args),
                        hint=args.hint, memory=args.memory, trail=args.trail, recurrent=args.recurrent, imitate=args.imitate,
-                       hidden=args.hidden or 32, **knobs)
+                       hidden=args.hidden or 32, cell=args.cell or "gru", **knobs)
     one_level = parse_level_family(args.level) is None
     if one_level:  # an atlas of that one level
         config = config.replace(atlas_size=1)
@@ -261,7 +261,7 @@ def _family(args: argparse.Namespace, level: Level, tty: bool, out: TextIO) -> d
     where = _name(level, args) if one_level else f"{args.level}, mazes of the evaluation seeds"
     reads = f"view_radius {config.view_radius}{', hint' if config.hint else ''}{', memory' if config.memory else ''}"
     reads += ", trail" if config.trail else ""
-    reads += f", a GRU of {config.hidden} units" if config.recurrent else ""
+    reads += f", {CELL_NAMES[config.cell]} of {config.hidden} units" if config.recurrent else ""
     reads += ", the near robots' intents, in turns" if config.imitate else ""
     reads += f", own goals{', lifelong' if args.lifelong else ''}" if args.goals == "own" else ""
     reads += ", finished stay" if args.finished == "stay" else ""

@@ -27,6 +27,8 @@ TRAINED_ON = {"observe": "global", "obs_encoding": "multidiscrete"}
 # of the saved ``view_radius`` (training.ppo.window.WindowForm)
 GLOBAL_FORM = {**TRAINED_ON, "hint": False}
 LOCAL_FORM_KEYS = ("observe", "obs_encoding", "view_radius", "hint")
+CELL_NAMES = {"gru": "a GRU", "mingru": "a minGRU"}  # PPOConfig.cell: a recurrent net's cell, as summaries name it
+CELL_CHOICES = tuple(CELL_NAMES)
 FINISHED_RULES = ("remove", "stay")  # a policy's own goals: robots leave at their targets, or stay racing there
 # a saved policy's env settings, with their defaults
 ENV_SETTINGS = {"goals": "exit", "collisions": "block", "lifelong": False, "finished": "remove"}
@@ -41,6 +43,8 @@ def check_config(cfg: Any, start_choices: Sequence[str], imitate_choices: Sequen
     check_int(cfg.near_radius, "near_radius", 0, MAX_NEAR_RADIUS)
     check_int(cfg.view_radius, "view_radius", 0)
     check_int(cfg.hidden, "hidden", 1, MAX_LAYER_SIZE)
+    if cfg.cell not in CELL_CHOICES:
+        raise ValueError(f"cell: the recurrent cell, one of {', '.join(map(repr, CELL_CHOICES))}, got {shown(cfg.cell)}")
     for name in ("hint", "memory", "trail", "recurrent"):
         if not isinstance(getattr(cfg, name), bool):
             raise ValueError(f"{name}: must be True or False, got {shown(getattr(cfg, name))}")

@@ -149,14 +149,15 @@ def _shapes(data: dict[str, Any], inputs: Inputs | WindowForm) -> dict[str, tupl
         return weight_shapes(inputs.n_in, arch)
     if not isinstance(inputs, WindowForm):
         raise ValueError("config: a recurrent policy reads local windows (observe='local'), got the global rows")
-    return recurrent_weight_shapes(inputs.n_in, arch, cfg.get("hidden", PPOConfig.hidden))
+    return recurrent_weight_shapes(inputs.n_in, arch, cfg.get("hidden", PPOConfig.hidden), cfg.get("cell", PPOConfig.cell))
 
 
 def load_net(data: dict[str, Any]) -> Any:
     """The network of loaded data (``load_checkpoint``)."""
     cfg, n_in = data["config"], inputs_of(data).n_in
     if cfg.get("recurrent", False):
-        net = make_recurrent_net(n_in, tuple(data["net_arch"]), cfg.get("hidden", PPOConfig.hidden))
+        net = make_recurrent_net(n_in, tuple(data["net_arch"]), cfg.get("hidden", PPOConfig.hidden),
+                                 cfg.get("cell", PPOConfig.cell))
     else:
         net = make_net(n_in, tuple(data["net_arch"]))
     net.load_state_dict(data["state_dict"])

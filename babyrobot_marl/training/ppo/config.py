@@ -26,8 +26,10 @@ class PPOConfig:
     ``view_radius`` and, with ``hint``, the goal hint (``window.WindowForm``); with ``memory``, also
     the robot's own last action (a memoryless policy loops in a maze: it cannot tell the corridor it
     came from); with ``trail``, the order in which it stood on the cells next to it (``trail.py``); with
-    ``recurrent``, a GRU cell of ``hidden`` units between the input layers and the heads (the robot
-    remembers its episode: ``recurrent.py``); the envs step an atlas of ``atlas_size`` mazes, drawn anew
+    ``recurrent``, a recurrent cell of ``hidden`` units between the input layers and the heads (the robot
+    remembers its episode: ``recurrent.py``): ``cell`` ``"gru"``, or ``"mingru"``, whose gates read the input
+    alone, so a robot-step costs a few element-wise operations instead of a GRU's products (``mingru.py``);
+    the envs step an atlas of ``atlas_size`` mazes, drawn anew
     every ``atlas_every`` rollouts.
     ``imitate``: ``"pibt"`` learns a crowd of own goals by imitating the planner PIBT instead of by PPO
     (DAgger, ``imitation.py``); its robots also read what their neighbours intend and which go first
@@ -66,6 +68,7 @@ class PPOConfig:
     trail: bool = False
     recurrent: bool = False
     hidden: int = 32
+    cell: str = "gru"
     atlas_size: int = 64
     atlas_every: int = 16
     blocked_cost: float = 0.0

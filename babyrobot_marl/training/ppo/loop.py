@@ -22,7 +22,7 @@ from ...core.checks import check_int
 from ...core.level import Level
 from ...levels.resolve import resolve_level
 from ...levels.sources import TRAIN_MAZE_SEEDS, level_source, parse_level_family
-from ..checks import check_finite
+from ..checks import CELL_NAMES, check_finite
 from ..deps import torch_module, torch_threads  # torch_threads: also training.ppo.torch_threads, as before
 from .config import PPOConfig, known_settings
 from .form import NO_ACTION
@@ -51,7 +51,7 @@ def _hidden(net: Any) -> int | None:
 
 
 def _gru(net: Any) -> str:
-    return "" if _hidden(net) is None else f" and a GRU of {_hidden(net)} units"
+    return "" if _hidden(net) is None else f" and {CELL_NAMES[net.cell]} of {_hidden(net)} units"
 
 
 def make_batch(level: Level, n_robots: int, n_envs: int, start: str, seed: int, **env_kwargs: Any) -> BatchRace:
@@ -150,11 +150,14 @@ def train_ppo(
         return inputs.keys(batch.cells, batch.racing, last, batch.goals if own else None, trail)
 
     with torch_threads(cfg.threads), _deterministic(seed):
-        net = make_recurrent_net(inputs.n_in, cfg.net_arch, cfg.hidden) if cfg.recurrent else make_net(inputs.n_in, cfg.net_arch)
+        if cfg.recurrent:
+            net = make_recurrent_net(inputs.n_in, cfg.net_arch, cfg.hidden, cfg.cell)
+        else:
+            net = make_net(inputs.n_in, cfg.net_arch)
         # a recurrent net's hidden states, one per robot beside the batch engine's cells (None: feed-forward)
         rec = Recurrence(net, E * n, T, 1.0 / (1.0 - cfg.gamma)) if cfg.recurrent else None
         if init is not None:
-            if init.n_in != net.n_in or tuple(init.net_arch) != cfg.net_arch or _hidden(init) != _hidden(net):
+            if init.n_in != net.n_in or tuple(init.net_arch) != cfg.net_arch or _gru(init) != _gru(net):
                 raise ValueError(
                     f"init: the network has {init.n_in} inputs and layers {init.net_arch}{_gru(init)}; this run needs "
                     f"{net.n_in} inputs ({family.spec if family else f'{level.width}x{level.height}'}, {n} robot(s), near_radius "

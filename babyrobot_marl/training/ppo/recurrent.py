@@ -27,32 +27,42 @@ from typing import Any
 import numpy as np
 
 from ...core.actions import N_ACTIONS
+from ..checks import CELL_CHOICES
 from ..deps import torch_module
+from .mingru import mingru_backward, mingru_inputs, mingru_unroll
 from .net import DENSE_LIMIT, log_softmax
 from .sampler import Remembered, distinct_rows
 
 DEFAULT_HIDDEN = 32  # PPOConfig.hidden
+CELLS = CELL_CHOICES
+DEFAULT_CELL = "gru"
 
 
-def make_recurrent_net(n_in: int, net_arch: tuple[int, ...] = (64,), hidden: int = DEFAULT_HIDDEN) -> Any:
+def make_recurrent_net(n_in: int, net_arch: tuple[int, ...] = (64,), hidden: int = DEFAULT_HIDDEN,
+                       cell: str = DEFAULT_CELL) -> Any:
     """The recurrent actor-critic: ``encode(rows)`` (the input layers, tanh; row ``n_in`` of ``first`` is the
-    padding, kept zero), ``gate_inputs(rows)`` (then the GRU's input part), ``step(gi, h)`` (the GRU cell),
-    ``heads(h) -> (logits, value)``. Orthogonal initialisation as SB3 and CleanRL (sqrt(2) for the input
-    layers, 1 for the cell, 0.01 / 1 for the heads)."""
+    padding, kept zero), ``gate_inputs(rows)`` (then the cell's input part), ``step(gi, h)`` (the cell: a GRU, or
+    ``cell="mingru"``, ``mingru.py``), ``heads(h) -> (logits, value)``. Orthogonal initialisation as SB3 and
+    CleanRL (sqrt(2) for the input layers, 1 for the cell, 0.01 / 1 for the heads)."""
     torch = torch_module()
     nn = torch.nn
     sizes = list(net_arch) or [hidden]
+    if cell not in CELLS:
+        raise ValueError(f"cell: one of {', '.join(CELLS)}, got {cell!r}")
 
     class RecurrentActorCritic(nn.Module):
         recurrent = True
 
         def __init__(self) -> None:
             super().__init__()
-            self.n_in, self.net_arch, self.hidden = n_in, tuple(net_arch), hidden
+            self.n_in, self.net_arch, self.hidden, self.cell = n_in, tuple(net_arch), hidden, cell
             self.first = nn.Parameter(torch.empty(n_in + 1, sizes[0]))
             self.first_bias = nn.Parameter(torch.zeros(sizes[0]))
             self.layers = nn.ModuleList(nn.Linear(a, b) for a, b in zip(sizes[:-1], sizes[1:]))
-            self.gru = nn.GRUCell(sizes[-1], hidden)
+            if cell == "gru":
+                self.gru = nn.GRUCell(sizes[-1], hidden)
+            else:  # the update gate and the candidate, from the input alone
+                self.mingru = nn.Linear(sizes[-1], 2 * hidden)
             self.actor = nn.Linear(hidden, N_ACTIONS)
             self.critic = nn.Linear(hidden, 1)
             with torch.no_grad():
@@ -63,7 +73,7 @@ def make_recurrent_net(n_in: int, net_arch: tuple[int, ...] = (64,), hidden: int
                 for layer in self.layers:
                     nn.init.orthogonal_(layer.weight, math.sqrt(2))
                     nn.init.zeros_(layer.bias)
-                for name, p in self.gru.named_parameters():
+                for name, p in (self.gru if cell == "gru" else self.mingru).named_parameters():
                     nn.init.orthogonal_(p) if "weight" in name else nn.init.zeros_(p)
                 for head, gain in ((self.actor, 0.01), (self.critic, 1.0)):
                     nn.init.orthogonal_(head.weight, gain)
@@ -92,12 +102,25 @@ def make_recurrent_net(n_in: int, net_arch: tuple[int, ...] = (64,), hidden: int
             return h
 
         def gate_inputs(self, rows: Any, dense: Any = None) -> Any:
-            """The GRU's input part of its gates, ``W_ih x + b_ih`` (``(B, 3 * hidden)``): a function of the input
-            alone, so it is computed once per distinct input and looked up per robot-step."""
-            return torch.addmm(self.gru.bias_ih, self.encode(rows, dense), self.gru.weight_ih.T)
+            """The cell's input part (``(B, 3 * hidden)``: a GRU's ``W_ih x + b_ih``; ``(B, 2 * hidden)``: a minGRU's
+            decay and input): a function of the input alone, computed once per distinct input and looked up per
+            robot-step."""
+            if cell == "gru":
+                return torch.addmm(self.gru.bias_ih, self.encode(rows, dense), self.gru.weight_ih.T)
+            return mingru_inputs(torch.addmm(self.mingru.bias, self.encode(rows, dense), self.mingru.weight.T), 1)
+
+        def gate_columns(self, rows: Any, dense: Any = None) -> Any:
+            """``gate_inputs`` feature-major, ``(G, B)`` (the update's layout)."""
+            x = self.encode(rows, dense).T
+            if cell == "gru":
+                return torch.addmm(self.gru.bias_ih[:, None], self.gru.weight_ih, x)
+            return mingru_inputs(torch.addmm(self.mingru.bias[:, None], self.mingru.weight, x), 0)
 
         def step(self, gi: Any, h: Any) -> Any:
-            """``nn.GRUCell``'s step from the gates' input part ``gi`` (``gate_inputs``) and the state ``h``."""
+            """The cell's step from its input part ``gi`` (``gate_inputs``) and the state ``h``: ``nn.GRUCell``'s, or
+            a minGRU's ``a h + b``."""
+            if cell == "mingru":
+                return torch.addcmul(gi[:, hidden:], gi[:, :hidden], h)
             gh = torch.addmm(self.gru.bias_hh, h, self.gru.weight_hh.T)
             r, z = torch.sigmoid(gi[:, : 2 * hidden] + gh[:, : 2 * hidden]).chunk(2, 1)
             n = torch.tanh(gi[:, 2 * hidden :] + r * gh[:, 2 * hidden :])
@@ -117,14 +140,19 @@ def make_recurrent_net(n_in: int, net_arch: tuple[int, ...] = (64,), hidden: int
     return RecurrentActorCritic()
 
 
-def recurrent_weight_shapes(n_in: int, net_arch: tuple[int, ...], hidden: int) -> dict[str, tuple[int, ...]]:
-    """The name and shape of every tensor of ``make_recurrent_net(n_in, net_arch, hidden)``'s state dict."""
+def recurrent_weight_shapes(n_in: int, net_arch: tuple[int, ...], hidden: int,
+                            cell: str = DEFAULT_CELL) -> dict[str, tuple[int, ...]]:
+    """The name and shape of every tensor of ``make_recurrent_net(n_in, net_arch, hidden, cell)``'s state dict."""
     sizes = list(net_arch) or [hidden]
     shapes: dict[str, tuple[int, ...]] = {"first": (n_in + 1, sizes[0]), "first_bias": (sizes[0],)}
     for i, (a, b) in enumerate(zip(sizes[:-1], sizes[1:])):
         shapes[f"layers.{i}.weight"], shapes[f"layers.{i}.bias"] = (b, a), (b,)
-    shapes.update({"gru.weight_ih": (3 * hidden, sizes[-1]), "gru.weight_hh": (3 * hidden, hidden),
-                   "gru.bias_ih": (3 * hidden,), "gru.bias_hh": (3 * hidden,), "actor.weight": (N_ACTIONS, hidden),
+    if cell == "gru":
+        shapes.update({"gru.weight_ih": (3 * hidden, sizes[-1]), "gru.weight_hh": (3 * hidden, hidden),
+                       "gru.bias_ih": (3 * hidden,), "gru.bias_hh": (3 * hidden,)})
+    else:
+        shapes.update({"mingru.weight": (2 * hidden, sizes[-1]), "mingru.bias": (2 * hidden,)})
+    shapes.update({"actor.weight": (N_ACTIONS, hidden),
                    "actor.bias": (N_ACTIONS,), "critic.weight": (1, hidden), "critic.bias": (1,)})
     return shapes
 
@@ -212,6 +240,8 @@ class Recurrence:
         ``unroll_backward`` reads (each step's reset state, gates and ``W_hn h``). Feature-major, each gate is one
         block, every step's values are written in place and the weights' gradients are single products over all
         steps (in ``(B, 3H)`` rows, slicing the gates and copying them cost as much as the arithmetic)."""
+        if self.net.cell == "mingru":
+            return mingru_unroll(x, keep, h)
         torch = torch_module()
         gru, H = self.net.gru, self.net.hidden
         _, T, B = x.shape
@@ -231,6 +261,8 @@ class Recurrence:
         """The loss's gradient at the gates' input parts ``(3H, T, B)`` from its gradient at the states
         ``d_states`` (``(H, T, B)``), through time; adds ``W_hh``'s and ``b_hh``'s to their ``.grad``.
         Written out as ``net.py``'s MLP: autograd's graph of a step's dozen small operations cost more than them."""
+        if self.net.cell == "mingru":
+            return mingru_backward(d_states, saved, keep)
         torch = torch_module()
         gru, H = self.net.gru, self.net.hidden
         reset, gates, gh_n = saved
@@ -289,8 +321,7 @@ class Recurrence:
                 mb_rows, dense, local, mb_keep, h0 = whole
                 # the input layers once per distinct input (feature-major); the cell through time by hand, the heads
                 # and the loss by autograd
-                gi = torch.addmm(self.net.gru.bias_ih[:, None], self.net.gru.weight_ih, self.net.encode(mb_rows, dense).T)
-                x = gi.index_select(1, local).view(-1, T, len(seq))
+                x = self.net.gate_columns(mb_rows, dense).index_select(1, local).view(-1, T, len(seq))
                 with torch.no_grad():
                     states, saved = self.unroll(x.detach(), mb_keep, h0)
                 flat = states.view(states.shape[0], -1).requires_grad_()
