@@ -187,9 +187,10 @@ def test_train_recurrent_on_the_command_line_then_evaluate_and_race(tmp_path, ca
     out = capsys.readouterr().out
     assert '"policy"' in out.splitlines()[-1] and f"{name} of 8 units" in out
     assert main(["race", "--level", "maze:8..8", "--robots", "2", "--start", "random", "--policies", path]) == 0
-    for args, message in ((["--recurrent"], "--recurrent: only with --observe local"),
-                          (["--observe", "local", "--hidden", "8"], "--hidden: the recurrent cell's size, only with --recurrent"),
-                          (["--observe", "local", "--cell", "mingru"], "--cell: the recurrent cell's kind, only with --recurrent")):
+    refused = ((["--recurrent"], "--recurrent: only with --observe local"),
+               (["--observe", "local", "--hidden", "8"], "--hidden: the recurrent cell's size, only with --recurrent"),
+               (["--observe", "local", "--cell", "mingru"], "--cell: the recurrent cell's kind, only with --recurrent"))
+    for args, message in refused:
         assert main(["train", "--level", "maze-8x8", "--steps", "10", *args]) == 2
         assert message in capsys.readouterr().err
     with pytest.raises(SystemExit):
