@@ -168,6 +168,11 @@ def test_recurrent_policies_are_saved_loaded_and_checked(trained, tmp_path):
         load_checkpoint(tmp_path / "bad.pt")
     with pytest.raises(ValueError, match="^recurrent: a recurrent net is read by a level family's policy"):
         train_ppo("maze-8x8", timesteps=10, config=SMALL)
+    other = "mingru" if trained.net.cell == "gru" else "gru"
+    names = {"gru": "a GRU", "mingru": "a minGRU"}
+    with pytest.raises(ValueError, match=f"^init: .* and {names[trained.net.cell]} of 8 units; this run needs .* and "
+                                         f"{names[other]} of 8 units"):
+        train_ppo("maze:8..10", n_robots=3, timesteps=10, config=SMALL.replace(cell=other), init=trained.net)
     with pytest.raises(ValueError, match="^hidden: must be"):
         PPOConfig(hidden=0)
     with pytest.raises(ValueError, match="^recurrent: must be True or False"):

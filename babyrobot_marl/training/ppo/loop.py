@@ -50,7 +50,7 @@ def _hidden(net: Any) -> int | None:
     return getattr(net, "hidden", None) if getattr(net, "recurrent", False) else None
 
 
-def _gru(net: Any) -> str:
+def _cell(net: Any) -> str:
     return "" if _hidden(net) is None else f" and {CELL_NAMES[net.cell]} of {_hidden(net)} units"
 
 
@@ -157,11 +157,11 @@ def train_ppo(
         # a recurrent net's hidden states, one per robot beside the batch engine's cells (None: feed-forward)
         rec = Recurrence(net, E * n, T, 1.0 / (1.0 - cfg.gamma)) if cfg.recurrent else None
         if init is not None:
-            if init.n_in != net.n_in or tuple(init.net_arch) != cfg.net_arch or _gru(init) != _gru(net):
+            if init.n_in != net.n_in or tuple(init.net_arch) != cfg.net_arch or _cell(init) != _cell(net):
                 raise ValueError(
-                    f"init: the network has {init.n_in} inputs and layers {init.net_arch}{_gru(init)}; this run needs "
+                    f"init: the network has {init.n_in} inputs and layers {init.net_arch}{_cell(init)}; this run needs "
                     f"{net.n_in} inputs ({family.spec if family else f'{level.width}x{level.height}'}, {n} robot(s), near_radius "
-                    f"{cfg.near_radius}) and layers {cfg.net_arch}{_gru(net)}"
+                    f"{cfg.near_radius}) and layers {cfg.net_arch}{_cell(net)}"
                 )
             net.load_state_dict(init.state_dict())
         params = list(net.parameters())

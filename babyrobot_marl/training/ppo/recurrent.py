@@ -1,5 +1,5 @@
-"""Recurrent policies (``PPOConfig.recurrent``): a GRU cell between the input layers and the heads, and the
-hidden state of every robot kept beside the batch engine's cells.
+"""Recurrent policies (``PPOConfig.recurrent``): a GRU cell (or a minGRU, ``PPOConfig.cell``: ``mingru.py``) between
+the input layers and the heads, and the hidden state of every robot kept beside the batch engine's cells.
 
 A memoryless policy in a maze takes the same action wherever its windows look alike, so a greedy robot
 cycles; one that remembers where it has been need not. The net (``make_recurrent_net``): the input
@@ -34,8 +34,7 @@ from .net import DENSE_LIMIT, log_softmax
 from .sampler import Remembered, distinct_rows
 
 DEFAULT_HIDDEN = 32  # PPOConfig.hidden
-CELLS = CELL_CHOICES
-DEFAULT_CELL = "gru"
+DEFAULT_CELL = "gru"  # PPOConfig.cell
 
 
 def make_recurrent_net(n_in: int, net_arch: tuple[int, ...] = (64,), hidden: int = DEFAULT_HIDDEN,
@@ -47,8 +46,8 @@ def make_recurrent_net(n_in: int, net_arch: tuple[int, ...] = (64,), hidden: int
     torch = torch_module()
     nn = torch.nn
     sizes = list(net_arch) or [hidden]
-    if cell not in CELLS:
-        raise ValueError(f"cell: one of {', '.join(CELLS)}, got {cell!r}")
+    if cell not in CELL_CHOICES:
+        raise ValueError(f"cell: one of {', '.join(CELL_CHOICES)}, got {cell!r}")
 
     class RecurrentActorCritic(nn.Module):
         recurrent = True
