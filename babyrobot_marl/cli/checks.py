@@ -209,10 +209,9 @@ def check_train_args(args: argparse.Namespace, n_envs: int, family: bool = False
                              "the trail, a recurrent net, a crowd imitating a planner)")
     if args.imitate is not None:
         check_imitate_flags(args)
-    for flag, given in (("--hidden", args.hidden is not None), ("--cell", args.cell is not None)):
-        if given and not args.recurrent:
-            raise ValueError(f"{flag}: the recurrent cell's {'size' if flag == '--hidden' else 'kind'}, only with "
-                             f"--recurrent; add --recurrent or drop {flag}")
+    for flag, given, what in (("--hidden", args.hidden, "size"), ("--cell", args.cell, "kind")):
+        if given is not None and not args.recurrent:
+            raise ValueError(f"{flag}: the recurrent cell's {what}, only with --recurrent; add --recurrent or drop {flag}")
     if args.max_cycles is not None and args.robots == 1:
         raise ValueError("--max-cycles: a race's step limit; a lone robot (--robots 1) has its level's, drop --max-cycles")
     if args.collisions is not None and args.robots == 1:

@@ -43,8 +43,7 @@ def check_config(cfg: Any, start_choices: Sequence[str], imitate_choices: Sequen
     check_int(cfg.near_radius, "near_radius", 0, MAX_NEAR_RADIUS)
     check_int(cfg.view_radius, "view_radius", 0)
     check_int(cfg.hidden, "hidden", 1, MAX_LAYER_SIZE)
-    if cfg.cell not in CELL_CHOICES:
-        raise ValueError(f"cell: the recurrent cell, one of {', '.join(map(repr, CELL_CHOICES))}, got {shown(cfg.cell)}")
+    check_cell(cfg.cell)
     for name in ("hint", "memory", "trail", "recurrent"):
         if not isinstance(getattr(cfg, name), bool):
             raise ValueError(f"{name}: must be True or False, got {shown(getattr(cfg, name))}")
@@ -74,6 +73,12 @@ def check_config(cfg: Any, start_choices: Sequence[str], imitate_choices: Sequen
 
 
 # ---------------------------------------------------------------------------- imitating a planner
+def check_cell(cell: Any) -> None:
+    """``cell``: a recurrent net's cell, one of ``CELL_CHOICES``."""
+    if cell not in CELL_CHOICES:
+        raise ValueError(f"cell: the recurrent cell, one of {', '.join(map(repr, CELL_CHOICES))}, got {shown(cell)}")
+
+
 def check_imitation(family: Any, n_robots: int, env_kwargs: dict[str, Any]) -> None:
     """One line naming the setting if a run on ``family`` (``ppo.window.Family``) cannot imitate PIBT, before any work."""
     if family.goals != "own" or n_robots < 2:

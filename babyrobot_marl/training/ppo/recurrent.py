@@ -27,7 +27,7 @@ from typing import Any
 import numpy as np
 
 from ...core.actions import N_ACTIONS
-from ..checks import CELL_CHOICES
+from ..checks import check_cell
 from ..deps import torch_module
 from .mingru import mingru_backward, mingru_inputs, mingru_unroll
 from .net import DENSE_LIMIT, log_softmax
@@ -46,8 +46,7 @@ def make_recurrent_net(n_in: int, net_arch: tuple[int, ...] = (64,), hidden: int
     torch = torch_module()
     nn = torch.nn
     sizes = list(net_arch) or [hidden]
-    if cell not in CELL_CHOICES:
-        raise ValueError(f"cell: one of {', '.join(CELL_CHOICES)}, got {cell!r}")
+    check_cell(cell)
 
     class RecurrentActorCritic(nn.Module):
         recurrent = True
