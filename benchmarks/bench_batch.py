@@ -41,7 +41,7 @@ from babyrobot_marl import race_v0
 from babyrobot_marl.core.batch import BatchRace
 
 LEVEL = "maze-8x8"
-VECTOR_TARGET = 25.0  # x SyncVectorEnv of BabyRobot-v0, make_vec with 64 envs on maze-8x8 (issue 28; its aim is 30x)
+VECTOR_TARGET = 25.0  # x SyncVectorEnv of BabyRobot-v0, make_vec with 64 envs on maze-8x8 (aim: 30x)
 
 
 def engine(n_envs: int, n_robots: int = 4) -> BatchRace:

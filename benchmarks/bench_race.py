@@ -3,7 +3,7 @@
     python benchmarks/bench_race.py            # a few seconds per round
     python benchmarks/bench_race.py --quick    # CI: short rounds (9 of 4,000 joint steps)
 
-Part 1 (issue 28), the race as users of a 4-robot race run it: an open 8x8 level with the
+Part 1, the race as users of a 4-robot race run it: an open 8x8 level with the
 level's own four corner starts and the exit inside, ``max_cycles=200``, random actions, each
 robot leaving at the exit and the race reset when all are gone; agent-steps are counted over
 the agents present at each step (late in a race the fixed cost of a step is shared by fewer
@@ -43,7 +43,7 @@ from babyrobot_marl import race_v0
 
 # The peer's grid: 8x8 open floor, the exit in the bottom-right corner, random starts.
 TARGET = 2.0  # x multigrid, for the block rows: the lowest ratio seen over repeated runs on a shared 2-core machine was 2.06
-CORNERS_TARGET = 3.0  # x multigrid, part 1 (issue 28's floor; its aim is 5x)
+CORNERS_TARGET = 3.0  # x multigrid, part 1's floor (aim: 5x)
 CHUNK = 200  # joint steps per turn in part 1
 # Part 1's level: open 8x8 floor, the four starts in the corners, the exit inside.
 CORNERS_8X8 = "\n".join(

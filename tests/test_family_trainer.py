@@ -224,3 +224,28 @@ def test_blocked_cost_lowers_the_training_reward_of_blocked_steps_only(monkeypat
 def test_blocked_cost_must_be_a_non_negative_number():
     with pytest.raises(ValueError, match="blocked_cost"):
         PPOConfig(blocked_cost=-1.0)
+
+
+@pytest.mark.parametrize("n_robots", [2, 4, 16, 17])
+def test_a_robots_near_code_has_a_bit_for_each_racing_robot_on_its_near_cells(n_robots):
+    """Up to PAIRWISE_ROBOTS robots by every pair's offset, more by sorting cells: both as a loop over robots says."""
+    levels = [builtin.get("maze-8x8-s1"), builtin.get("maze-12x12-s2")]
+    near = near_offsets(2)
+    atlas = Atlas(levels, Rules(), WindowForm(2, near, False))
+    batch = atlas.batch(40, n_robots, 300)
+    rng = np.random.default_rng(n_robots)
+    batch.reset_drawn(np.arange(40), rng)
+    for _ in range(3):
+        racing = rng.random(batch.cells.shape) < 0.8
+        code = atlas.near_code(batch.cells, racing)
+        w = atlas.level.width
+        for e in range(40):
+            for i in range(n_robots):
+                xi, yi = batch.cells[e, i] % w, batch.cells[e, i] // w
+                want = 0
+                for j in range(n_robots):
+                    offset = (batch.cells[e, j] % w - xi, batch.cells[e, j] // w - yi)
+                    if j != i and racing[e, j] and offset in near:
+                        want |= 1 << near.index(offset)
+                assert code[e, i] == want, (e, i)
+        batch.step(rng.integers(0, 5, batch.cells.shape))

@@ -11,9 +11,9 @@ from babyrobot_marl import race_v0  # noqa: E402
 from babyrobot_marl.cli import main  # noqa: E402
 from babyrobot_marl.core.level import Level  # noqa: E402
 from babyrobot_marl.training.policy import WindowPolicy, load_checkpoint, load_policy  # noqa: E402
-from babyrobot_marl.training.ppo import PPOConfig, train_ppo  # noqa: E402
+from babyrobot_marl.training.ppo import PPOConfig, recurrent, train_ppo  # noqa: E402
 from babyrobot_marl.training.ppo.inputs import near_offsets  # noqa: E402
-from babyrobot_marl.training.ppo.recurrent import Recurrence, make_recurrent_net  # noqa: E402
+from babyrobot_marl.training.ppo.recurrent import Recurrence, distinct_of, make_recurrent_net  # noqa: E402
 from babyrobot_marl.training.ppo.sampler import distinct_rows  # noqa: E402
 from babyrobot_marl.training.ppo.window import NO_ACTION, Atlas, Family, WindowForm, play_atlas  # noqa: E402
 
@@ -318,3 +318,21 @@ def test_a_rollouts_input_gates_are_computed_once_per_input_and_equal_the_nets()
             direct = net.gate_inputs(torch.from_numpy(keys.reshape(-1, 1))).view(2, 9, -1)
         assert torch.allclose(torch.from_numpy(remembered(keys)), direct, atol=1e-6)
     assert sorted(seen) == sorted(set(seen))  # no key computed twice
+
+
+def test_distinct_of_is_torchs_unique_with_its_inverse():
+    for n, shape in ((50, (7, 9)), (3, (4, 4)), (1000, (2, 5))):
+        inv = torch.randint(0, n, shape, generator=torch.Generator().manual_seed(n))
+        want, want_local = torch.unique(inv, return_inverse=True)
+        got, got_local = distinct_of(inv, n)
+        assert torch.equal(got, want) and torch.equal(got_local, want_local)
+
+
+def test_an_update_is_the_same_whether_its_one_hot_counts_are_built_once_or_per_minibatch(monkeypatch):
+    """Several minibatches of windows (rows of many indices): the counts built once per update, in memory kept from
+    one update to the next, train the same weights as counts built per minibatch."""
+    config = SMALL.replace(cell="mingru", batch_size=128)  # 8 steps of 32 envs of 3 robots: 6 minibatches
+    kept = train_ppo("maze:8..10", n_robots=3, timesteps=4_000, seed=0, config=config).net.state_dict()
+    monkeypatch.setattr(recurrent, "DENSE_ROOM", 0)
+    each = train_ppo("maze:8..10", n_robots=3, timesteps=4_000, seed=0, config=config).net.state_dict()
+    assert all(torch.equal(kept[name], each[name]) for name in kept)

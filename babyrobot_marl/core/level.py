@@ -22,6 +22,7 @@ import numbers
 from collections import deque
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 
 import numpy as np
 
@@ -53,6 +54,8 @@ def as_cell(value: object, what: str) -> Cell:
     """``(x, y)`` from a pair of integers (numpy's too; not bools, not floats such as ``1.0``)."""
     try:
         x, y = value  # type: ignore[misc]
+        if type(x) is int and type(y) is int:  # the common case, checked at once (not bools: their type is bool)
+            return (x, y)
         return (check_int(x, what), check_int(y, what))
     except (TypeError, ValueError):
         pass
@@ -171,6 +174,10 @@ class Level:
 
     def cells_reaching_exit(self) -> frozenset[Cell]:
         """Open cells from which some exit can be reached (glass walls count as passable)."""
+        return self._reaching_exit
+
+    @cached_property
+    def _reaching_exit(self) -> frozenset[Cell]:  # once per level: validating it and its free cells both ask
         seen = set(self.exits)
         todo = deque(self.exits)
         while todo:

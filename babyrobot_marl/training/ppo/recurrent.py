@@ -35,6 +35,7 @@ from .sampler import Remembered, distinct_rows
 
 DEFAULT_HIDDEN = 32  # PPOConfig.hidden
 DEFAULT_CELL = "gru"  # PPOConfig.cell
+DENSE_ROOM = 1 << 25  # floats up to which an update builds the one-hot counts of all its distinct inputs at once
 
 
 def make_recurrent_net(n_in: int, net_arch: tuple[int, ...] = (64,), hidden: int = DEFAULT_HIDDEN,
@@ -77,22 +78,26 @@ def make_recurrent_net(n_in: int, net_arch: tuple[int, ...] = (64,), hidden: int
                     nn.init.orthogonal_(head.weight, gain)
                     nn.init.zeros_(head.bias)
 
-        def dense(self, rows: Any) -> Any:
+        def dense(self, rows: Any, room: Any = None) -> Any:
             """The multi-hot counts of rows of several indices, ``(B, n_in + 1)``, the padding column zero (no
-            input, no gradient); None where a look-up is cheaper (one index per row, or a wide input)."""
+            input, no gradient); None where a look-up is cheaper (one index per row, or a wide input). ``room``: a
+            tensor of at least ``B`` rows to write them in (memory the process has touched already: fresh memory of
+            tens of megabytes costs more to fault in than the counts)."""
             if rows.shape[1] == 1 or n_in > DENSE_LIMIT:  # a look-up is cheaper
                 return None
-            dense = torch.zeros(rows.shape[0], n_in + 1).scatter_add_(1, rows, torch.ones(rows.shape))
+            dense = torch.zeros(rows.shape[0], n_in + 1) if room is None else room[: rows.shape[0]].zero_()
+            dense.scatter_add_(1, rows, torch.ones(()).expand(rows.shape))
             dense[:, n_in] = 0.0
             return dense
 
         def encode(self, rows: Any, dense: Any = None) -> Any:
-            """The input layers on ``rows`` (``dense``: their ``self.dense(rows)``, when it was built already)."""
-            b, k = rows.shape
+            """The input layers on ``rows`` (``dense``: their ``self.dense(rows)``, when it was built already; then
+            ``rows`` is not read)."""
             dense = self.dense(rows) if dense is None else dense
             if dense is not None:  # the one-hot counts times the weights: faster than many look-ups
                 h = torch.tanh(torch.addmm(self.first_bias, dense, self.first))
             else:
+                b, k = rows.shape
                 h = nn.functional.embedding(rows, self.first, padding_idx=n_in)  # the padding row gets no gradient
                 h = torch.tanh((h if k == 1 else h.sum(1)).view(b, -1) + self.first_bias)
             for layer in self.layers:
@@ -155,6 +160,15 @@ def recurrent_weight_shapes(n_in: int, net_arch: tuple[int, ...], hidden: int,
     return shapes
 
 
+def distinct_of(inv: Any, n: int) -> tuple[Any, Any]:
+    """``torch.unique(inv, return_inverse=True)`` for numbers below ``n``: a count per number, no sort."""
+    torch = torch_module()
+    seen = torch.zeros(n, dtype=torch.bool)
+    seen[inv.reshape(-1)] = True
+    present = seen.nonzero()[:, 0]
+    return present, (seen.cumsum(0) - 1)[inv]
+
+
 class Recurrence:
     """The hidden states of ``n_seq`` robots (``E * R``, row-major) through rollouts, what the update replays,
     and the update itself. In a rollout: ``start(inputs)``, then per step ``sample(keys, rng)`` (the actor:
@@ -172,6 +186,7 @@ class Recurrence:
         self.value_buf = np.zeros((n_steps, n_seq), dtype=np.float32)
         self.final_value = np.zeros((n_steps, n_seq), dtype=np.float32)  # of a truncated episode's last observation
         self.h0 = self.h
+        self.room = torch_module().zeros(0, 0)  # the update's one-hot counts, kept from one update to the next
 
     def restart(self) -> None:
         """Every robot starts a new episode (new mazes)."""
@@ -296,6 +311,7 @@ class Recurrence:
         torch = torch_module()
         T, S = keys.shape[0], self.h0.shape[0]
         rows, inv = distinct_rows(inputs, keys.reshape(-1))
+        # (T, S) arrays whose columns (segments) minibatches take: numpy's column gathers are several times torch's
         inv = inv.view(T, S)
         keep = torch.from_numpy(self.keep_buf.astype(np.float32))
         per = max(1, cfg.batch_size // T)
@@ -303,37 +319,75 @@ class Recurrence:
                  torch.from_numpy(adv.reshape(T, S)),
                  torch.from_numpy((returns.reshape(T, S) / self.value_scale).astype(np.float32)),
                  torch.from_numpy(valid.reshape(T, S).astype(np.float32)))
+        # the one-hot counts of every distinct input at once, when they fit: a minibatch's are then its rows of them
+        dense_all = None
+        if rows.shape[0] * (self.net.n_in + 1) <= DENSE_ROOM:
+            if len(self.room) < rows.shape[0]:
+                self.room = torch.empty(rows.shape[0] + rows.shape[0] // 4, self.net.n_in + 1)
+            dense_all = self.net.dense(rows, self.room)
         whole = None  # one minibatch holds every segment: its distinct inputs found once, not every epoch
         for _ in range(cfg.n_epochs):
             perm = torch.randperm(S, generator=order) if per < S else torch.arange(S)
             for start in range(0, S, per):
                 seq = perm[start : start + per]
-                part = [b[:, seq] for b in batch]
+                part = [b.index_select(1, seq) for b in batch]
                 if part[-1].sum() == 0:
                     continue
                 optim.zero_grad(set_to_none=False)
                 if whole is None or per < S:
-                    present, local = torch.unique(inv[:, seq], return_inverse=True)
-                    mb_rows = rows[present]
-                    whole = mb_rows, self.net.dense(mb_rows), local.reshape(-1), keep[:, seq][None], self.h0[seq].T
+                    present, local = distinct_of(inv[:, seq], rows.shape[0])
+                    if dense_all is not None:
+                        mb_rows, dense = None, dense_all.index_select(0, present)
+                    else:
+                        mb_rows = rows[present]
+                        dense = self.net.dense(mb_rows)
+                    whole = mb_rows, dense, local.reshape(-1), keep.index_select(1, seq)[None], self.h0[seq].T
                 mb_rows, dense, local, mb_keep, h0 = whole
                 # the input layers once per distinct input (feature-major); the cell through time by hand, the heads
                 # and the loss by autograd
                 x = self.net.gate_columns(mb_rows, dense).index_select(1, local).view(-1, T, len(seq))
                 with torch.no_grad():
                     states, saved = self.unroll(x.detach(), mb_keep, h0)
-                flat = states.view(states.shape[0], -1).requires_grad_()
-                self.loss(*self.net.heads_by_column(flat), *part, cfg).backward()
-                with torch.no_grad():
-                    d_x = self.unroll_backward(flat.grad.view_as(states), saved, mb_keep)
+                    d_states = self.heads_backward(states.view(states.shape[0], -1), part, cfg)
+                    d_x = self.unroll_backward(d_states.view_as(states), saved, mb_keep)
                 x.backward(d_x)
                 clip_grad_norm(grads_of(params), cfg.max_grad_norm)
                 optim.step()
 
+    def heads_backward(self, h: Any, part: list[Any], cfg: Any) -> Any:
+        """``loss``'s gradient, written out (autograd's graph of its dozen operations on every robot-step cost more
+        than they): adds the heads' gradients to their ``.grad`` and returns the loss's gradient at the states ``h``
+        (``(H, T * B)``, feature-major); ``part``: the minibatch's ``(T, B)`` arrays as ``loss`` reads them."""
+        torch = torch_module()
+        old, act, a, ret, m = (x.reshape(-1) for x in part)
+        n = m.sum()
+        actor, critic = self.net.actor, self.net.critic
+        logp = log_softmax(torch.addmm(actor.bias[:, None], actor.weight, h).T)
+        value = torch.addmm(critic.bias[:, None], critic.weight, h)[0]
+        p = torch.exp(logp)
+        if cfg.normalize_advantage and n > 1:
+            mean = (a * m).sum() / n
+            a = (a - mean) / (torch.sqrt((((a - mean) * m) ** 2).sum() / (n - 1)) + 1e-8)
+        ratio = torch.exp(logp.gather(1, act[:, None])[:, 0] - old)
+        w = m / n  # each decision's weight in the mean; parked steps none
+        # the min picks the unclipped term (the one with a gradient) for A > 0 while r <= 1 + c, for A < 0 while r >= 1 - c
+        c = cfg.clip_range
+        g = torch.where(a > 0, ratio <= 1.0 + c, ratio >= 1.0 - c) * (-a * ratio * w)  # d loss / d logp(action)
+        # d logp(action) / d z = onehot(action) - p;  d (-entropy) / d z = p (log p + entropy)
+        entropy = -(p * logp).sum(1, keepdim=True)
+        dz = (p * (logp + entropy)).mul_((cfg.ent_coef * w)[:, None]).sub_(g[:, None] * p)
+        dz.scatter_add_(1, act[:, None], g[:, None])
+        dv = (value - ret).mul_(2.0 * cfg.vf_coef * w)
+        for param, grad in ((actor.weight, dz.T @ h.T), (actor.bias, dz.sum(0)), (critic.weight, dv[None] @ h.T),
+                            (critic.bias, dv.sum(0, keepdim=True))):
+            param.grad = grad if param.grad is None else param.grad.add_(grad)
+        return torch.addmm(critic.weight.T @ dv[None], actor.weight.T, dz.T)
+
     @staticmethod
     def loss(logits: Any, value: Any, old: Any, act: Any, a: Any, ret: Any, m: Any, cfg: Any) -> Any:
         """SB3's PPO loss over a minibatch of whole segments (``(T, B)`` arrays), the parked steps (``m`` 0)
-        left out; advantages normalised over the minibatch's decisions."""
+        left out; advantages normalised over the minibatch's decisions. The update uses its gradient as
+        ``heads_backward`` writes it; this is the reference it is held to."""
         torch = torch_module()
         T = old.shape[0]
         n = m.sum()

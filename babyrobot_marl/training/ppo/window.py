@@ -33,6 +33,8 @@ from .net import actor_probs
 from .trail import TRAIL_VALUES
 from .turns import decide_in_turns
 
+PAIRWISE_ROBOTS = 16  # crowds up to which near codes compare every pair of robots (E R^2) instead of sorting cells
+
 __all__ = ["NO_ACTION", "Atlas", "Family", "WindowForm", "play_atlas", "stack_levels", "window_form"]
 
 
@@ -131,6 +133,37 @@ class Atlas:
                          self.table.rules.win_bonus if n_robots > 1 else 0.0, pools=self.pools, goal_columns=own,
                          lifelong=self.lifelong, stay=self.stay)
 
+    def near_code(self, cells: np.ndarray, racing: np.ndarray) -> np.ndarray:
+        """``(E, R)``: the near bits of each robot as one number (bit ``b``: a racing robot of the same env on near
+        cell ``b``). A crowd of up to ``PAIRWISE_ROBOTS``: every pair's offset looked up (``E R^2`` small operations,
+        no sort); larger ones: ``near_bits``."""
+        e, r = cells.shape
+        m = len(self.form.near)
+        if not m or r == 1:
+            return np.zeros((e, r), dtype=np.int64)
+        if r > PAIRWISE_ROBOTS:
+            return self.near_bits(cells, racing).astype(np.int64) @ (1 << np.arange(m))
+        w, reach = self.level.width, self.near_reach
+        side = 2 * reach + 1
+        x, y = cells % w, cells // w
+        dx, dy = x[:, None, :] - x[:, :, None], y[:, None, :] - y[:, :, None]  # (E, i, j): j seen from i
+        inside = (np.abs(dx) <= reach) & (np.abs(dy) <= reach) & racing[:, None, :]
+        slot = np.where(inside, (dy + reach) * side + dx + reach, side * side)  # side * side: not near
+        return np.bitwise_or.reduce(self.near_bit_of[slot], axis=2)
+
+    @cached_property
+    def near_reach(self) -> int:
+        return max((max(abs(dx), abs(dy)) for dx, dy in self.form.near), default=0)
+
+    @cached_property
+    def near_bit_of(self) -> np.ndarray:
+        """Each offset's bit in a near code, over the square of ``near_reach`` (then a last 0: not near)."""
+        side = 2 * self.near_reach + 1
+        bits = np.zeros(side * side + 1, dtype=np.int64)
+        for b, (dx, dy) in enumerate(self.form.near):
+            bits[(dy + self.near_reach) * side + dx + self.near_reach] = 1 << b
+        return bits
+
     def near_bits(self, cells: np.ndarray, racing: np.ndarray) -> np.ndarray:
         """``(E, R, m)``: a racing robot of the same env on each near cell of each robot."""
         e, r = cells.shape
@@ -166,7 +199,7 @@ class Atlas:
         m = len(self.form.near)
         key = self.pattern_of[cells]
         if m:
-            key = (key << m) | self.near_bits(cells, racing).astype(np.int64) @ (1 << np.arange(m))
+            key = (key << m) | self.near_code(cells, racing)
         if self.form.own:
             part = target_units(cells, goals, self.level.width, self.form.radius)
             if self.form.hint:
