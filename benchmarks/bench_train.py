@@ -22,9 +22,9 @@
    from there). SB3 trained for the same 60 s beside it.
 4. The recurrent trainer (``--recurrent``): 4 robots on ``maze:8..16`` as ``babyrobot-marl train`` runs a
    crowd on a level family (256 envs, near_radius 2, blocked_cost 0.5), env steps per second of CPU time
-   (each of the 4 robots' steps counts once) over 48 rollouts after the first, as ``train`` reports its speed:
+   (each of the 4 robots' steps counts once) over 48 rollouts after the first (3 atlases of mazes), as ``train`` reports its speed:
    the GRU, the minGRU (``--cell mingru``), the light recipe (``LIGHT``: ``--cell mingru --hidden 16 --net-arch 32
-   --n-epochs 1 --n-envs 8192 --batch-size 131072``), and beside them the same run with ``--memory``
+   --n-epochs 1 --n-envs 8192 --n-steps 32 --batch-size 262144``), and beside them the same run with ``--memory``
    (feed-forward). Target: 500,000 steps/s (the fastest recurrent run).
 
 Exits 1 when a target (not an aim) is missed. Torch runs on one thread in both trainers.
@@ -99,9 +99,10 @@ def speed(level: str, n_robots: int, timesteps: int, seed: int) -> dict:
             "fast_wall": fast.timesteps / fast_wall, "sb3_wall": model.num_timesteps / sb3_wall}
 
 
-# the light recipe: a minGRU of 16 units on one layer of 32, one epoch, 8,192 envs (minibatches of 131,072 robot-steps)
+# the light recipe: a minGRU of 16 units on one layer of 32, one epoch, 8,192 envs, segments of 32 steps (minibatches
+# of 262,144 robot-steps)
 LIGHT = {"recurrent": True, "cell": "mingru", "hidden": 16, "net_arch": (32,), "n_epochs": 1, "n_envs": 8192,
-         "batch_size": 131072}
+         "n_steps": 32, "batch_size": 262144}
 FAMILY_RUNS = {"recurrent": {"recurrent": True}, "mingru": {"recurrent": True, "cell": "mingru"}, "memory": {"memory": True},
                "light": LIGHT}
 FAMILY_ROLLOUTS = 48  # three atlases of mazes (one every 16 rollouts): their building counts

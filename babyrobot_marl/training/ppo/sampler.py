@@ -45,7 +45,8 @@ class Remembered(PerKey):
         super().__init__(inputs, fn)
         self.known = np.zeros(0, dtype=np.int64)  # the keys computed so far, sorted
         self.slot = np.zeros(0, dtype=np.int64)  # each one's row of values
-        self.values: np.ndarray | None = None
+        self.values: np.ndarray | None = None  # rows past ``filled``: room for the next keys' values
+        self.filled = 0
 
     def __call__(self, keys: np.ndarray) -> np.ndarray:
         if self.table is not None:
@@ -54,14 +55,24 @@ class Remembered(PerKey):
         at = np.minimum(np.searchsorted(self.known, uniq), max(len(self.known) - 1, 0))
         new = uniq if not len(self.known) else uniq[self.known[at] != uniq]
         if len(new):
-            values = self.run(new)
-            start = 0 if self.values is None else len(self.values)
-            self.values = values if self.values is None else np.concatenate([self.values, values])
-            known, slot = np.concatenate([self.known, new]), np.concatenate([self.slot, start + np.arange(len(new))])
-            order = np.argsort(known, kind="stable")
-            self.known, self.slot = known[order], slot[order]
+            self._keep(new, self.run(new))
             at = np.searchsorted(self.known, uniq)
         return self.values[self.slot[at]][inv.reshape(keys.shape)]
+
+    def _keep(self, new: np.ndarray, values: np.ndarray) -> None:
+        """Keep ``values``, those of the sorted keys ``new`` (none known yet): their rows follow the last kept, and
+        the keys go where they sort (each step adds a few to many: no growing copy or sort of all of them)."""
+        start = self.filled
+        if self.values is None or start + len(new) > len(self.values):  # room doubles: copying stays linear
+            room = np.empty((2 * (start + len(new)), *values.shape[1:]), dtype=values.dtype)
+            if self.values is not None:
+                room[:start] = self.values[:start]
+            self.values = room
+        self.values[start : start + len(new)] = values
+        self.filled = start + len(new)
+        where = np.searchsorted(self.known, new)
+        self.known = np.insert(self.known, where, new)
+        self.slot = np.insert(self.slot, where, start + np.arange(len(new)))
 
 
 class Sampler(PerKey):
