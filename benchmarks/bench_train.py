@@ -23,9 +23,9 @@
 4. The recurrent trainer (``--recurrent``): 4 robots on ``maze:8..16`` as ``babyrobot-marl train`` runs a
    crowd on a level family (256 envs, near_radius 2, blocked_cost 0.5), env steps per second of CPU time
    (each of the 4 robots' steps counts once) over 48 rollouts after the first (3 atlases of mazes), as ``train``
-   reports its speed: the GRU, the minGRU (``--cell mingru``), the light recipe (``LIGHT``: ``--cell mingru --hidden 16 --net-arch 32
-   --n-epochs 1 --n-envs 8192 --n-steps 32 --batch-size 262144``), and beside them the same run with ``--memory``
-   (feed-forward). Target: 500,000 steps/s (the fastest recurrent run).
+   reports its speed: the GRU, the minGRU (``--cell mingru``), the light recipe (``LIGHT``: ``--cell mingru
+   --hidden 16 --net-arch 32 --n-epochs 1 --n-envs 8192 --n-steps 32 --batch-size 262144``), and beside them
+   the same run with ``--memory`` (feed-forward). Target: 500,000 steps/s (the fastest recurrent run).
 
 Exits 1 when a target (not an aim) is missed. Torch runs on one thread in both trainers.
 """
