@@ -132,11 +132,6 @@ def make_recurrent_net(n_in: int, net_arch: tuple[int, ...] = (64,), hidden: int
         def heads(self, h: Any) -> tuple[Any, Any]:
             return self.actor(h), self.critic(h)[:, 0]
 
-        def heads_by_column(self, h: Any) -> tuple[Any, Any]:
-            """``heads`` of states given as columns, ``(hidden, N)`` (the update's feature-major layout)."""
-            logits = torch.addmm(self.actor.bias[:, None], self.actor.weight, h).T
-            return logits, torch.addmm(self.critic.bias[:, None], self.critic.weight, h)[0]
-
         def initial_state(self, n: int) -> Any:
             return torch.zeros(n, hidden)
 
@@ -311,7 +306,6 @@ class Recurrence:
         torch = torch_module()
         T, S = keys.shape[0], self.h0.shape[0]
         rows, inv = distinct_rows(inputs, keys.reshape(-1))
-        # (T, S) arrays whose columns (segments) minibatches take: numpy's column gathers are several times torch's
         inv = inv.view(T, S)
         keep = torch.from_numpy(self.keep_buf.astype(np.float32))
         per = max(1, cfg.batch_size // T)
@@ -343,8 +337,8 @@ class Recurrence:
                         dense = self.net.dense(mb_rows)
                     whole = mb_rows, dense, local.reshape(-1), keep.index_select(1, seq)[None], self.h0[seq].T
                 mb_rows, dense, local, mb_keep, h0 = whole
-                # the input layers once per distinct input (feature-major); the cell through time by hand, the heads
-                # and the loss by autograd
+                # the input layers once per distinct input (feature-major), by autograd; the cell through time, the
+                # heads and the loss by hand
                 x = self.net.gate_columns(mb_rows, dense).index_select(1, local).view(-1, T, len(seq))
                 with torch.no_grad():
                     states, saved = self.unroll(x.detach(), mb_keep, h0)
