@@ -117,10 +117,16 @@ def family_speed(rollouts: int, seed: int, warm_up: bool = True, **run) -> float
     per = cfg.n_envs * cfg.n_steps * 4
     if warm_up:  # imports, allocations
         train_ppo("maze:8..16", 4, per, seed, cfg)
-    marks: list[tuple[int, float]] = []
-    train_ppo("maze:8..16", 4, per * rollouts, seed, cfg, on_update=lambda t, s, r: marks.append((t, time.process_time())))
+    marks = update_marks("maze:8..16", 4, per * rollouts, seed, cfg)
     (t0, c0), (t1, c1) = marks[0], marks[-1]
     return (t1 - t0) / (c1 - c0)
+
+
+def update_marks(level: str, n_robots: int, timesteps: int, seed: int, cfg: PPOConfig) -> list[tuple[int, float]]:
+    """A training run's timesteps and the process's CPU time at the end of each of its updates."""
+    marks: list[tuple[int, float]] = []
+    train_ppo(level, n_robots, timesteps, seed, cfg, on_update=lambda t, s, r: marks.append((t, time.process_time())))
+    return marks
 
 
 # ---------------------------------------------------------------------------- 2. time to 95%
@@ -130,9 +136,7 @@ FAST_MAZE: dict = {}  # the defaults
 def late_speed(level: str, n_robots: int, timesteps: int, seed: int) -> float:
     """The fast trainer's steps per second of CPU time over the second half of ``timesteps`` (SB3's run, the
     same): once the policy has learnt, episodes are short and starting them weighs."""
-    marks: list[tuple[int, float]] = []
-    train_ppo(level, n_robots, timesteps, seed, fast_config(SPEED_RUN),
-              on_update=lambda t, s, r: marks.append((t, time.process_time())))
+    marks = update_marks(level, n_robots, timesteps, seed, fast_config(SPEED_RUN))
     half = [m for m in marks if m[0] >= timesteps // 2] or marks
     (t0, c0), (t1, c1) = half[0], marks[-1]
     return (t1 - t0) / (c1 - c0) if c1 > c0 else float("nan")

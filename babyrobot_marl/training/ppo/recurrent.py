@@ -31,7 +31,7 @@ from ..checks import check_cell
 from ..deps import torch_module
 from .mingru import mingru_backward, mingru_inputs, mingru_unroll
 from .net import DENSE_LIMIT, log_softmax
-from .sampler import Remembered, distinct_rows
+from .sampler import Remembered, distinct_below, distinct_rows
 
 DEFAULT_HIDDEN = 32  # PPOConfig.hidden
 DEFAULT_CELL = "gru"  # PPOConfig.cell
@@ -83,12 +83,17 @@ def make_recurrent_net(n_in: int, net_arch: tuple[int, ...] = (64,), hidden: int
             input, no gradient); None where a look-up is cheaper (one index per row, or a wide input). ``room``: a
             tensor of at least ``B`` rows to write them in (memory the process has touched already: fresh memory of
             tens of megabytes costs more to fault in than the counts)."""
-            if rows.shape[1] == 1 or n_in > DENSE_LIMIT:  # a look-up is cheaper
+            if not self.dense_applies(rows):
                 return None
             dense = torch.zeros(rows.shape[0], n_in + 1) if room is None else room[: rows.shape[0]].zero_()
             dense.scatter_add_(1, rows, torch.ones(()).expand(rows.shape))
             dense[:, n_in] = 0.0
             return dense
+
+        def dense_applies(self, rows: Any) -> bool:
+            """Whether ``dense`` builds counts for ``rows``: not for one index per row or a wide input (a look-up is
+            cheaper)."""
+            return rows.shape[1] > 1 and n_in <= DENSE_LIMIT
 
         def encode(self, rows: Any, dense: Any = None) -> Any:
             """The input layers on ``rows`` (``dense``: their ``self.dense(rows)``, when it was built already; then
@@ -155,13 +160,11 @@ def recurrent_weight_shapes(n_in: int, net_arch: tuple[int, ...], hidden: int,
     return shapes
 
 
-def distinct_of(inv: Any, n: int) -> tuple[Any, Any]:
-    """``torch.unique(inv, return_inverse=True)`` for numbers below ``n``: a count per number, no sort."""
+def normalised(a: Any, m: Any, n: Any) -> Any:
+    """The advantages ``a`` normalised over the ``n`` decisions (``m`` 1) among them, as the loss reads them."""
     torch = torch_module()
-    seen = torch.zeros(n, dtype=torch.bool)
-    seen[inv.reshape(-1)] = True
-    present = seen.nonzero()[:, 0]
-    return present, (seen.cumsum(0) - 1)[inv]
+    mean = (a * m).sum() / n
+    return (a - mean) / (torch.sqrt((((a - mean) * m) ** 2).sum() / (n - 1)) + 1e-8)
 
 
 class Recurrence:
@@ -315,7 +318,7 @@ class Recurrence:
                  torch.from_numpy(valid.reshape(T, S).astype(np.float32)))
         # the one-hot counts of every distinct input at once, when they fit: a minibatch's are then its rows of them
         dense_all = None
-        if rows.shape[0] * (self.net.n_in + 1) <= DENSE_ROOM:
+        if self.net.dense_applies(rows) and rows.shape[0] * (self.net.n_in + 1) <= DENSE_ROOM:
             if len(self.room) < rows.shape[0]:
                 self.room = torch.empty(rows.shape[0] + rows.shape[0] // 4, self.net.n_in + 1)
             dense_all = self.net.dense(rows, self.room)
@@ -329,7 +332,7 @@ class Recurrence:
                     continue
                 optim.zero_grad(set_to_none=False)
                 if whole is None or per < S:
-                    present, local = distinct_of(inv[:, seq], rows.shape[0])
+                    present, local = map(torch.from_numpy, distinct_below(inv[:, seq].numpy(), rows.shape[0]))
                     if dense_all is not None:
                         mb_rows, dense = None, dense_all.index_select(0, present)
                     else:
@@ -360,8 +363,7 @@ class Recurrence:
         value = torch.addmm(critic.bias[:, None], critic.weight, h)[0]
         p = torch.exp(logp)
         if cfg.normalize_advantage and n > 1:
-            mean = (a * m).sum() / n
-            a = (a - mean) / (torch.sqrt((((a - mean) * m) ** 2).sum() / (n - 1)) + 1e-8)
+            a = normalised(a, m, n)
         ratio = torch.exp(logp.gather(1, act[:, None])[:, 0] - old)
         w = m / n  # each decision's weight in the mean; parked steps none
         # the min picks the unclipped term (the one with a gradient) for A > 0 while r <= 1 + c, for A < 0 while r >= 1 - c
@@ -388,8 +390,7 @@ class Recurrence:
         logp = log_softmax(logits).view(T, -1, N_ACTIONS)
         new = logp.gather(2, act[..., None])[..., 0]
         if cfg.normalize_advantage and n > 1:
-            mean = (a * m).sum() / n
-            a = (a - mean) / (torch.sqrt((((a - mean) * m) ** 2).sum() / (n - 1)) + 1e-8)
+            a = normalised(a, m, n)
         ratio = torch.exp(new - old)
         pg = torch.maximum(-a * ratio, -a * torch.clamp(ratio, 1 - cfg.clip_range, 1 + cfg.clip_range))
         entropy = -(torch.exp(logp) * logp).sum(2)

@@ -102,10 +102,14 @@ def distinct_rows(inputs: Inputs, keys: np.ndarray) -> tuple[Any, Any]:
     """The distinct inputs among ``keys`` as the net's rows, and each key's row."""
     torch = torch_module()
     if inputs.n_keys <= 4 * keys.size + 65536:  # a map over every possible key: no sort
-        present = np.zeros(inputs.n_keys, dtype=bool)
-        present[keys] = True
-        uniq = np.flatnonzero(present)
-        inv = (np.cumsum(present) - 1)[keys]
+        uniq, inv = distinct_below(keys, inputs.n_keys)
     else:
         uniq, inv = np.unique(keys, return_inverse=True)
     return torch.from_numpy(inputs.rows(uniq)), torch.from_numpy(inv.reshape(-1))
+
+
+def distinct_below(keys: np.ndarray, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """``np.unique(keys, return_inverse=True)`` for keys below ``n``: a mark per number, no sort."""
+    present = np.zeros(n, dtype=bool)
+    present[keys] = True
+    return np.flatnonzero(present), (np.cumsum(present) - 1)[keys]
