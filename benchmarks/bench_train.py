@@ -33,10 +33,13 @@ Exits 1 when a target (not an aim) is missed. Torch runs on one thread in both t
 from __future__ import annotations
 
 import argparse
+import os
+import platform
 import statistics
 import sys
 import time
 
+import numpy as np
 import torch
 
 from babyrobot_marl import BabyRobotEnv, levels
@@ -230,6 +233,21 @@ def race_summary(rows: dict, failures: list) -> None:
         failures.append(f"race vs random: win rate {min(wins):.3f} < {RACE_TARGET}")
 
 
+def machine() -> str:
+    """The CPU's model name, its count and the versions that time: absolute steps per second are this machine's."""
+    model = platform.processor() or platform.machine()
+    try:  # Linux: the model's name, and its family and number (a virtual machine may show a generic name)
+        with open("/proc/cpuinfo") as f:
+            info = dict(line.split(":", 1) for line in f.read().split("\n\n")[0].splitlines() if ":" in line)
+        info = {k.strip(): v.strip() for k, v in info.items()}
+        if "model name" in info:
+            model = f"{info['model name']} (cpu family {info.get('cpu family', '?')}, model {info.get('model', '?')})"
+    except OSError:
+        pass
+    return (f"{model}, {os.cpu_count()} CPUs; Python {platform.python_version()}, torch {torch.__version__}, "
+            f"numpy {np.__version__}")
+
+
 def main() -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--quick", action="store_true", help="tiny budgets: checks that the script runs, figures meaningless")
@@ -248,6 +266,7 @@ def main() -> int:
     race_seconds, race_every, races = (2.0, 8192, 20) if quick else (RACE_SECONDS, 32768, 500)
     family_rollouts = 2 if quick else FAMILY_ROLLOUTS
     rows: dict[str, list] = {}
+    print(f"machine: {machine()}", flush=True)
 
     def add(key: str, value) -> None:
         rows.setdefault(key, []).append(value)
@@ -336,7 +355,8 @@ def main() -> int:
         rec = {kind: [r[kind] for r in rows["recurrent"]] for kind in FAMILY_RUNS}
         print(f"recurrent, 4 robots on maze:8..16: GRU {spread(rec['recurrent'], '{:,.0f}')} steps/s, minGRU "
               f"{spread(rec['mingru'], '{:,.0f}')}, light recipe (minGRU) {spread(rec['light'], '{:,.0f}')} (CPU time; "
-              f"target {RECURRENT_TARGET:,}); memory {spread(rec['memory'], '{:,.0f}')} steps/s")
+              f"target {RECURRENT_TARGET:,}); memory {spread(rec['memory'], '{:,.0f}')} steps/s; the light recipe over "
+              f"the feed-forward run: {spread([a / b for a, b in zip(rec['light'], rec['memory'])], '{:.1f}x')}")
         best = max(min(rec[kind]) for kind in ("recurrent", "mingru", "light"))
         if best < RECURRENT_TARGET:
             failures.append(f"recurrent speed: {best:,.0f} < {RECURRENT_TARGET:,} steps/s")

@@ -30,7 +30,7 @@ from .inputs import make_inputs
 from .net import log_softmax, make_net
 from .recurrent import Recurrence, make_recurrent_net
 from .result import EvalPoint, TrainResult, evaluate_now, trained_env
-from .sampler import PerKey, Sampler, distinct_rows
+from .sampler import PerKey, Sampler, distinct_below, distinct_rows
 from .trail import Trails
 from .update import Samples, clip_grad_norm, gae, grads_of, ppo_gradients
 from .window import Family
@@ -272,7 +272,7 @@ def train_ppo(
                         mb = shuffled.part(slice(start, start + cfg.batch_size))
                         mb_rows, mb_old = rows, old_logp
                         if rows.shape[0] > mb.inv.shape[0]:  # more inputs than samples: only the minibatch's
-                            present, inv = torch.unique(mb.inv, return_inverse=True)
+                            present, inv = map(torch.from_numpy, distinct_below(mb.inv.numpy(), rows.shape[0]))
                             mb_rows, mb_old = rows[present], old_logp[present]
                             mb = Samples.of(inv, mb.actions(), mb.adv, mb.ret_one[:, 0])
                         ppo_gradients(net, mb_rows, mb_old, mb, cfg)
